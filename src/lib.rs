@@ -1,0 +1,35 @@
+//! # dcol
+//!
+//! Fast, differentiable collision detection between convex primitives, after DCOL (Tracy,
+//! Howell, Manchester 2022): two shapes are scaled uniformly about their origins and the
+//! smallest scale α* at which they touch is found by a small second-order cone program, solved
+//! by an interior-point method written for these tiny problems (stack memory, fixed sizes).
+//! α* > 1 means separated, α* < 1 interpenetrating.
+//!
+//! Geometry follows `CONVENTIONS.md`: quaternions `[w, x, y, z]` world-from-body, row-major
+//! matrices, metres.
+//!
+//! ```
+//! use dcol::{proximity, Options, Pose, Shape};
+//! let boxed = Shape::cuboid(0.5, 0.5, 0.5).unwrap();
+//! let ball = Shape::sphere(0.5).unwrap();
+//! let p1 = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+//! let p2 = Pose::from_position([2.0, 0.0, 0.0]).unwrap();
+//! let prox = proximity(&boxed, &p1, &ball, &p2, &Options::default()).unwrap();
+//! assert!((prox.alpha - 2.0).abs() < 1e-8);
+//! ```
+
+#![warn(missing_docs)]
+#![deny(unsafe_code)]
+
+pub mod error;
+pub mod math;
+pub mod query;
+pub mod shapes;
+pub mod solver;
+
+pub use error::{Error, ErrorDetail};
+pub use math::{Pose, Real, Vec3};
+pub use query::{proximity, Options, Proximity};
+pub use shapes::{Shape, ShapeKind};
+pub use solver::SolveStatus;

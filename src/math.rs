@@ -1,0 +1,271 @@
+//! Fixed-size math: the scalar type, vectors, rotation matrices and poses.
+//!
+//! Poses follow `CONVENTIONS.md`: a position `r` in world coordinates and an attitude given as a
+//! quaternion `q = [w, x, y, z]` (scalar first, world-from-body), so a body point `b` sits at
+//! `r + Q(q) b`. A quaternion that is not unit length is normalised before use; the raw value is
+//! kept because derivatives are taken with respect to it. Modified Rodrigues parameters (MRPs)
+//! `p` map to `q = [1 - p·p, 2p] / (1 + p·p)`.
+
+use crate::error::{Error, ErrorDetail};
+
+/// The scalar type used throughout.
+pub type Real = f64;
+/// A 3-vector.
+pub type Vec3 = nalgebra::Vector3<Real>;
+/// A 3×3 matrix (rotation matrices, ellipsoid matrices).
+pub type Mat3 = nalgebra::Matrix3<Real>;
+
+/// A rigid pose: position and attitude of a shape's body frame in the world.
+///
+/// ```
+/// use dcol::math::Pose;
+/// let pose = Pose::new([1.0, 2.0, 3.0], [2.0, 0.0, 0.0, 0.0]).unwrap(); // normalised internally
+/// assert_eq!(pose.position().x, 1.0);
+/// assert!((pose.rotation() - nalgebra::Matrix3::identity()).norm() < 1e-15);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    position: Vec3,
+    quaternion: [Real; 4],
+    rotation: Mat3,
+}
+
+impl Pose {
+    /// A pose from a position and a quaternion `[w, x, y, z]` (any non-zero length).
+    ///
+    /// Fails with [`Error::InvalidPose`] on a non-finite component or a zero quaternion.
+    pub fn new(position: [Real; 3], quaternion: [Real; 4]) -> Result<Pose, Error> {
+        for (i, v) in position.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::InvalidPose(ErrorDetail::at(
+                    "position",
+                    i,
+                    *v,
+                    "must be finite",
+                )));
+            }
+        }
+        for (i, v) in quaternion.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::InvalidPose(ErrorDetail::at(
+                    "quaternion",
+                    i,
+                    *v,
+                    "must be finite",
+                )));
+            }
+        }
+        let n2: Real = quaternion.iter().map(|v| v * v).sum();
+        // n2 can underflow to zero or overflow to infinity for extreme but finite components;
+        // rescale by the largest magnitude first so that only the exact zero is rejected.
+        let big = quaternion.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        if big == 0.0 {
+            return Err(Error::InvalidPose(ErrorDetail::new(
+                "quaternion",
+                0.0,
+                "must not be zero (its norm is 0)",
+            )));
+        }
+        let q = if n2.is_finite() && n2 > Real::MIN_POSITIVE {
+            quaternion
+        } else {
+            quaternion.map(|v| v / big)
+        };
+        Ok(Pose {
+            position: Vec3::from(position),
+            quaternion,
+            rotation: rotation_from_quaternion(q),
+        })
+    }
+
+    /// A pose from a position and modified Rodrigues parameters `p` (`q = [1 - p·p, 2p]/(1 + p·p)`).
+    pub fn from_mrp(position: [Real; 3], mrp: [Real; 3]) -> Result<Pose, Error> {
+        for (i, v) in mrp.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::InvalidPose(ErrorDetail::at(
+                    "mrp",
+                    i,
+                    *v,
+                    "must be finite",
+                )));
+            }
+        }
+        Pose::new(position, quaternion_from_mrp(mrp))
+    }
+
+    /// A pose with identity attitude.
+    pub fn from_position(position: [Real; 3]) -> Result<Pose, Error> {
+        Pose::new(position, [1.0, 0.0, 0.0, 0.0])
+    }
+
+    /// Position `r` of the body origin, world coordinates.
+    pub fn position(&self) -> &Vec3 {
+        &self.position
+    }
+
+    /// The quaternion `[w, x, y, z]` as given (not normalised).
+    pub fn quaternion(&self) -> [Real; 4] {
+        self.quaternion
+    }
+
+    /// The rotation matrix `Q` (world from body) of the normalised quaternion.
+    pub fn rotation(&self) -> &Mat3 {
+        &self.rotation
+    }
+}
+
+/// `q = [1 - p·p, 2p] / (1 + p·p)` for modified Rodrigues parameters `p`.
+pub fn quaternion_from_mrp(p: [Real; 3]) -> [Real; 4] {
+    let pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    let k = 1.0 / (1.0 + pp);
+    [
+        (1.0 - pp) * k,
+        2.0 * p[0] * k,
+        2.0 * p[1] * k,
+        2.0 * p[2] * k,
+    ]
+}
+
+/// Rotation matrix of the normalised quaternion `q / |q|` (`q` non-zero, `[w, x, y, z]`).
+pub fn rotation_from_quaternion(q: [Real; 4]) -> Mat3 {
+    let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    let s = 2.0 / n2;
+    let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
+    Mat3::new(
+        1.0 - s * (y * y + z * z),
+        s * (x * y - w * z),
+        s * (x * z + w * y),
+        s * (x * y + w * z),
+        1.0 - s * (x * x + z * z),
+        s * (y * z - w * x),
+        s * (x * z - w * y),
+        s * (y * z + w * x),
+        1.0 - s * (x * x + y * y),
+    )
+}
+
+/// Derivatives `∂Q/∂q_k` (k = 0..3) of the rotation matrix of `q/|q|` with respect to the raw
+/// (not necessarily unit) quaternion components, taken through the normalisation.
+pub fn rotation_derivatives(q: [Real; 4]) -> [Mat3; 4] {
+    let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
+    // Unnormalised M(q) = 2·(outer terms) with Q = I + M(q)/n2 where M is quadratic in q:
+    // Q = I + (2/n2) * K(q), K = [[-(y²+z²), xy-wz, xz+wy], [xy+wz, -(x²+z²), yz-wx],
+    //                             [xz-wy, yz+wx, -(x²+y²)]].
+    let k = Mat3::new(
+        -(y * y + z * z),
+        x * y - w * z,
+        x * z + w * y,
+        x * y + w * z,
+        -(x * x + z * z),
+        y * z - w * x,
+        x * z - w * y,
+        y * z + w * x,
+        -(x * x + y * y),
+    );
+    // ∂K/∂w, ∂K/∂x, ∂K/∂y, ∂K/∂z
+    let dk = [
+        Mat3::new(0.0, -z, y, z, 0.0, -x, -y, x, 0.0),
+        Mat3::new(0.0, y, z, y, -2.0 * x, -w, z, w, -2.0 * x),
+        Mat3::new(-2.0 * y, x, w, x, 0.0, z, -w, z, -2.0 * y),
+        Mat3::new(-2.0 * z, -w, x, w, -2.0 * z, y, x, y, 0.0),
+    ];
+    let s = 2.0 / n2;
+    let mut out = [Mat3::zeros(); 4];
+    for i in 0..4 {
+        // d(2K/n2)/dq_i = 2 dK/n2 - 2K * 2 q_i / n2²
+        out[i] = dk[i] * s - k * (2.0 * s * q[i] / n2);
+    }
+    out
+}
+
+/// `∂q/∂p` (4×3) of the MRP-to-quaternion map, row-major `[q_k][p_j]`.
+pub fn mrp_quaternion_jacobian(p: [Real; 3]) -> [[Real; 3]; 4] {
+    let pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    let d = 1.0 + pp;
+    let d2 = d * d;
+    let mut j = [[0.0; 3]; 4];
+    for c in 0..3 {
+        // q0 = (1 - pp)/d → dq0/dp_c = (-2p_c d - (1-pp) 2 p_c)/d² = -4 p_c / d²
+        j[0][c] = -4.0 * p[c] / d2;
+        for r in 0..3 {
+            // q_{r+1} = 2 p_r / d
+            let delta = if r == c { 1.0 } else { 0.0 };
+            j[r + 1][c] = 2.0 * delta / d - 4.0 * p[r] * p[c] / d2;
+        }
+    }
+    j
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_is_orthonormal_and_matches_axis_angle() {
+        let t: Real = 0.7;
+        let q = [(t / 2.0).cos(), 0.0, 0.0, (t / 2.0).sin()];
+        let r = rotation_from_quaternion(q);
+        let expect = Mat3::new(t.cos(), -t.sin(), 0.0, t.sin(), t.cos(), 0.0, 0.0, 0.0, 1.0);
+        assert!((r - expect).norm() < 1e-15);
+        let q2 = q.map(|v| 3.0 * v);
+        assert!((rotation_from_quaternion(q2) - expect).norm() < 1e-15);
+    }
+
+    #[test]
+    fn rotation_derivatives_match_finite_differences() {
+        let q = [0.3, -0.4, 0.5, 0.9];
+        let d = rotation_derivatives(q);
+        for k in 0..4 {
+            let h = 1e-6;
+            let mut qp = q;
+            qp[k] += h;
+            let mut qm = q;
+            qm[k] -= h;
+            let fd = (rotation_from_quaternion(qp) - rotation_from_quaternion(qm)) / (2.0 * h);
+            assert!(
+                (fd - d[k]).norm() < 1e-8,
+                "column {k}: {}",
+                (fd - d[k]).norm()
+            );
+        }
+    }
+
+    #[test]
+    fn mrp_jacobian_matches_finite_differences() {
+        let p = [0.2, -0.3, 0.45];
+        let j = mrp_quaternion_jacobian(p);
+        for c in 0..3 {
+            let h = 1e-6;
+            let mut pp = p;
+            pp[c] += h;
+            let mut pm = p;
+            pm[c] -= h;
+            let (a, b) = (quaternion_from_mrp(pp), quaternion_from_mrp(pm));
+            for r in 0..4 {
+                assert!(((a[r] - b[r]) / (2.0 * h) - j[r][c]).abs() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn pose_rejects_bad_input() {
+        assert!(matches!(
+            Pose::new([0.0, f64::NAN, 0.0], [1.0, 0.0, 0.0, 0.0]),
+            Err(Error::InvalidPose(_))
+        ));
+        assert!(matches!(
+            Pose::new([0.0; 3], [0.0; 4]),
+            Err(Error::InvalidPose(_))
+        ));
+        assert!(matches!(
+            Pose::new([0.0; 3], [f64::INFINITY, 0.0, 0.0, 0.0]),
+            Err(Error::InvalidPose(_))
+        ));
+        // Tiny and huge but finite quaternions are fine.
+        let p = Pose::new([0.0; 3], [1e-200, 0.0, 0.0, 1e-200]).unwrap();
+        assert!((p.rotation().determinant() - 1.0).abs() < 1e-14);
+        let p = Pose::new([0.0; 3], [1e200, 0.0, 1e200, 0.0]).unwrap();
+        assert!((p.rotation().determinant() - 1.0).abs() < 1e-14);
+    }
+}

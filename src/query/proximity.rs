@@ -1,0 +1,208 @@
+//! Proximity: the smallest uniform scaling α* at which two shapes touch, the touching point x*,
+//! and the contact points on each unscaled shape.
+//!
+//! The cone program is solved in a normalised frame: origin at `r₁`, lengths divided by
+//! `ℓ = max(ρ₁, ρ₂)` (the larger bounding radius), and the offset `r₂ − r₁` stretched to length
+//! `κ = (ρ₁ + ρ₂)/ℓ`. Because α* and `x* − r₁` are homogeneous of degree one in `r₂ − r₁`, the
+//! answer is rescaled exactly, so α* keeps its full relative precision even when the origins
+//! nearly coincide, and the normalised α' is ≥ 1 with a feasible start known in closed form
+//! from the inscribed radii.
+
+use super::assemble::{add_shape, with_rows, Placement};
+use crate::error::Error;
+use crate::math::{Pose, Real, Vec3};
+use crate::shapes::{ConicShape, Shape};
+use crate::solver::{Outcome, Problem, Settings, SolveStatus, MAX_VARS};
+
+/// Query options: the solver's stopping tolerance and iteration limit.
+pub type Options = Settings;
+
+/// The result of a proximity query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Proximity {
+    /// α*: > 1 separated, < 1 interpenetrating, 0 only when the origins coincide.
+    pub alpha: Real,
+    /// x*, an optimal intersection point of the scaled shapes (world).
+    pub point: Vec3,
+    /// `p₁ = r₁ + (x* − r₁)/α*`, on the boundary of shape 1 (world). When α* = 0 this is `r₁`.
+    pub contact1: Vec3,
+    /// `p₂ = r₂ + (x* − r₂)/α*`, on the boundary of shape 2 (world). When α* = 0 this is `r₂`.
+    pub contact2: Vec3,
+    /// Interior-point iterations used.
+    pub iterations: u32,
+    /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
+    pub status: SolveStatus,
+}
+
+/// The normalisation between world and solver coordinates.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Frame {
+    /// Length scale ℓ (world units).
+    pub ell: Real,
+    /// ‖r₂ − r₁‖ (world units).
+    pub dist: Real,
+    /// Normalised offset length κ.
+    pub kappa: Real,
+    /// Normalised offset Δ' = κ (r₂ − r₁)/‖r₂ − r₁‖.
+    pub delta: Vec3,
+}
+
+impl Frame {
+    /// α = α' · dist/(κ ℓ).
+    pub fn alpha_factor(&self) -> Real {
+        self.dist / (self.kappa * self.ell)
+    }
+    /// x − r₁ = ξ' · dist/κ.
+    pub fn point_factor(&self) -> Real {
+        self.dist / self.kappa
+    }
+}
+
+/// A solved proximity problem, handed to derivative code.
+pub(crate) struct Solved<'s, 'a> {
+    pub problem: &'s Problem<'a>,
+    pub outcome: &'s Outcome,
+    pub frame: Frame,
+    pub place1: Placement,
+    pub place2: Placement,
+    pub inv_scale: Real,
+}
+
+/// Robust Euclidean norm (no underflow or overflow for finite input).
+pub(crate) fn robust_norm(v: &Vec3) -> Real {
+    let m = v.x.abs().max(v.y.abs()).max(v.z.abs());
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * (v / m).norm()
+}
+
+/// Solves the proximity problem and hands the result (and, unless the origins coincide, the
+/// solved problem) to `f`. Never allocates when both shapes have ≤ 32 orthant rows in total.
+pub(crate) fn solve_with<R>(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    f: impl FnOnce(&Proximity, Option<&Solved>) -> R,
+) -> Result<R, Error> {
+    options.validate()?;
+    let r1 = *pose1.position();
+    let r2 = *pose2.position();
+    let offset = r2 - r1;
+    let dist = robust_norm(&offset);
+    if dist == 0.0 {
+        let p = Proximity {
+            alpha: 0.0,
+            point: r1,
+            contact1: r1,
+            contact2: r2,
+            iterations: 0,
+            status: SolveStatus::Converged,
+        };
+        return Ok(f(&p, None));
+    }
+    if !dist.is_finite() {
+        return Err(Error::InvalidPose(crate::error::ErrorDetail::new(
+            "position",
+            dist,
+            "the distance between the two origins overflows a double",
+        )));
+    }
+    let (rho1, rho2) = (shape1.bounding_radius(), shape2.bounding_radius());
+    let ell = rho1.max(rho2);
+    let inv = 1.0 / ell;
+    let kappa = (rho1 + rho2) * inv;
+    let dir = offset / dist;
+    let frame = Frame {
+        ell,
+        dist,
+        kappa,
+        delta: dir * kappa,
+    };
+    let k1 = shape1.slack_count();
+    let k2 = shape2.slack_count();
+    let n = 4 + k1 + k2;
+    let place1 = Placement {
+        rotation: *pose1.rotation(),
+        center: Vec3::zeros(),
+        point_col: 0,
+        alpha_col: Some(3),
+        slack_col: 4,
+        slacks: k1,
+    };
+    let place2 = Placement {
+        rotation: *pose2.rotation(),
+        center: frame.delta,
+        point_col: 0,
+        alpha_col: Some(3),
+        slack_col: 4 + k1,
+        slacks: k2,
+    };
+    let m = shape1.lp_count() + shape2.lp_count();
+    let result = with_rows(m, |rows| {
+        let mut problem = Problem::new(n, rows);
+        problem.c[3] = 1.0;
+        let next = add_shape(&mut problem, shape1, place1, inv, 0);
+        add_shape(&mut problem, shape2, place2, inv, next);
+        // Feasible start: the point dividing the offset in the ratio of the inscribed radii
+        // lies in both inscribed balls once α' ≥ κ/(ι₁' + ι₂').
+        let (i1, i2) = (
+            shape1.inscribed_radius() * inv,
+            shape2.inscribed_radius() * inv,
+        );
+        let alpha_in = kappa / (i1 + i2);
+        let mut z0 = [0.0; MAX_VARS];
+        let xi = frame.delta * (i1 / (i1 + i2));
+        z0[0] = xi.x;
+        z0[1] = xi.y;
+        z0[2] = xi.z;
+        z0[3] = 1.2 * alpha_in;
+        let mu0 = (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
+        let outcome = problem.solve(&z0, mu0, options);
+        let z = &outcome.z;
+        let alpha_n = z[3];
+        let xi = Vec3::new(z[0], z[1], z[2]);
+        let prox = Proximity {
+            alpha: alpha_n * frame.alpha_factor(),
+            point: r1 + xi * frame.point_factor(),
+            contact1: r1 + xi * (ell / alpha_n),
+            contact2: r2 + (xi - frame.delta) * (ell / alpha_n),
+            iterations: outcome.iterations,
+            status: outcome.status,
+        };
+        let solved = Solved {
+            problem: &problem,
+            outcome: &outcome,
+            frame,
+            place1,
+            place2,
+            inv_scale: inv,
+        };
+        f(&prox, Some(&solved))
+    });
+    Ok(result)
+}
+
+/// α*, x* and the contact points of two posed shapes.
+///
+/// ```
+/// use dcol::{proximity, Options, Pose, Shape};
+/// let a = Shape::sphere(1.0).unwrap();
+/// let b = Shape::sphere(0.5).unwrap();
+/// let pa = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+/// let pb = Pose::from_position([3.0, 0.0, 0.0]).unwrap();
+/// let p = proximity(&a, &pa, &b, &pb, &Options::default()).unwrap();
+/// assert!((p.alpha - 2.0).abs() < 1e-9); // ‖r₁ − r₂‖/(R₁ + R₂)
+/// assert!((p.contact1.x - 1.0).abs() < 1e-6);
+/// ```
+pub fn proximity(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<Proximity, Error> {
+    solve_with(shape1, pose1, shape2, pose2, options, |p, _| *p)
+}

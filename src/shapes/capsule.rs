@@ -1,0 +1,68 @@
+//! Capsule: points within `R` of the segment `±L/2 e_x`. Scaled, with the slack γ (position
+//! along the axis): the cone `[αR; u − γ e_x]` and the rows `αL/2 ∓ γ ≥ 0`.
+
+use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use crate::error::Error;
+use crate::math::Real;
+
+/// A capsule of radius `R` and segment length `L` along the body x axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Capsule {
+    radius: Real,
+    length: Real,
+}
+
+impl Capsule {
+    /// Validates `radius` and `length` (positive, finite).
+    pub fn new(radius: Real, length: Real) -> Result<Capsule, Error> {
+        positive_finite("radius", radius)?;
+        positive_finite("length", length)?;
+        Ok(Capsule { radius, length })
+    }
+
+    /// The radius `R`.
+    pub fn radius(&self) -> Real {
+        self.radius
+    }
+
+    /// The segment length `L`.
+    pub fn length(&self) -> Real {
+        self.length
+    }
+}
+
+impl ConicShape for Capsule {
+    fn lp_count(&self) -> usize {
+        2
+    }
+    fn slack_count(&self) -> usize {
+        1
+    }
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
+        let half = 0.5 * self.length * inv_scale;
+        sink.soc(&[
+            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 2]),
+            BodyRow::new([1.0, 0.0, 0.0], 0.0, [-1.0, 0.0]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+        ]);
+        sink.lp(BodyRow::new([0.0; 3], half, [-1.0, 0.0]));
+        sink.lp(BodyRow::new([0.0; 3], half, [1.0, 0.0]));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::member;
+    use super::*;
+
+    #[test]
+    fn membership() {
+        let c = Capsule::new(0.5, 2.0).unwrap();
+        assert!(member(&c, [1.4, 0.0, 0.0], 1.0, [1.0, 0.0]));
+        assert!(member(&c, [0.3, 0.45, 0.0], 1.0, [0.3, 0.0]));
+        assert!(!member(&c, [0.3, 0.55, 0.0], 1.0, [0.3, 0.0]));
+        assert!(!member(&c, [0.0, 0.0, 0.0], 1.0, [1.1, 0.0]));
+        assert!(Capsule::new(1.0, -1.0).is_err());
+    }
+}

@@ -1,0 +1,103 @@
+//! Cone: height `H`, half angle β, apex at `−3H/4 e_x`, base disc of radius `H tan β` at
+//! `+H/4 e_x`. Scaled: the cone `[tan β (u_x + α 3H/4); u_y; u_z]` and the row `αH/4 − u_x ≥ 0`.
+
+use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use crate::error::{Error, ErrorDetail};
+use crate::math::Real;
+
+/// A solid right circular cone with its origin at the centroid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cone {
+    height: Real,
+    half_angle: Real,
+    tan_beta: Real,
+}
+
+impl Cone {
+    /// Validates `height` (positive, finite) and `half_angle` ∈ (0, π/2).
+    pub fn new(height: Real, half_angle: Real) -> Result<Cone, Error> {
+        positive_finite("height", height)?;
+        if !half_angle.is_finite() || half_angle <= 0.0 || half_angle >= std::f64::consts::FRAC_PI_2
+        {
+            return Err(Error::InvalidShape(ErrorDetail::new(
+                "half_angle",
+                half_angle,
+                "must lie in the open interval (0, pi/2) radians",
+            )));
+        }
+        let tan_beta = half_angle.tan();
+        if !tan_beta.is_finite() || tan_beta <= 0.0 {
+            return Err(Error::InvalidShape(ErrorDetail::new(
+                "half_angle",
+                half_angle,
+                "has no finite positive tangent",
+            )));
+        }
+        Ok(Cone {
+            height,
+            half_angle,
+            tan_beta,
+        })
+    }
+
+    /// The height `H`.
+    pub fn height(&self) -> Real {
+        self.height
+    }
+
+    /// The half angle β in radians.
+    pub fn half_angle(&self) -> Real {
+        self.half_angle
+    }
+
+    pub(crate) fn bounding_radius(&self) -> Real {
+        let h = self.height;
+        (0.75 * h).max((0.25 * h).hypot(h * self.tan_beta))
+    }
+
+    pub(crate) fn inscribed_radius(&self) -> Real {
+        let h = self.height;
+        (0.25 * h).min(0.75 * h * self.half_angle.sin())
+    }
+}
+
+impl ConicShape for Cone {
+    fn lp_count(&self) -> usize {
+        1
+    }
+    fn slack_count(&self) -> usize {
+        0
+    }
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
+        let h = self.height * inv_scale;
+        let t = self.tan_beta;
+        sink.soc(&[
+            BodyRow::new([t, 0.0, 0.0], t * 0.75 * h, [0.0; 2]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+        ]);
+        sink.lp(BodyRow::new([-1.0, 0.0, 0.0], 0.25 * h, [0.0; 2]));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::member;
+    use super::*;
+
+    #[test]
+    fn membership_and_radii() {
+        let beta = 0.5_f64;
+        let c = Cone::new(2.0, beta).unwrap();
+        // apex and base rim
+        assert!(member(&c, [-1.5 + 1e-9, 0.0, 0.0], 1.0, [0.0; 2]));
+        assert!(!member(&c, [-1.51, 0.0, 0.0], 1.0, [0.0; 2]));
+        let rim = 2.0 * beta.tan();
+        assert!(member(&c, [0.5, rim * 0.999, 0.0], 1.0, [0.0; 2]));
+        assert!(!member(&c, [0.5, rim * 1.001, 0.0], 1.0, [0.0; 2]));
+        assert!(!member(&c, [0.51, 0.0, 0.0], 1.0, [0.0; 2]));
+        assert!((c.bounding_radius() - 1.5f64.max(0.5f64.hypot(rim))).abs() < 1e-15);
+        assert!(Cone::new(1.0, 0.0).is_err());
+        assert!(Cone::new(1.0, std::f64::consts::FRAC_PI_2).is_err());
+    }
+}

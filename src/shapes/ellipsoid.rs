@@ -1,0 +1,129 @@
+//! Ellipsoid: `bᵀ P b ≤ 1` with `P = UᵀU` (Cholesky). Scaled: the cone `[α; U u]`.
+
+use super::{BodyRow, ConicShape, RowSink};
+use crate::error::{Error, ErrorDetail};
+use crate::math::{Mat3, Real};
+
+/// An ellipsoid centred at the body origin.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ellipsoid {
+    p: Mat3,
+    /// Upper-triangular `U` with `P = UᵀU`.
+    u: Mat3,
+    eig_min: Real,
+    eig_max: Real,
+}
+
+impl Ellipsoid {
+    /// Validates `P` (rows): finite, symmetric to 1e-12 relative, positive definite.
+    pub fn new(p: [[Real; 3]; 3]) -> Result<Ellipsoid, Error> {
+        let mut scale: Real = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                let v = p[i][j];
+                if !v.is_finite() {
+                    return Err(Error::InvalidShape(ErrorDetail::at(
+                        "P",
+                        3 * i + j,
+                        v,
+                        "must be finite",
+                    )));
+                }
+                scale = scale.max(v.abs());
+            }
+        }
+        for i in 0..3 {
+            for j in (i + 1)..3 {
+                if (p[i][j] - p[j][i]).abs() > 1e-12 * scale {
+                    return Err(Error::InvalidShape(ErrorDetail::at(
+                        "P",
+                        3 * i + j,
+                        p[i][j],
+                        "must be symmetric (differs from its transpose entry)",
+                    )));
+                }
+            }
+        }
+        let m = Mat3::from_fn(|i, j| 0.5 * (p[i][j] + p[j][i]));
+        let eig = m.symmetric_eigenvalues();
+        let eig_min = eig.min();
+        let eig_max = eig.max();
+        if !(eig_min > 0.0) || !eig_max.is_finite() || eig_min <= eig_max * 1e-300 {
+            return Err(Error::InvalidShape(ErrorDetail::new(
+                "P",
+                eig_min,
+                "must be positive definite (smallest eigenvalue shown)",
+            )));
+        }
+        let chol = match m.cholesky() {
+            Some(c) => c,
+            None => {
+                return Err(Error::InvalidShape(ErrorDetail::new(
+                    "P",
+                    eig_min,
+                    "must be positive definite (Cholesky factorisation failed)",
+                )))
+            }
+        };
+        let u = chol.l().transpose();
+        Ok(Ellipsoid {
+            p: m,
+            u,
+            eig_min,
+            eig_max,
+        })
+    }
+
+    /// The (symmetrised) matrix `P`.
+    pub fn matrix(&self) -> &Mat3 {
+        &self.p
+    }
+
+    pub(crate) fn bounding_radius(&self) -> Real {
+        1.0 / self.eig_min.sqrt()
+    }
+
+    pub(crate) fn inscribed_radius(&self) -> Real {
+        1.0 / self.eig_max.sqrt()
+    }
+}
+
+impl ConicShape for Ellipsoid {
+    fn lp_count(&self) -> usize {
+        0
+    }
+    fn slack_count(&self) -> usize {
+        0
+    }
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
+        // ‖U u_world‖ ≤ α with u_world = u / inv_scale.
+        let k = 1.0 / inv_scale;
+        let u = &self.u;
+        let r = |i: usize| [u[(i, 0)] * k, u[(i, 1)] * k, u[(i, 2)] * k];
+        sink.soc(&[
+            BodyRow::new([0.0; 3], 1.0, [0.0; 2]),
+            BodyRow::new(r(0), 0.0, [0.0; 2]),
+            BodyRow::new(r(1), 0.0, [0.0; 2]),
+            BodyRow::new(r(2), 0.0, [0.0; 2]),
+        ]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::member;
+    use super::*;
+
+    #[test]
+    fn membership_and_validation() {
+        let e = Ellipsoid::new([[1.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 0.25]]).unwrap();
+        assert!(member(&e, [0.99, 0.0, 0.0], 1.0, [0.0; 2]));
+        assert!(!member(&e, [0.0, 0.51, 0.0], 1.0, [0.0; 2]));
+        assert!(member(&e, [0.0, 0.0, 1.99], 1.0, [0.0; 2]));
+        assert_eq!(e.bounding_radius(), 2.0);
+        assert_eq!(e.inscribed_radius(), 0.5);
+        assert!(Ellipsoid::new([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]).is_err());
+        assert!(Ellipsoid::new([[1.0, 0.5, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).is_err());
+        assert!(Ellipsoid::new([[1.0, 0.0, 0.0], [0.0, f64::NAN, 0.0], [0.0, 0.0, 1.0]]).is_err());
+    }
+}

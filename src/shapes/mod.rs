@@ -1,0 +1,360 @@
+//! The seven convex primitives (plus the box, a polytope), one file each.
+//!
+//! Every shape is built once by a validating constructor that precomputes what queries need
+//! (Cholesky factors, tan β, bounding and inscribed radii) and is immutable afterwards, so it
+//! can be shared between threads. A shape contributes its *scaled* conic constraints to a
+//! problem through [`ConicShape::rows`]: in body coordinates `u = Qᵀ(x − r)`, each constraint
+//! row is `s = f_u·u + f_α α + f_w·w` with `w` the shape's own slack variables, and the rows
+//! form at most one second-order cone plus nonnegative-orthant rows.
+
+mod capsule;
+mod cone;
+mod cylinder;
+mod ellipsoid;
+mod polygon;
+mod polytope;
+mod sphere;
+
+pub use capsule::Capsule;
+pub use cone::Cone;
+pub use cylinder::Cylinder;
+pub use ellipsoid::Ellipsoid;
+pub use polygon::Polygon;
+pub use polytope::Polytope;
+pub use sphere::Sphere;
+
+use crate::error::{Error, ErrorDetail};
+use crate::math::Real;
+
+/// The most facets a polytope or polygon may have (construction is O(m³) in the facet count).
+pub const MAX_FACETS: usize = 256;
+
+/// One scaled constraint row in body coordinates: `s = f_u·u + f_α α + f_w·w`, lengths
+/// already divided by the problem's length scale.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct BodyRow {
+    pub fu: [Real; 3],
+    pub fa: Real,
+    pub fw: [Real; 2],
+}
+
+impl BodyRow {
+    pub(crate) const fn new(fu: [Real; 3], fa: Real, fw: [Real; 2]) -> Self {
+        BodyRow { fu, fa, fw }
+    }
+}
+
+/// Receives the rows a shape contributes.
+pub(crate) trait RowSink {
+    /// One nonnegative-orthant row `s ≥ 0`.
+    fn lp(&mut self, row: BodyRow);
+    /// One second-order cone `s₀ ≥ ‖s₁..‖`, dimension 3 or 4.
+    fn soc(&mut self, rows: &[BodyRow]);
+}
+
+/// What every primitive provides to the conic problem builder.
+pub(crate) trait ConicShape {
+    /// Number of nonnegative-orthant rows.
+    fn lp_count(&self) -> usize;
+    /// Number of slack variables (0, 1 or 2).
+    fn slack_count(&self) -> usize;
+    /// Writes the constraint rows with lengths multiplied by `inv_scale`.
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink);
+}
+
+/// Which primitive a [`Shape`] is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShapeKind {
+    /// A ball of radius `R`.
+    Sphere,
+    /// `bᵀ P b ≤ 1`.
+    Ellipsoid,
+    /// `A b ≤ b` (boxes included).
+    Polytope,
+    /// Points within `R` of a segment of length `L` along `e_x`.
+    Capsule,
+    /// Radius `R`, length `L`, axis `e_x`.
+    Cylinder,
+    /// Height `H`, half angle `β`, axis `e_x`, origin at the centroid.
+    Cone,
+    /// Points within `R` of the plane polygon `C y ≤ d` in the body x-y plane.
+    Polygon,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum Geometry {
+    Sphere(Sphere),
+    Ellipsoid(Ellipsoid),
+    Polytope(Polytope),
+    Capsule(Capsule),
+    Cylinder(Cylinder),
+    Cone(Cone),
+    Polygon(Polygon),
+}
+
+/// A validated convex primitive, ready for queries. Immutable and `Send + Sync`.
+///
+/// ```
+/// use dcol::shapes::{Shape, ShapeKind};
+/// let s = Shape::capsule(0.5, 2.0).unwrap();
+/// assert_eq!(s.kind(), ShapeKind::Capsule);
+/// assert_eq!(s.bounding_radius(), 1.5);
+/// assert!(Shape::sphere(-1.0).is_err());
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shape {
+    geometry: Geometry,
+    bounding_radius: Real,
+    inscribed_radius: Real,
+}
+
+impl Shape {
+    fn wrap(geometry: Geometry, bounding_radius: Real, inscribed_radius: Real) -> Shape {
+        Shape {
+            geometry,
+            bounding_radius,
+            inscribed_radius,
+        }
+    }
+
+    /// A sphere of radius `radius > 0`.
+    pub fn sphere(radius: Real) -> Result<Shape, Error> {
+        let s = Sphere::new(radius)?;
+        Ok(Shape::wrap(Geometry::Sphere(s), radius, radius))
+    }
+
+    /// An ellipsoid `bᵀ P b ≤ 1`, `P` symmetric positive definite (rows of `p`).
+    pub fn ellipsoid(p: [[Real; 3]; 3]) -> Result<Shape, Error> {
+        let e = Ellipsoid::new(p)?;
+        let (rho, iota) = (e.bounding_radius(), e.inscribed_radius());
+        Ok(Shape::wrap(Geometry::Ellipsoid(e), rho, iota))
+    }
+
+    /// A bounded polytope `A b ≤ b` with `m = a.len()` facets, every `b_i > 0`.
+    pub fn polytope(a: &[[Real; 3]], b: &[Real]) -> Result<Shape, Error> {
+        let p = Polytope::new(a, b)?;
+        let (rho, iota) = (p.bounding_radius(), p.inscribed_radius());
+        Ok(Shape::wrap(Geometry::Polytope(p), rho, iota))
+    }
+
+    /// A box with half-extents `(hx, hy, hz)`: the polytope with rows `±e_i`.
+    pub fn cuboid(hx: Real, hy: Real, hz: Real) -> Result<Shape, Error> {
+        positive_finite("half_x", hx)?;
+        positive_finite("half_y", hy)?;
+        positive_finite("half_z", hz)?;
+        let a = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, -1.0],
+        ];
+        Shape::polytope(&a, &[hx, hy, hz, hx, hy, hz])
+    }
+
+    /// A capsule: points within `radius` of the segment `±length/2 · e_x`.
+    pub fn capsule(radius: Real, length: Real) -> Result<Shape, Error> {
+        let c = Capsule::new(radius, length)?;
+        Ok(Shape::wrap(
+            Geometry::Capsule(c),
+            radius + 0.5 * length,
+            radius,
+        ))
+    }
+
+    /// A cylinder of `radius` and `length` along `e_x`, centred at the origin.
+    pub fn cylinder(radius: Real, length: Real) -> Result<Shape, Error> {
+        let c = Cylinder::new(radius, length)?;
+        let rho = radius.hypot(0.5 * length);
+        Ok(Shape::wrap(
+            Geometry::Cylinder(c),
+            rho,
+            radius.min(0.5 * length),
+        ))
+    }
+
+    /// A cone of `height` and `half_angle` β ∈ (0, π/2), apex at `-3H/4 e_x`, base at `+H/4 e_x`.
+    pub fn cone(height: Real, half_angle: Real) -> Result<Shape, Error> {
+        let c = Cone::new(height, half_angle)?;
+        let (rho, iota) = (c.bounding_radius(), c.inscribed_radius());
+        Ok(Shape::wrap(Geometry::Cone(c), rho, iota))
+    }
+
+    /// A padded polygon: points within `radius` of `{ (y, 0) : C y ≤ d }` (rows of `c`).
+    pub fn polygon(c: &[[Real; 2]], d: &[Real], radius: Real) -> Result<Shape, Error> {
+        let p = Polygon::new(c, d, radius)?;
+        let (rho, iota) = (p.bounding_radius(), p.inscribed_radius());
+        Ok(Shape::wrap(Geometry::Polygon(p), rho, iota))
+    }
+
+    /// Which primitive this is (a box reports [`ShapeKind::Polytope`]).
+    pub fn kind(&self) -> ShapeKind {
+        match &self.geometry {
+            Geometry::Sphere(_) => ShapeKind::Sphere,
+            Geometry::Ellipsoid(_) => ShapeKind::Ellipsoid,
+            Geometry::Polytope(_) => ShapeKind::Polytope,
+            Geometry::Capsule(_) => ShapeKind::Capsule,
+            Geometry::Cylinder(_) => ShapeKind::Cylinder,
+            Geometry::Cone(_) => ShapeKind::Cone,
+            Geometry::Polygon(_) => ShapeKind::Polygon,
+        }
+    }
+
+    /// Radius of the smallest origin-centred ball containing the shape (unscaled).
+    pub fn bounding_radius(&self) -> Real {
+        self.bounding_radius
+    }
+
+    /// Radius of an origin-centred ball contained in the shape (the largest one, except for
+    /// the padded polygon, where it is the padding radius `R`).
+    pub fn inscribed_radius(&self) -> Real {
+        self.inscribed_radius
+    }
+}
+
+macro_rules! dispatch {
+    ($self:expr, $s:ident => $e:expr) => {
+        match &$self.geometry {
+            Geometry::Sphere($s) => $e,
+            Geometry::Ellipsoid($s) => $e,
+            Geometry::Polytope($s) => $e,
+            Geometry::Capsule($s) => $e,
+            Geometry::Cylinder($s) => $e,
+            Geometry::Cone($s) => $e,
+            Geometry::Polygon($s) => $e,
+        }
+    };
+}
+
+impl ConicShape for Shape {
+    fn lp_count(&self) -> usize {
+        dispatch!(self, s => s.lp_count())
+    }
+    fn slack_count(&self) -> usize {
+        dispatch!(self, s => s.slack_count())
+    }
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
+        dispatch!(self, s => s.rows(inv_scale, sink))
+    }
+}
+
+pub(crate) fn positive_finite(name: &'static str, v: Real) -> Result<(), Error> {
+    if !v.is_finite() {
+        return Err(Error::InvalidShape(ErrorDetail::new(
+            name,
+            v,
+            "must be finite",
+        )));
+    }
+    if v <= 0.0 {
+        return Err(Error::InvalidShape(ErrorDetail::new(
+            name,
+            v,
+            "must be positive",
+        )));
+    }
+    Ok(())
+}
+
+/// Validates a halfspace system `rows · y ≤ rhs` (rows of dimension `D`): non-empty, at most
+/// [`MAX_FACETS`], finite, no zero row, every right-hand side positive and finite.
+pub(crate) fn check_halfspaces<const D: usize>(
+    rows_name: &'static str,
+    rhs_name: &'static str,
+    rows: &[[Real; D]],
+    rhs: &[Real],
+) -> Result<(), Error> {
+    if rows.is_empty() {
+        return Err(Error::InvalidShape(ErrorDetail::new(
+            "m",
+            0.0,
+            "must be at least 1 (no facets given)",
+        )));
+    }
+    if rows.len() > MAX_FACETS {
+        return Err(Error::InvalidShape(ErrorDetail::new(
+            "m",
+            rows.len() as Real,
+            "exceeds the maximum of 256 facets",
+        )));
+    }
+    if rows.len() != rhs.len() {
+        return Err(Error::InvalidShape(ErrorDetail::new(
+            rhs_name,
+            rhs.len() as Real,
+            "must have one entry per row",
+        )));
+    }
+    for (i, row) in rows.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::InvalidShape(ErrorDetail::at(
+                    rows_name,
+                    i * D + j,
+                    *v,
+                    "must be finite",
+                )));
+            }
+        }
+        let n2: Real = row.iter().map(|v| v * v).sum();
+        if n2 == 0.0 || !n2.is_finite() {
+            return Err(Error::InvalidShape(ErrorDetail::at(
+                rows_name,
+                i * D,
+                n2.sqrt(),
+                "row must be non-zero with a finite norm",
+            )));
+        }
+        let v = rhs[i];
+        if !v.is_finite() || v <= 0.0 {
+            return Err(Error::InvalidShape(ErrorDetail::at(
+                rhs_name,
+                i,
+                v,
+                "must be positive and finite (the origin must be strictly inside)",
+            )));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+pub(crate) mod test_util {
+    use super::*;
+
+    /// Collects rows for inspection in unit tests.
+    #[derive(Default)]
+    pub struct Collect {
+        pub lp: Vec<BodyRow>,
+        pub soc: Vec<Vec<BodyRow>>,
+    }
+    impl RowSink for Collect {
+        fn lp(&mut self, row: BodyRow) {
+            self.lp.push(row);
+        }
+        fn soc(&mut self, rows: &[BodyRow]) {
+            self.soc.push(rows.to_vec());
+        }
+    }
+
+    /// Evaluates whether body point `u` (with slacks `w`) at scale `alpha` satisfies all rows.
+    pub fn member(shape: &impl ConicShape, u: [Real; 3], alpha: Real, w: [Real; 2]) -> bool {
+        let mut c = Collect::default();
+        shape.rows(1.0, &mut c);
+        let ev = |r: &BodyRow| {
+            r.fu[0] * u[0]
+                + r.fu[1] * u[1]
+                + r.fu[2] * u[2]
+                + r.fa * alpha
+                + r.fw[0] * w[0]
+                + r.fw[1] * w[1]
+        };
+        let lp_ok = c.lp.iter().all(|r| ev(r) >= -1e-12);
+        let soc_ok = c.soc.iter().all(|rows| {
+            let s: Vec<Real> = rows.iter().map(ev).collect();
+            s[0] + 1e-12 >= s[1..].iter().map(|v| v * v).sum::<Real>().sqrt()
+        });
+        lp_ok && soc_ok
+    }
+}

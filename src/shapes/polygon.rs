@@ -1,0 +1,153 @@
+//! Padded polygon: points within `R` of the plane polygon `{ (y, 0) : C y ≤ d }`. Scaled, with
+//! the slack `y ∈ R²`: the cone `[αR; u − (y, 0)]` and the rows `α d_i − c_i·y ≥ 0`.
+
+use super::{check_halfspaces, positive_finite, BodyRow, ConicShape, RowSink};
+use crate::error::{Error, ErrorDetail};
+use crate::math::Real;
+
+/// A polygon in the body x-y plane, padded by a radius.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polygon {
+    c: Vec<[Real; 2]>,
+    d: Vec<Real>,
+    radius: Real,
+    polygon_radius: Real,
+}
+
+impl Polygon {
+    /// Validates `C` (m×2, rows non-zero, finite), `d` (positive, finite), boundedness, and
+    /// `radius` (positive, finite).
+    pub fn new(c: &[[Real; 2]], d: &[Real], radius: Real) -> Result<Polygon, Error> {
+        check_halfspaces("C", "d", c, d)?;
+        positive_finite("radius", radius)?;
+        let m = c.len();
+        let norms: Vec<Real> = c.iter().map(|r| r[0].hypot(r[1])).collect();
+        let n: Vec<[Real; 2]> = c
+            .iter()
+            .zip(&norms)
+            .map(|(r, k)| [r[0] / k, r[1] / k])
+            .collect();
+        let off: Vec<Real> = d.iter().zip(&norms).map(|(v, k)| v / k).collect();
+        let unbounded = || {
+            Error::InvalidShape(ErrorDetail::new(
+                "C",
+                m as Real,
+                "rows must describe a bounded polygon (found a direction e with C e ≤ 0)",
+            ))
+        };
+        // Bounded ⇔ no e ≠ 0 with n_i·e ≤ 0 ∀i; an extreme ray lies along some facet line.
+        let cross = |a: &[Real; 2], b: &[Real; 2]| a[0] * b[1] - a[1] * b[0];
+        let rank2 = (0..m).any(|i| (0..m).any(|j| cross(&n[i], &n[j]).abs() > 1e-12));
+        if !rank2 {
+            return Err(unbounded());
+        }
+        for ni in &n {
+            let e = [-ni[1], ni[0]];
+            for sign in [1.0, -1.0] {
+                if n.iter()
+                    .all(|nk| sign * (nk[0] * e[0] + nk[1] * e[1]) <= 1e-12)
+                {
+                    return Err(unbounded());
+                }
+            }
+        }
+        let mut rho2: Real = 0.0;
+        for i in 0..m {
+            for j in (i + 1)..m {
+                let det = cross(&n[i], &n[j]);
+                if det.abs() < 1e-12 {
+                    continue;
+                }
+                let v = [
+                    (off[i] * n[j][1] - off[j] * n[i][1]) / det,
+                    (n[i][0] * off[j] - n[j][0] * off[i]) / det,
+                ];
+                let vn = v[0].hypot(v[1]);
+                if n.iter()
+                    .zip(&off)
+                    .all(|(nl, ol)| nl[0] * v[0] + nl[1] * v[1] <= ol + 1e-9 * ol.max(vn))
+                {
+                    rho2 = rho2.max(vn * vn);
+                }
+            }
+        }
+        let polygon_radius = rho2.sqrt();
+        if !(polygon_radius.is_finite() && polygon_radius > 0.0) {
+            return Err(unbounded());
+        }
+        Ok(Polygon {
+            c: c.to_vec(),
+            d: d.to_vec(),
+            radius,
+            polygon_radius,
+        })
+    }
+
+    /// The edge normals `C` (rows, as given).
+    pub fn c(&self) -> &[[Real; 2]] {
+        &self.c
+    }
+
+    /// The offsets `d`.
+    pub fn d(&self) -> &[Real] {
+        &self.d
+    }
+
+    /// The padding radius `R`.
+    pub fn radius(&self) -> Real {
+        self.radius
+    }
+
+    pub(crate) fn bounding_radius(&self) -> Real {
+        self.polygon_radius + self.radius
+    }
+
+    pub(crate) fn inscribed_radius(&self) -> Real {
+        self.radius
+    }
+}
+
+impl ConicShape for Polygon {
+    fn lp_count(&self) -> usize {
+        self.c.len()
+    }
+    fn slack_count(&self) -> usize {
+        2
+    }
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
+        sink.soc(&[
+            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 2]),
+            BodyRow::new([1.0, 0.0, 0.0], 0.0, [-1.0, 0.0]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0, -1.0]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+        ]);
+        for (c, d) in self.c.iter().zip(&self.d) {
+            sink.lp(BodyRow::new([0.0; 3], d * inv_scale, [-c[0], -c[1]]));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::member;
+    use super::*;
+
+    const SQ: [[Real; 2]; 4] = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
+
+    #[test]
+    fn square_radii_and_membership() {
+        let p = Polygon::new(&SQ, &[1.0; 4], 0.1).unwrap();
+        assert!((p.bounding_radius() - (2f64.sqrt() + 0.1)).abs() < 1e-14);
+        assert!(member(&p, [1.05, 0.0, 0.05], 1.0, [1.0, 0.0]));
+        assert!(!member(&p, [0.5, 0.0, 0.11], 1.0, [0.5, 0.0]));
+        assert!(!member(&p, [0.5, 0.0, 0.0], 1.0, [1.2, 0.0]));
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        assert!(Polygon::new(&SQ[..3], &[1.0; 3], 0.1).is_err());
+        assert!(Polygon::new(&SQ, &[1.0; 4], 0.0).is_err());
+        assert!(Polygon::new(&SQ, &[1.0, -1.0, 1.0, 1.0], 0.1).is_err());
+        assert!(Polygon::new(&[[0.0, 0.0]], &[1.0], 0.1).is_err());
+    }
+}

@@ -1,0 +1,188 @@
+//! Polytope: `A b ≤ b`, every `b_i > 0` (origin strictly inside), bounded. Scaled: the rows
+//! `α b_i − a_i·u ≥ 0`.
+
+use super::{check_halfspaces, BodyRow, ConicShape, RowSink};
+use crate::error::{Error, ErrorDetail};
+use crate::math::{Real, Vec3};
+
+/// A bounded convex polytope in halfspace form.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polytope {
+    a: Vec<[Real; 3]>,
+    b: Vec<Real>,
+    bounding_radius: Real,
+    inscribed_radius: Real,
+}
+
+impl Polytope {
+    /// Validates `A` (m×3, rows non-zero, finite) and `b` (m, positive, finite), m ≤
+    /// [`super::MAX_FACETS`], and that the set is bounded. Computes its vertices' largest norm.
+    pub fn new(a: &[[Real; 3]], b: &[Real]) -> Result<Polytope, Error> {
+        check_halfspaces("A", "b", a, b)?;
+        let rows: Vec<Vec3> = a.iter().map(|r| Vec3::from(*r)).collect();
+        // Scale-free copies: unit normals n_i and offsets b_i/|a_i|.
+        let norms: Vec<Real> = rows.iter().map(|r| r.norm()).collect();
+        let n: Vec<Vec3> = rows.iter().zip(&norms).map(|(r, k)| r / *k).collect();
+        let off: Vec<Real> = b.iter().zip(&norms).map(|(v, k)| v / k).collect();
+        let m = n.len();
+        // Bounded ⇔ no d ≠ 0 with n_i·d ≤ 0 ∀i. If one exists, an extreme ray of that cone
+        // lies on two independent facet planes (or A has rank < 3).
+        let unbounded = || {
+            Error::InvalidShape(ErrorDetail::new(
+                "A",
+                m as Real,
+                "rows must describe a bounded polytope (found a direction d with A d ≤ 0)",
+            ))
+        };
+        let mut rank3 = false;
+        'outer: for i in 0..m {
+            for j in (i + 1)..m {
+                let c = n[i].cross(&n[j]);
+                if c.norm() < 1e-12 {
+                    continue;
+                }
+                for k in (j + 1)..m {
+                    if c.dot(&n[k]).abs() > 1e-12 {
+                        rank3 = true;
+                        break 'outer;
+                    }
+                }
+            }
+        }
+        if !rank3 {
+            return Err(unbounded());
+        }
+        for i in 0..m {
+            for j in (i + 1)..m {
+                let c = n[i].cross(&n[j]);
+                let cn = c.norm();
+                if cn < 1e-12 {
+                    continue;
+                }
+                let d = c / cn;
+                for sign in [1.0, -1.0] {
+                    if n.iter().all(|nk| sign * nk.dot(&d) <= 1e-12) {
+                        return Err(unbounded());
+                    }
+                }
+            }
+        }
+        // Vertices: intersections of three planes that satisfy all constraints.
+        let mut rho2: Real = 0.0;
+        for i in 0..m {
+            for j in (i + 1)..m {
+                let cij = n[i].cross(&n[j]);
+                if cij.norm() < 1e-12 {
+                    continue;
+                }
+                for k in (j + 1)..m {
+                    let det = cij.dot(&n[k]);
+                    if det.abs() < 1e-12 {
+                        continue;
+                    }
+                    // Cramer: v = (off_i (n_j×n_k) + off_j (n_k×n_i) + off_k (n_i×n_j)) / det
+                    let v =
+                        (n[j].cross(&n[k]) * off[i] + n[k].cross(&n[i]) * off[j] + cij * off[k])
+                            / det;
+                    let feasible = n
+                        .iter()
+                        .zip(&off)
+                        .all(|(nl, ol)| nl.dot(&v) <= ol + 1e-9 * ol.max(v.norm()));
+                    if feasible {
+                        rho2 = rho2.max(v.norm_squared());
+                    }
+                }
+            }
+        }
+        let iota = off.iter().cloned().fold(Real::INFINITY, Real::min);
+        let rho = rho2.sqrt();
+        if !(rho.is_finite() && rho > 0.0) {
+            return Err(unbounded());
+        }
+        Ok(Polytope {
+            a: a.to_vec(),
+            b: b.to_vec(),
+            bounding_radius: rho.max(iota),
+            inscribed_radius: iota,
+        })
+    }
+
+    /// The facet normals `A` (rows, as given).
+    pub fn a(&self) -> &[[Real; 3]] {
+        &self.a
+    }
+
+    /// The offsets `b`.
+    pub fn b(&self) -> &[Real] {
+        &self.b
+    }
+
+    pub(crate) fn bounding_radius(&self) -> Real {
+        self.bounding_radius
+    }
+
+    pub(crate) fn inscribed_radius(&self) -> Real {
+        self.inscribed_radius
+    }
+}
+
+impl ConicShape for Polytope {
+    fn lp_count(&self) -> usize {
+        self.a.len()
+    }
+    fn slack_count(&self) -> usize {
+        0
+    }
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
+        for (a, b) in self.a.iter().zip(&self.b) {
+            sink.lp(BodyRow::new([-a[0], -a[1], -a[2]], b * inv_scale, [0.0; 2]));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::member;
+    use super::*;
+
+    const BOX_A: [[Real; 3]; 6] = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, -1.0],
+    ];
+
+    #[test]
+    fn box_radii_and_membership() {
+        let p = Polytope::new(&BOX_A, &[1.0, 2.0, 3.0, 1.0, 2.0, 3.0]).unwrap();
+        assert!((p.bounding_radius() - 14f64.sqrt()).abs() < 1e-14);
+        assert_eq!(p.inscribed_radius(), 1.0);
+        assert!(member(&p, [0.9, -1.9, 2.9], 1.0, [0.0; 2]));
+        assert!(!member(&p, [1.1, 0.0, 0.0], 1.0, [0.0; 2]));
+    }
+
+    #[test]
+    fn rejects_unbounded_and_bad_rows() {
+        // Missing the -z face: unbounded.
+        assert!(Polytope::new(&BOX_A[..5], &[1.0; 5]).is_err());
+        // Zero row.
+        let mut a = BOX_A;
+        a[2] = [0.0; 3];
+        assert!(Polytope::new(&a, &[1.0; 6]).is_err());
+        // Non-positive offset.
+        assert!(Polytope::new(&BOX_A, &[1.0, 1.0, 0.0, 1.0, 1.0, 1.0]).is_err());
+        // Mismatched lengths and empty.
+        assert!(Polytope::new(&BOX_A, &[1.0; 5]).is_err());
+        assert!(Polytope::new(&[], &[]).is_err());
+        // Tetrahedron is fine.
+        let t = [
+            [1.0, 1.0, 1.0],
+            [-1.0, -1.0, 1.0],
+            [-1.0, 1.0, -1.0],
+            [1.0, -1.0, -1.0],
+        ];
+        assert!(Polytope::new(&t, &[1.0; 4]).is_ok());
+    }
+}

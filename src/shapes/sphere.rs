@@ -1,0 +1,57 @@
+//! Sphere: `‖b‖ ≤ R`. Scaled: the second-order cone `[αR; u]`.
+
+use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use crate::error::Error;
+use crate::math::Real;
+
+/// A ball of radius `R` about the body origin.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sphere {
+    radius: Real,
+}
+
+impl Sphere {
+    /// Validates `radius` (positive, finite).
+    pub fn new(radius: Real) -> Result<Sphere, Error> {
+        positive_finite("radius", radius)?;
+        Ok(Sphere { radius })
+    }
+
+    /// The radius `R`.
+    pub fn radius(&self) -> Real {
+        self.radius
+    }
+}
+
+impl ConicShape for Sphere {
+    fn lp_count(&self) -> usize {
+        0
+    }
+    fn slack_count(&self) -> usize {
+        0
+    }
+    fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
+        sink.soc(&[
+            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 2]),
+            BodyRow::new([1.0, 0.0, 0.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+        ]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::member;
+    use super::*;
+
+    #[test]
+    fn membership() {
+        let s = Sphere::new(2.0).unwrap();
+        assert!(member(&s, [1.9, 0.0, 0.0], 1.0, [0.0; 2]));
+        assert!(!member(&s, [1.5, 1.5, 0.0], 1.0, [0.0; 2]));
+        assert!(member(&s, [1.5, 1.5, 0.0], 1.1, [0.0; 2]));
+        assert!(Sphere::new(0.0).is_err());
+        assert!(Sphere::new(f64::NAN).is_err());
+    }
+}

@@ -1,0 +1,273 @@
+//! Cone algebra for the nonnegative orthant and second-order cones of dimension ≤ 4: Jordan
+//! products, Nesterov–Todd scaling and the step to the boundary.
+//!
+//! A second-order cone vector `u = (u₀, u₁)` is stored in `[Real; 4]` with its dimension `d`;
+//! `J = diag(1, −1, …)`. The NT scaling of `(s, λ)` is `W = η [w₀, w₁ᵀ; w₁, I + w₁w₁ᵀ/(1+w₀)]`
+//! with `wᵀJw = 1`, so that `W λ = W⁻¹ s = v`, `W² = η²(2wwᵀ − J)`, `W⁻² = η⁻²(2Jw wᵀJ − J)`.
+
+use crate::math::Real;
+
+/// Maximum dimension of a second-order cone block.
+pub const SOC_MAX_DIM: usize = 4;
+
+/// A vector of a second-order cone block.
+pub type SocVec = [Real; SOC_MAX_DIM];
+
+/// `uᵀ J v`.
+#[inline]
+pub fn jdot(u: &SocVec, v: &SocVec, d: usize) -> Real {
+    let mut r = u[0] * v[0];
+    for i in 1..d {
+        r -= u[i] * v[i];
+    }
+    r
+}
+
+/// `uᵀ v`.
+#[inline]
+pub fn dot(u: &SocVec, v: &SocVec, d: usize) -> Real {
+    let mut r = 0.0;
+    for i in 0..d {
+        r += u[i] * v[i];
+    }
+    r
+}
+
+/// The Jordan product `u ∘ v = (uᵀv, u₀v₁ + v₀u₁)`.
+#[inline]
+pub fn jprod(u: &SocVec, v: &SocVec, d: usize) -> SocVec {
+    let mut r = [0.0; SOC_MAX_DIM];
+    r[0] = dot(u, v, d);
+    for i in 1..d {
+        r[i] = u[0] * v[i] + v[0] * u[i];
+    }
+    r
+}
+
+/// Solves `v ∘ u = r` for `u` (`v` in the interior).
+#[inline]
+pub fn jsolve(v: &SocVec, r: &SocVec, d: usize) -> SocVec {
+    let det = jdot(v, v, d);
+    let mut vr = 0.0;
+    for i in 1..d {
+        vr += v[i] * r[i];
+    }
+    let mut u = [0.0; SOC_MAX_DIM];
+    u[0] = (v[0] * r[0] - vr) / det;
+    for i in 1..d {
+        u[i] = (r[i] - u[0] * v[i]) / v[0];
+    }
+    u
+}
+
+/// Is `u` strictly inside the cone?
+#[inline]
+pub fn interior(u: &SocVec, d: usize) -> bool {
+    u[0] > 0.0 && jdot(u, u, d) > 0.0
+}
+
+/// The Nesterov–Todd scaling of one second-order cone block.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SocScaling {
+    /// η = (sᵀJs / λᵀJλ)^{1/4}
+    pub eta: Real,
+    /// The scaling point w̄ with w̄ᵀJw̄ = 1.
+    pub w: SocVec,
+    /// The scaled point v = Wλ = W⁻¹s.
+    pub v: SocVec,
+}
+
+impl SocScaling {
+    /// Computes the scaling of interior `s`, `lam`; `None` if either is not interior.
+    pub fn new(s: &SocVec, lam: &SocVec, d: usize) -> Option<SocScaling> {
+        let sn2 = jdot(s, s, d);
+        let ln2 = jdot(lam, lam, d);
+        if !(sn2 > 0.0 && ln2 > 0.0 && s[0] > 0.0 && lam[0] > 0.0) {
+            return None;
+        }
+        let sn = sn2.sqrt();
+        let ln = ln2.sqrt();
+        let mut sb = [0.0; SOC_MAX_DIM];
+        let mut lb = [0.0; SOC_MAX_DIM];
+        for i in 0..d {
+            sb[i] = s[i] / sn;
+            lb[i] = lam[i] / ln;
+        }
+        let gamma = ((1.0 + dot(&sb, &lb, d)) * 0.5).sqrt();
+        let mut w = [0.0; SOC_MAX_DIM];
+        w[0] = (sb[0] + lb[0]) / (2.0 * gamma);
+        for i in 1..d {
+            w[i] = (sb[i] - lb[i]) / (2.0 * gamma);
+        }
+        let eta = (sn / ln).sqrt();
+        let mut sc = SocScaling {
+            eta,
+            w,
+            v: [0.0; SOC_MAX_DIM],
+        };
+        sc.v = sc.apply(lam, d);
+        if !sc.v.iter().all(|x| x.is_finite()) || !interior(&sc.v, d) {
+            return None;
+        }
+        Some(sc)
+    }
+
+    /// `W u`.
+    #[inline]
+    pub fn apply(&self, u: &SocVec, d: usize) -> SocVec {
+        self.apply_signed(u, d, 1.0, self.eta)
+    }
+
+    /// `W⁻¹ u`.
+    #[inline]
+    pub fn apply_inv(&self, u: &SocVec, d: usize) -> SocVec {
+        self.apply_signed(u, d, -1.0, 1.0 / self.eta)
+    }
+
+    #[inline]
+    fn apply_signed(&self, u: &SocVec, d: usize, sign: Real, k: Real) -> SocVec {
+        let w = &self.w;
+        let mut w1u1 = 0.0;
+        for i in 1..d {
+            w1u1 += w[i] * u[i];
+        }
+        let mut r = [0.0; SOC_MAX_DIM];
+        r[0] = k * (w[0] * u[0] + sign * w1u1);
+        let c = sign * u[0] + w1u1 / (1.0 + w[0]);
+        for i in 1..d {
+            r[i] = k * (u[i] + c * w[i]);
+        }
+        r
+    }
+
+    /// `W² u = η²(2w(wᵀu) − Ju)`.
+    #[inline]
+    pub fn apply_sq(&self, u: &SocVec, d: usize) -> SocVec {
+        let e2 = self.eta * self.eta;
+        let wu = dot(&self.w, u, d);
+        let mut r = [0.0; SOC_MAX_DIM];
+        r[0] = e2 * (2.0 * self.w[0] * wu - u[0]);
+        for i in 1..d {
+            r[i] = e2 * (2.0 * self.w[i] * wu + u[i]);
+        }
+        r
+    }
+
+    /// `W⁻² u = η⁻²(2Jw(wᵀJu) − Ju)`.
+    #[inline]
+    pub fn apply_inv_sq(&self, u: &SocVec, d: usize) -> SocVec {
+        let e2 = 1.0 / (self.eta * self.eta);
+        let wju = jdot(&self.w, u, d);
+        let mut r = [0.0; SOC_MAX_DIM];
+        r[0] = e2 * (2.0 * self.w[0] * wju - u[0]);
+        for i in 1..d {
+            r[i] = e2 * (-2.0 * self.w[i] * wju + u[i]);
+        }
+        r
+    }
+}
+
+/// Largest `t` with `u + t du` in the closed cone (∞ when the whole ray stays inside);
+/// `u` must be interior.
+#[inline]
+pub fn soc_step(u: &SocVec, du: &SocVec, d: usize) -> Real {
+    let n2 = jdot(u, u, d);
+    let n = n2.sqrt();
+    let mut ub = [0.0; SOC_MAX_DIM];
+    for i in 0..d {
+        ub[i] = u[i] / n;
+    }
+    let ub_du = jdot(&ub, du, d);
+    let rho0 = ub_du / n;
+    let factor = (ub_du + du[0]) / (ub[0] + 1.0);
+    let mut r1 = 0.0;
+    for i in 1..d {
+        let v = (du[i] - factor * ub[i]) / n;
+        r1 += v * v;
+    }
+    let sigma = r1.sqrt() - rho0;
+    if sigma > 0.0 {
+        1.0 / sigma
+    } else {
+        Real::INFINITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rand_interior(seed: u64, d: usize) -> SocVec {
+        let mut x = seed;
+        let mut next = || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        let mut u = [0.0; SOC_MAX_DIM];
+        let mut n2 = 0.0;
+        for i in 1..d {
+            u[i] = next();
+            n2 += u[i] * u[i];
+        }
+        u[0] = n2.sqrt() + 0.1 + next().abs();
+        u
+    }
+
+    #[test]
+    fn nt_scaling_identities() {
+        for d in [3, 4] {
+            for seed in 0..50 {
+                let s = rand_interior(seed, d);
+                let l = rand_interior(seed + 1000, d);
+                let sc = SocScaling::new(&s, &l, d).unwrap();
+                let a = sc.apply(&l, d);
+                let b = sc.apply_inv(&s, d);
+                let c = sc.apply_sq(&l, d);
+                let e = sc.apply_inv_sq(&s, d);
+                let back = sc.apply_inv(&sc.apply(&s, d), d);
+                for i in 0..d {
+                    assert!((a[i] - b[i]).abs() < 1e-12, "Wλ = W⁻¹s");
+                    assert!((c[i] - s[i]).abs() < 1e-12, "W²λ = s");
+                    assert!((e[i] - l[i]).abs() < 1e-12, "W⁻²s = λ");
+                    assert!((back[i] - s[i]).abs() < 1e-12, "W⁻¹W = I");
+                }
+                assert!((jdot(&sc.w, &sc.w, d) - 1.0).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn jordan_solve_inverts_product() {
+        let v = rand_interior(7, 4);
+        let u = rand_interior(8, 4);
+        let r = jprod(&v, &u, 4);
+        let back = jsolve(&v, &r, 4);
+        for i in 0..4 {
+            assert!((back[i] - u[i]).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn step_to_boundary_matches_bisection() {
+        for seed in 0..50 {
+            let u = rand_interior(seed, 4);
+            let mut du = rand_interior(seed + 99, 4);
+            du[0] = -du[0] * 3.0;
+            let t = soc_step(&u, &du, 4);
+            let at = |t: f64| {
+                let mut p = [0.0; 4];
+                for i in 0..4 {
+                    p[i] = u[i] + t * du[i];
+                }
+                p[0] - (p[1] * p[1] + p[2] * p[2] + p[3] * p[3]).sqrt()
+            };
+            assert!(t.is_finite());
+            assert!(
+                at(t * 0.999) > 0.0 && at(t * 1.001) < 0.0,
+                "seed {seed}: t = {t}"
+            );
+        }
+    }
+}

@@ -1,0 +1,159 @@
+//! The reduced KKT system: the dense normal matrix `H = Gᵀ W⁻² G` (n ≤ [`MAX_VARS`]) and its
+//! Cholesky factorisation, on the stack.
+
+use super::MAX_VARS;
+use crate::math::Real;
+
+/// A symmetric positive definite matrix of order `n ≤ MAX_VARS` and its Cholesky factor.
+#[derive(Clone, Copy, Debug)]
+pub struct Normal {
+    n: usize,
+    /// Lower triangle holds H before `factor` and L (H = L Lᵀ) after.
+    a: [[Real; MAX_VARS]; MAX_VARS],
+}
+
+impl Normal {
+    /// A zero matrix of order `n`.
+    pub fn zeros(n: usize) -> Normal {
+        debug_assert!(n <= MAX_VARS);
+        Normal {
+            n,
+            a: [[0.0; MAX_VARS]; MAX_VARS],
+        }
+    }
+
+    /// The order `n`.
+    pub fn order(&self) -> usize {
+        self.n
+    }
+
+    /// Sets the matrix to `k · (G_fixed)` lower triangle from a full symmetric array.
+    pub fn set_zero(&mut self) {
+        for row in self.a.iter_mut().take(self.n) {
+            row[..self.n].fill(0.0);
+        }
+    }
+
+    /// `H += k g gᵀ` (lower triangle).
+    #[inline]
+    pub fn add_rank1(&mut self, k: Real, g: &[Real; MAX_VARS]) {
+        let n = self.n;
+        for i in 0..n {
+            let kg = k * g[i];
+            if kg == 0.0 {
+                continue;
+            }
+            let row = &mut self.a[i];
+            for j in 0..=i {
+                row[j] += kg * g[j];
+            }
+        }
+    }
+
+    /// `H += k M` for a symmetric `M` stored fully.
+    pub fn add_scaled(&mut self, k: Real, m: &[[Real; MAX_VARS]; MAX_VARS]) {
+        let n = self.n;
+        for i in 0..n {
+            for j in 0..=i {
+                self.a[i][j] += k * m[i][j];
+            }
+        }
+    }
+
+    /// Cholesky in place. Pivots smaller than `eps·max diag` are raised to it (a static
+    /// regularisation that keeps the direction a descent direction). Returns false when the
+    /// matrix has non-finite entries or no positive diagonal at all.
+    pub fn factor(&mut self) -> bool {
+        let n = self.n;
+        let mut dmax: Real = 0.0;
+        for i in 0..n {
+            let d = self.a[i][i];
+            if !d.is_finite() {
+                return false;
+            }
+            dmax = dmax.max(d);
+        }
+        if dmax <= 0.0 {
+            return false;
+        }
+        let floor = dmax * 1e-14;
+        for j in 0..n {
+            let mut d = self.a[j][j];
+            for k in 0..j {
+                d -= self.a[j][k] * self.a[j][k];
+            }
+            if !(d > floor) {
+                d = floor;
+            }
+            let l = d.sqrt();
+            self.a[j][j] = l;
+            let inv = 1.0 / l;
+            for i in (j + 1)..n {
+                let mut v = self.a[i][j];
+                for k in 0..j {
+                    v -= self.a[i][k] * self.a[j][k];
+                }
+                self.a[i][j] = v * inv;
+            }
+        }
+        true
+    }
+
+    /// Solves `H x = b` in place with the factor from [`Normal::factor`].
+    pub fn solve(&self, b: &mut [Real; MAX_VARS]) {
+        let n = self.n;
+        for i in 0..n {
+            let mut v = b[i];
+            for k in 0..i {
+                v -= self.a[i][k] * b[k];
+            }
+            b[i] = v / self.a[i][i];
+        }
+        for i in (0..n).rev() {
+            let mut v = b[i];
+            for k in (i + 1)..n {
+                v -= self.a[k][i] * b[k];
+            }
+            b[i] = v / self.a[i][i];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_spd_system() {
+        let mut h = Normal::zeros(3);
+        let rows = [
+            [2.0, 1.0, 0.0],
+            [1.0, 3.0, 1.0],
+            [0.0, 1.0, 4.0],
+            [1.0, 1.0, 1.0],
+        ];
+        for r in rows {
+            let mut g = [0.0; MAX_VARS];
+            g[..3].copy_from_slice(&r);
+            h.add_rank1(1.0, &g);
+        }
+        let mut full = [[0.0; 3]; 3];
+        for r in rows {
+            for i in 0..3 {
+                for j in 0..3 {
+                    full[i][j] += r[i] * r[j];
+                }
+            }
+        }
+        assert!(h.factor());
+        let x = [1.0, -2.0, 0.5];
+        let mut b = [0.0; MAX_VARS];
+        for i in 0..3 {
+            b[i] = (0..3).map(|j| full[i][j] * x[j]).sum();
+        }
+        h.solve(&mut b);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < 1e-13);
+        }
+    }
+}
