@@ -2,6 +2,10 @@
 //! and the exact distance.
 
 mod assemble;
+mod derivatives;
+mod distance;
 mod proximity;
 
+pub use derivatives::{gradient, jacobian};
+pub use distance::{distance, Distance};
 pub use proximity::{proximity, Options, Proximity};
