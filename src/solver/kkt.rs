@@ -119,6 +119,47 @@ impl Normal {
     }
 }
 
+/// Solves the dense `n×n` system `m x = b` by Gaussian elimination with partial pivoting
+/// (destroys `m`); `None` when a pivot is zero or not finite.
+pub fn lu_solve(
+    m: &mut [[Real; MAX_VARS]; MAX_VARS],
+    mut b: [Real; MAX_VARS],
+    n: usize,
+) -> Option<[Real; MAX_VARS]> {
+    for k in 0..n {
+        let mut p = k;
+        for i in (k + 1)..n {
+            if m[i][k].abs() > m[p][k].abs() {
+                p = i;
+            }
+        }
+        let piv = m[p][k];
+        if !(piv.abs() > 0.0) || !piv.is_finite() {
+            return None;
+        }
+        m.swap(k, p);
+        b.swap(k, p);
+        for i in (k + 1)..n {
+            let f = m[i][k] / piv;
+            if f == 0.0 {
+                continue;
+            }
+            for j in k..n {
+                m[i][j] -= f * m[k][j];
+            }
+            b[i] -= f * b[k];
+        }
+    }
+    for k in (0..n).rev() {
+        let mut v = b[k];
+        for j in (k + 1)..n {
+            v -= m[k][j] * b[j];
+        }
+        b[k] = v / m[k][k];
+    }
+    Some(b)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -154,6 +195,24 @@ mod tests {
         h.solve(&mut b);
         for i in 0..3 {
             assert!((b[i] - x[i]).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn lu_solves_nonsymmetric_system() {
+        let mut m = [[0.0; MAX_VARS]; MAX_VARS];
+        let a = [[0.0, 2.0, 1.0], [1.0, -1.0, 0.0], [3.0, 0.5, 4.0]];
+        for i in 0..3 {
+            m[i][..3].copy_from_slice(&a[i]);
+        }
+        let x = [1.0, 2.0, -3.0];
+        let mut b = [0.0; MAX_VARS];
+        for i in 0..3 {
+            b[i] = (0..3).map(|j| a[i][j] * x[j]).sum();
+        }
+        let got = lu_solve(&mut m, b, 3).unwrap();
+        for i in 0..3 {
+            assert!((got[i] - x[i]).abs() < 1e-14);
         }
     }
 }

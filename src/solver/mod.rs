@@ -342,13 +342,81 @@ impl<'a> Problem<'a> {
         t
     }
 
+    /// One full Newton step (σ = 0, step length 1, cones ignored) on the primal variables from
+    /// the converged iterate, with the complementarity `s∘λ = 0` linearised directly (AHO form)
+    /// rather than in the NT-scaled space: `λ∘ds + s∘dλ = −s∘λ`. Eliminating `ds = −r_p − G dz`
+    /// and `dλ = −λ + D(r_p + G dz)` with `D = L(s)⁻¹L(λ)` leaves `GᵀDG dz = −c − GᵀD r_p`.
+    /// Where the active set is regular this moves the primal point from O(√μ) to O(μ) of the
+    /// solution (an interior-point iterate on a curved contact is only O(√μ) accurate). The step
+    /// is kept only if it is finite and changes the objective by no more than the gap tolerance.
+    fn polish(&self, outcome: &mut Outcome, objective_tolerance: Real) {
+        let n = self.n;
+        let mut m = [[0.0; MAX_VARS]; MAX_VARS];
+        let mut rhs = [0.0; MAX_VARS];
+        for i in 0..n {
+            rhs[i] = -self.c[i];
+        }
+        for row in self.lp.iter() {
+            let d = row.lam / row.s;
+            for i in 0..n {
+                let gi = row.g[i] * d;
+                if gi == 0.0 {
+                    continue;
+                }
+                rhs[i] -= gi * row.rp;
+                for j in 0..n {
+                    m[i][j] += gi * row.g[j];
+                }
+            }
+        }
+        for b in self.soc[..self.n_soc].iter() {
+            let dim = b.dim;
+            // D applied to each column of G, and to r_p.
+            let apply_d = |u: &SocVec| jsolve(&b.s, &jprod(&b.lam, u, dim), dim);
+            for j in 0..n {
+                let mut col = [0.0; SOC_MAX_DIM];
+                for r in 0..dim {
+                    col[r] = b.g[r][j];
+                }
+                let dc = apply_d(&col);
+                for (r, gr) in b.g[..dim].iter().enumerate() {
+                    for i in 0..n {
+                        m[i][j] += gr[i] * dc[r];
+                    }
+                }
+            }
+            let drp = apply_d(&b.rp);
+            for (r, gr) in b.g[..dim].iter().enumerate() {
+                for i in 0..n {
+                    rhs[i] -= gr[i] * drp[r];
+                }
+            }
+        }
+        let dz = match kkt::lu_solve(&mut m, rhs, n) {
+            Some(d) => d,
+            None => return,
+        };
+        if !dz[..n].iter().all(|v| v.is_finite()) {
+            return;
+        }
+        let dobj = dotn(&self.c, &dz, n);
+        if !(dobj.abs() <= objective_tolerance) {
+            return;
+        }
+        for i in 0..n {
+            outcome.z[i] += dz[i];
+        }
+        outcome.primal_objective += dobj;
+    }
+
     /// Runs the interior-point method from the primal point `z0`, with the dual started at
     /// `mu0 · s⁻¹` (perfectly centred). The final iterate stays in the problem's blocks.
     pub fn solve(&mut self, z0: &[Real; MAX_VARS], mu0: Real, settings: &Settings) -> Outcome {
         let n = self.n;
         let mut z = *z0;
         // Initial slacks, pushed into the interior if needed.
-        let mut shift: Real = 0.0;
+        // Largest violation of strict interiority (negative when z0 is strictly feasible).
+        let mut shift = Real::NEG_INFINITY;
         for row in self.lp.iter_mut() {
             row.s = row.h - dotn(&row.g, &z, n);
             shift = shift.max(-row.s);
@@ -467,7 +535,9 @@ impl<'a> Problem<'a> {
                 // Leave the scalings current for derivatives.
                 if !self.update_scalings() {
                     outcome.status = SolveStatus::NumericalFailure;
+                    return outcome;
                 }
+                self.polish(&mut outcome, tol * scale);
                 return outcome;
             }
             if iter >= settings.max_iterations {
@@ -528,6 +598,9 @@ impl<'a> Problem<'a> {
             }
             let dz = self.direction(&kkt, &rd);
             let t = (0.99 * self.max_step()).min(1.0);
+            if std::env::var_os("DCOL_TRACE").is_some() {
+                eprintln!("it {iter} pobj {pobj:.12e} dobj {dobj:.12e} gap {gap:.2e} pres {pres:.1e} dres {dres:.1e} t_aff {t_aff:.3e} sigma {sigma:.1e} t {t:.4e}");
+            }
             if !(t > 0.0) || !dz[..n].iter().all(|v| v.is_finite()) {
                 outcome.status = SolveStatus::NumericalFailure;
                 return outcome;
