@@ -1,9 +1,38 @@
-// Temporary: trace one reference case. Usage: trace_case FILE INDEX
+// Development aid: trace one reference case (DCOL_TRACE=1 prints the iterations) or, with
+// `time FILE...`, print the median time of proximity over reference files.
 use serde_json::Value;
 #[path = "../tests/common/mod.rs"]
 mod common;
 fn main() {
     let a: Vec<String> = std::env::args().collect();
+    if a[1] == "time" {
+        let mut all = Vec::new();
+        for f in &a[2..] {
+            for c in common::load(std::path::Path::new(f)) {
+                all.push((
+                    common::shape(&c["shape1"]),
+                    common::pose(&c["pose1"]),
+                    common::shape(&c["shape2"]),
+                    common::pose(&c["pose2"]),
+                ));
+            }
+        }
+        let mut t = Vec::new();
+        for _ in 0..5 {
+            for (s1, p1, s2, p2) in &all {
+                let st = std::time::Instant::now();
+                for _ in 0..20 {
+                    std::hint::black_box(
+                        dcol::proximity(s1, p1, s2, p2, &Default::default()).unwrap(),
+                    );
+                }
+                t.push(st.elapsed().as_nanos() as f64 / 20.0);
+            }
+        }
+        t.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        println!("median {:.0} ns over {} cases", t[t.len() / 2], all.len());
+        return;
+    }
     let cases = common::load(std::path::Path::new(&a[1]));
     let c: &Value = &cases[a[2].parse::<usize>().unwrap()];
     let p = dcol::proximity(

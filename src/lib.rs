@@ -23,6 +23,8 @@
 #![deny(unsafe_code)]
 
 pub mod error;
+#[allow(unsafe_code)]
+pub mod ffi;
 pub mod math;
 pub mod query;
 pub mod shapes;

@@ -8,11 +8,12 @@
 //! nearly coincide, and the normalised α' is ≥ 1 with a feasible start known in closed form
 //! from the inscribed radii.
 
-use super::assemble::{add_shape, with_rows, Placement};
-use crate::error::Error;
+use super::assemble::{add_shape, dispatch, Placement, Task};
+use super::derivatives;
+use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{Outcome, Problem, Settings, SolveStatus, MAX_VARS};
+use crate::solver::{LpRow, Problem, Settings, SolveStatus};
 
 /// Query options: the solver's stopping tolerance and iteration limit.
 pub type Options = Settings;
@@ -58,14 +59,88 @@ impl Frame {
     }
 }
 
-/// A solved proximity problem, handed to derivative code.
-pub(crate) struct Solved<'s, 'a> {
-    pub problem: &'s Problem<'a>,
-    pub outcome: &'s Outcome,
+/// Which outputs a query needs (each includes the ones before it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Want {
+    Proximity,
+    Gradient,
+    Jacobian,
+}
+
+/// Everything a proximity query can produce; fields beyond what was asked for are zero.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Full {
+    pub prox: Proximity,
+    pub gradient: [Real; 14],
+    pub jacobian: [[Real; 14]; 4],
+}
+
+/// The inputs of one proximity solve, in solver coordinates.
+#[derive(Clone, Copy)]
+pub(crate) struct Context<'q> {
+    pub shape1: &'q Shape,
+    pub shape2: &'q Shape,
+    pub pose1: &'q Pose,
+    pub pose2: &'q Pose,
+    pub options: &'q Options,
     pub frame: Frame,
     pub place1: Placement,
     pub place2: Placement,
     pub inv_scale: Real,
+}
+
+struct ProximityTask<'q> {
+    ctx: Context<'q>,
+    want: Want,
+}
+
+impl Task for ProximityTask<'_> {
+    type Output = Full;
+
+    fn run<const N: usize>(self, rows: &mut [LpRow<N>]) -> Full {
+        let ctx = &self.ctx;
+        let frame = &ctx.frame;
+        let inv = ctx.inv_scale;
+        let mut problem = Problem::<N>::new(rows);
+        problem.c[3] = 1.0;
+        let next = add_shape(&mut problem, ctx.shape1, ctx.place1, inv, 0);
+        add_shape(&mut problem, ctx.shape2, ctx.place2, inv, next);
+        // Feasible start: the point dividing the offset in the ratio of the inscribed radii
+        // lies in both inscribed balls once α' ≥ κ/(ι₁' + ι₂').
+        let i1 = ctx.shape1.inscribed_radius() * inv;
+        let i2 = ctx.shape2.inscribed_radius() * inv;
+        let alpha_in = frame.kappa / (i1 + i2);
+        let mut z0 = [0.0; N];
+        let xi = frame.delta * (i1 / (i1 + i2));
+        z0[0] = xi.x;
+        z0[1] = xi.y;
+        z0[2] = xi.z;
+        z0[3] = 1.2 * alpha_in;
+        let mu0 = (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
+        let outcome = problem.solve(&z0, mu0, ctx.options);
+        let z = &outcome.z;
+        let alpha_n = z[3];
+        let xi = Vec3::new(z[0], z[1], z[2]);
+        let r1 = *ctx.pose1.position();
+        let r2 = *ctx.pose2.position();
+        let prox = Proximity {
+            alpha: alpha_n * frame.alpha_factor(),
+            point: r1 + xi * frame.point_factor(),
+            contact1: r1 + xi * (frame.ell / alpha_n),
+            contact2: r2 + (xi - frame.delta) * (frame.ell / alpha_n),
+            iterations: outcome.iterations,
+            status: outcome.status,
+        };
+        let mut full = Full {
+            prox,
+            gradient: [0.0; 14],
+            jacobian: [[0.0; 14]; 4],
+        };
+        if self.want >= Want::Gradient {
+            derivatives::compute(ctx, &problem, &outcome, self.want, &mut full);
+        }
+        full
+    }
 }
 
 /// Robust Euclidean norm (no underflow or overflow for finite input).
@@ -77,23 +152,23 @@ pub(crate) fn robust_norm(v: &Vec3) -> Real {
     m * (v / m).norm()
 }
 
-/// Solves the proximity problem and hands the result (and, unless the origins coincide, the
-/// solved problem) to `f`. Never allocates when both shapes have ≤ 32 orthant rows in total.
-pub(crate) fn solve_with<R>(
+/// Solves the proximity problem and computes what `want` asks for. Never allocates when both
+/// shapes have ≤ 32 orthant rows in total (otherwise a per-thread buffer, allocated once).
+pub(crate) fn query(
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
     pose2: &Pose,
     options: &Options,
-    f: impl FnOnce(&Proximity, Option<&Solved>) -> R,
-) -> Result<R, Error> {
+    want: Want,
+) -> Result<Full, Error> {
     options.validate()?;
     let r1 = *pose1.position();
     let r2 = *pose2.position();
     let offset = r2 - r1;
     let dist = robust_norm(&offset);
     if dist == 0.0 {
-        let p = Proximity {
+        let prox = Proximity {
             alpha: 0.0,
             point: r1,
             contact1: r1,
@@ -101,10 +176,18 @@ pub(crate) fn solve_with<R>(
             iterations: 0,
             status: SolveStatus::Converged,
         };
-        return Ok(f(&p, None));
+        let mut full = Full {
+            prox,
+            gradient: [0.0; 14],
+            jacobian: [[0.0; 14]; 4],
+        };
+        if want >= Want::Gradient {
+            derivatives::coincident(shape1, pose1, shape2, pose2, options, want, &mut full)?;
+        }
+        return Ok(full);
     }
     if !dist.is_finite() {
-        return Err(Error::InvalidPose(crate::error::ErrorDetail::new(
+        return Err(Error::InvalidPose(ErrorDetail::new(
             "position",
             dist,
             "the distance between the two origins overflows a double",
@@ -114,75 +197,42 @@ pub(crate) fn solve_with<R>(
     let ell = rho1.max(rho2);
     let inv = 1.0 / ell;
     let kappa = (rho1 + rho2) * inv;
-    let dir = offset / dist;
     let frame = Frame {
         ell,
         dist,
         kappa,
-        delta: dir * kappa,
+        delta: offset / dist * kappa,
     };
     let k1 = shape1.slack_count();
     let k2 = shape2.slack_count();
-    let n = 4 + k1 + k2;
-    let place1 = Placement {
-        rotation: *pose1.rotation(),
-        center: Vec3::zeros(),
-        point_col: 0,
-        alpha_col: Some(3),
-        slack_col: 4,
-        slacks: k1,
-    };
-    let place2 = Placement {
-        rotation: *pose2.rotation(),
-        center: frame.delta,
-        point_col: 0,
-        alpha_col: Some(3),
-        slack_col: 4 + k1,
-        slacks: k2,
+    let ctx = Context {
+        shape1,
+        shape2,
+        pose1,
+        pose2,
+        options,
+        frame,
+        place1: Placement {
+            rotation: *pose1.rotation(),
+            center: Vec3::zeros(),
+            point_col: 0,
+            alpha_col: Some(3),
+            slack_col: 4,
+            slacks: k1,
+        },
+        place2: Placement {
+            rotation: *pose2.rotation(),
+            center: frame.delta,
+            point_col: 0,
+            alpha_col: Some(3),
+            slack_col: 4 + k1,
+            slacks: k2,
+        },
+        inv_scale: inv,
     };
     let m = shape1.lp_count() + shape2.lp_count();
-    let result = with_rows(m, |rows| {
-        let mut problem = Problem::new(n, rows);
-        problem.c[3] = 1.0;
-        let next = add_shape(&mut problem, shape1, place1, inv, 0);
-        add_shape(&mut problem, shape2, place2, inv, next);
-        // Feasible start: the point dividing the offset in the ratio of the inscribed radii
-        // lies in both inscribed balls once α' ≥ κ/(ι₁' + ι₂').
-        let (i1, i2) = (
-            shape1.inscribed_radius() * inv,
-            shape2.inscribed_radius() * inv,
-        );
-        let alpha_in = kappa / (i1 + i2);
-        let mut z0 = [0.0; MAX_VARS];
-        let xi = frame.delta * (i1 / (i1 + i2));
-        z0[0] = xi.x;
-        z0[1] = xi.y;
-        z0[2] = xi.z;
-        z0[3] = 1.2 * alpha_in;
-        let mu0 = (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
-        let outcome = problem.solve(&z0, mu0, options);
-        let z = &outcome.z;
-        let alpha_n = z[3];
-        let xi = Vec3::new(z[0], z[1], z[2]);
-        let prox = Proximity {
-            alpha: alpha_n * frame.alpha_factor(),
-            point: r1 + xi * frame.point_factor(),
-            contact1: r1 + xi * (ell / alpha_n),
-            contact2: r2 + (xi - frame.delta) * (ell / alpha_n),
-            iterations: outcome.iterations,
-            status: outcome.status,
-        };
-        let solved = Solved {
-            problem: &problem,
-            outcome: &outcome,
-            frame,
-            place1,
-            place2,
-            inv_scale: inv,
-        };
-        f(&prox, Some(&solved))
-    });
-    Ok(result)
+    dispatch(4 + k1 + k2, m, ProximityTask { ctx, want })
+        .ok_or(Error::Internal("proximity: variable count out of range"))
 }
 
 /// α*, x* and the contact points of two posed shapes.
@@ -204,5 +254,5 @@ pub fn proximity(
     pose2: &Pose,
     options: &Options,
 ) -> Result<Proximity, Error> {
-    solve_with(shape1, pose1, shape2, pose2, options, |p, _| *p)
+    query(shape1, pose1, shape2, pose2, options, Want::Proximity).map(|f| f.prox)
 }

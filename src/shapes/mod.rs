@@ -58,6 +58,10 @@ pub(crate) trait ConicShape {
     fn lp_count(&self) -> usize;
     /// Number of slack variables (0, 1 or 2).
     fn slack_count(&self) -> usize;
+    /// Number of second-order cones (0 or 1; written before the orthant rows).
+    fn soc_count(&self) -> usize {
+        1
+    }
     /// Writes the constraint rows with lengths multiplied by `inv_scale`.
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink);
 }
@@ -233,6 +237,9 @@ impl ConicShape for Shape {
     }
     fn slack_count(&self) -> usize {
         dispatch!(self, s => s.slack_count())
+    }
+    fn soc_count(&self) -> usize {
+        dispatch!(self, s => s.soc_count())
     }
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         dispatch!(self, s => s.rows(inv_scale, sink))

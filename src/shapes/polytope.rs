@@ -133,6 +133,9 @@ impl ConicShape for Polytope {
     fn slack_count(&self) -> usize {
         0
     }
+    fn soc_count(&self) -> usize {
+        0
+    }
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         for (a, b) in self.a.iter().zip(&self.b) {
             sink.lp(BodyRow::new([-a[0], -a[1], -a[2]], b * inv_scale, [0.0; 2]));

@@ -1,23 +1,26 @@
 //! Cone algebra for the nonnegative orthant and second-order cones of dimension ≤ 4: Jordan
 //! products, Nesterov–Todd scaling and the step to the boundary.
 //!
-//! A second-order cone vector `u = (u₀, u₁)` is stored in `[Real; 4]` with its dimension `d`;
-//! `J = diag(1, −1, …)`. The NT scaling of `(s, λ)` is `W = η [w₀, w₁ᵀ; w₁, I + w₁w₁ᵀ/(1+w₀)]`
+//! A second-order cone vector `u = (u₀, u₁)` is stored in `[Real; 4]`; a cone of dimension 3 is
+//! stored with a last component that stays exactly zero (its row of `G` and `h` are zero, so
+//! the slack, the multiplier and every direction keep it at zero), which lets every loop run
+//! over a constant bound. `J = diag(1, −1, −1, −1)`. The NT scaling of `(s, λ)` is `W = η [w₀, w₁ᵀ; w₁, I + w₁w₁ᵀ/(1+w₀)]`
 //! with `wᵀJw = 1`, so that `W λ = W⁻¹ s = v`, `W² = η²(2wwᵀ − J)`, `W⁻² = η⁻²(2Jw wᵀJ − J)`.
 
 use crate::math::Real;
 
-/// Maximum dimension of a second-order cone block.
+/// Dimension of a (padded) second-order cone block.
 pub const SOC_MAX_DIM: usize = 4;
+const D: usize = SOC_MAX_DIM;
 
 /// A vector of a second-order cone block.
 pub type SocVec = [Real; SOC_MAX_DIM];
 
 /// `uᵀ J v`.
 #[inline]
-pub fn jdot(u: &SocVec, v: &SocVec, d: usize) -> Real {
+pub fn jdot(u: &SocVec, v: &SocVec) -> Real {
     let mut r = u[0] * v[0];
-    for i in 1..d {
+    for i in 1..D {
         r -= u[i] * v[i];
     }
     r
@@ -25,9 +28,9 @@ pub fn jdot(u: &SocVec, v: &SocVec, d: usize) -> Real {
 
 /// `uᵀ v`.
 #[inline]
-pub fn dot(u: &SocVec, v: &SocVec, d: usize) -> Real {
+pub fn dot(u: &SocVec, v: &SocVec) -> Real {
     let mut r = 0.0;
-    for i in 0..d {
+    for i in 0..D {
         r += u[i] * v[i];
     }
     r
@@ -35,10 +38,10 @@ pub fn dot(u: &SocVec, v: &SocVec, d: usize) -> Real {
 
 /// The Jordan product `u ∘ v = (uᵀv, u₀v₁ + v₀u₁)`.
 #[inline]
-pub fn jprod(u: &SocVec, v: &SocVec, d: usize) -> SocVec {
+pub fn jprod(u: &SocVec, v: &SocVec) -> SocVec {
     let mut r = [0.0; SOC_MAX_DIM];
-    r[0] = dot(u, v, d);
-    for i in 1..d {
+    r[0] = dot(u, v);
+    for i in 1..D {
         r[i] = u[0] * v[i] + v[0] * u[i];
     }
     r
@@ -46,15 +49,15 @@ pub fn jprod(u: &SocVec, v: &SocVec, d: usize) -> SocVec {
 
 /// Solves `v ∘ u = r` for `u` (`v` in the interior).
 #[inline]
-pub fn jsolve(v: &SocVec, r: &SocVec, d: usize) -> SocVec {
-    let det = jdot(v, v, d);
+pub fn jsolve(v: &SocVec, r: &SocVec) -> SocVec {
+    let det = jdot(v, v);
     let mut vr = 0.0;
-    for i in 1..d {
+    for i in 1..D {
         vr += v[i] * r[i];
     }
     let mut u = [0.0; SOC_MAX_DIM];
     u[0] = (v[0] * r[0] - vr) / det;
-    for i in 1..d {
+    for i in 1..D {
         u[i] = (r[i] - u[0] * v[i]) / v[0];
     }
     u
@@ -62,8 +65,8 @@ pub fn jsolve(v: &SocVec, r: &SocVec, d: usize) -> SocVec {
 
 /// Is `u` strictly inside the cone?
 #[inline]
-pub fn interior(u: &SocVec, d: usize) -> bool {
-    u[0] > 0.0 && jdot(u, u, d) > 0.0
+pub fn interior(u: &SocVec) -> bool {
+    u[0] > 0.0 && jdot(u, u) > 0.0
 }
 
 /// The Nesterov–Todd scaling of one second-order cone block.
@@ -79,9 +82,9 @@ pub struct SocScaling {
 
 impl SocScaling {
     /// Computes the scaling of interior `s`, `lam`; `None` if either is not interior.
-    pub fn new(s: &SocVec, lam: &SocVec, d: usize) -> Option<SocScaling> {
-        let sn2 = jdot(s, s, d);
-        let ln2 = jdot(lam, lam, d);
+    pub fn new(s: &SocVec, lam: &SocVec) -> Option<SocScaling> {
+        let sn2 = jdot(s, s);
+        let ln2 = jdot(lam, lam);
         if !(sn2 > 0.0 && ln2 > 0.0 && s[0] > 0.0 && lam[0] > 0.0) {
             return None;
         }
@@ -89,14 +92,14 @@ impl SocScaling {
         let ln = ln2.sqrt();
         let mut sb = [0.0; SOC_MAX_DIM];
         let mut lb = [0.0; SOC_MAX_DIM];
-        for i in 0..d {
+        for i in 0..D {
             sb[i] = s[i] / sn;
             lb[i] = lam[i] / ln;
         }
-        let gamma = ((1.0 + dot(&sb, &lb, d)) * 0.5).sqrt();
+        let gamma = ((1.0 + dot(&sb, &lb)) * 0.5).sqrt();
         let mut w = [0.0; SOC_MAX_DIM];
         w[0] = (sb[0] + lb[0]) / (2.0 * gamma);
-        for i in 1..d {
+        for i in 1..D {
             w[i] = (sb[i] - lb[i]) / (2.0 * gamma);
         }
         let eta = (sn / ln).sqrt();
@@ -105,8 +108,8 @@ impl SocScaling {
             w,
             v: [0.0; SOC_MAX_DIM],
         };
-        sc.v = sc.apply(lam, d);
-        if !sc.v.iter().all(|x| x.is_finite()) || !interior(&sc.v, d) {
+        sc.v = sc.apply(lam);
+        if !sc.v.iter().all(|x| x.is_finite()) || !interior(&sc.v) {
             return None;
         }
         Some(sc)
@@ -114,27 +117,27 @@ impl SocScaling {
 
     /// `W u`.
     #[inline]
-    pub fn apply(&self, u: &SocVec, d: usize) -> SocVec {
-        self.apply_signed(u, d, 1.0, self.eta)
+    pub fn apply(&self, u: &SocVec) -> SocVec {
+        self.apply_signed(u, 1.0, self.eta)
     }
 
     /// `W⁻¹ u`.
     #[inline]
-    pub fn apply_inv(&self, u: &SocVec, d: usize) -> SocVec {
-        self.apply_signed(u, d, -1.0, 1.0 / self.eta)
+    pub fn apply_inv(&self, u: &SocVec) -> SocVec {
+        self.apply_signed(u, -1.0, 1.0 / self.eta)
     }
 
     #[inline]
-    fn apply_signed(&self, u: &SocVec, d: usize, sign: Real, k: Real) -> SocVec {
+    fn apply_signed(&self, u: &SocVec, sign: Real, k: Real) -> SocVec {
         let w = &self.w;
         let mut w1u1 = 0.0;
-        for i in 1..d {
+        for i in 1..D {
             w1u1 += w[i] * u[i];
         }
         let mut r = [0.0; SOC_MAX_DIM];
         r[0] = k * (w[0] * u[0] + sign * w1u1);
         let c = sign * u[0] + w1u1 / (1.0 + w[0]);
-        for i in 1..d {
+        for i in 1..D {
             r[i] = k * (u[i] + c * w[i]);
         }
         r
@@ -142,12 +145,12 @@ impl SocScaling {
 
     /// `W² u = η²(2w(wᵀu) − Ju)`.
     #[inline]
-    pub fn apply_sq(&self, u: &SocVec, d: usize) -> SocVec {
+    pub fn apply_sq(&self, u: &SocVec) -> SocVec {
         let e2 = self.eta * self.eta;
-        let wu = dot(&self.w, u, d);
+        let wu = dot(&self.w, u);
         let mut r = [0.0; SOC_MAX_DIM];
         r[0] = e2 * (2.0 * self.w[0] * wu - u[0]);
-        for i in 1..d {
+        for i in 1..D {
             r[i] = e2 * (2.0 * self.w[i] * wu + u[i]);
         }
         r
@@ -155,12 +158,12 @@ impl SocScaling {
 
     /// `W⁻² u = η⁻²(2Jw(wᵀJu) − Ju)`.
     #[inline]
-    pub fn apply_inv_sq(&self, u: &SocVec, d: usize) -> SocVec {
+    pub fn apply_inv_sq(&self, u: &SocVec) -> SocVec {
         let e2 = 1.0 / (self.eta * self.eta);
-        let wju = jdot(&self.w, u, d);
+        let wju = jdot(&self.w, u);
         let mut r = [0.0; SOC_MAX_DIM];
         r[0] = e2 * (2.0 * self.w[0] * wju - u[0]);
-        for i in 1..d {
+        for i in 1..D {
             r[i] = e2 * (-2.0 * self.w[i] * wju + u[i]);
         }
         r
@@ -170,18 +173,18 @@ impl SocScaling {
 /// Largest `t` with `u + t du` in the closed cone (∞ when the whole ray stays inside);
 /// `u` must be interior.
 #[inline]
-pub fn soc_step(u: &SocVec, du: &SocVec, d: usize) -> Real {
-    let n2 = jdot(u, u, d);
+pub fn soc_step(u: &SocVec, du: &SocVec) -> Real {
+    let n2 = jdot(u, u);
     let n = n2.sqrt();
     let mut ub = [0.0; SOC_MAX_DIM];
-    for i in 0..d {
+    for i in 0..D {
         ub[i] = u[i] / n;
     }
-    let ub_du = jdot(&ub, du, d);
+    let ub_du = jdot(&ub, du);
     let rho0 = ub_du / n;
     let factor = (ub_du + du[0]) / (ub[0] + 1.0);
     let mut r1 = 0.0;
-    for i in 1..d {
+    for i in 1..D {
         let v = (du[i] - factor * ub[i]) / n;
         r1 += v * v;
     }
@@ -221,19 +224,19 @@ mod tests {
             for seed in 0..50 {
                 let s = rand_interior(seed, d);
                 let l = rand_interior(seed + 1000, d);
-                let sc = SocScaling::new(&s, &l, d).unwrap();
-                let a = sc.apply(&l, d);
-                let b = sc.apply_inv(&s, d);
-                let c = sc.apply_sq(&l, d);
-                let e = sc.apply_inv_sq(&s, d);
-                let back = sc.apply_inv(&sc.apply(&s, d), d);
-                for i in 0..d {
+                let sc = SocScaling::new(&s, &l).unwrap();
+                let a = sc.apply(&l);
+                let b = sc.apply_inv(&s);
+                let c = sc.apply_sq(&l);
+                let e = sc.apply_inv_sq(&s);
+                let back = sc.apply_inv(&sc.apply(&s));
+                for i in 0..D {
                     assert!((a[i] - b[i]).abs() < 1e-12, "Wλ = W⁻¹s");
                     assert!((c[i] - s[i]).abs() < 1e-12, "W²λ = s");
                     assert!((e[i] - l[i]).abs() < 1e-12, "W⁻²s = λ");
                     assert!((back[i] - s[i]).abs() < 1e-12, "W⁻¹W = I");
                 }
-                assert!((jdot(&sc.w, &sc.w, d) - 1.0).abs() < 1e-12);
+                assert!((jdot(&sc.w, &sc.w) - 1.0).abs() < 1e-12);
             }
         }
     }
@@ -242,8 +245,8 @@ mod tests {
     fn jordan_solve_inverts_product() {
         let v = rand_interior(7, 4);
         let u = rand_interior(8, 4);
-        let r = jprod(&v, &u, 4);
-        let back = jsolve(&v, &r, 4);
+        let r = jprod(&v, &u);
+        let back = jsolve(&v, &r);
         for i in 0..4 {
             assert!((back[i] - u[i]).abs() < 1e-12);
         }
@@ -255,7 +258,7 @@ mod tests {
             let u = rand_interior(seed, 4);
             let mut du = rand_interior(seed + 99, 4);
             du[0] = -du[0] * 3.0;
-            let t = soc_step(&u, &du, 4);
+            let t = soc_step(&u, &du);
             let at = |t: f64| {
                 let mut p = [0.0; 4];
                 for i in 0..4 {

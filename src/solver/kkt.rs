@@ -1,43 +1,25 @@
-//! The reduced KKT system: the dense normal matrix `H = Gᵀ W⁻² G` (n ≤ [`MAX_VARS`]) and its
+//! The reduced KKT system: the dense normal matrix `H = Gᵀ W⁻² G` of order `N` and its
 //! Cholesky factorisation, on the stack.
 
-use super::MAX_VARS;
 use crate::math::Real;
 
-/// A symmetric positive definite matrix of order `n ≤ MAX_VARS` and its Cholesky factor.
+/// A symmetric positive definite matrix of order `N` and its Cholesky factor.
 #[derive(Clone, Copy, Debug)]
-pub struct Normal {
-    n: usize,
+pub struct Normal<const N: usize> {
     /// Lower triangle holds H before `factor` and L (H = L Lᵀ) after.
-    a: [[Real; MAX_VARS]; MAX_VARS],
+    a: [[Real; N]; N],
 }
 
-impl Normal {
-    /// A zero matrix of order `n`.
-    pub fn zeros(n: usize) -> Normal {
-        debug_assert!(n <= MAX_VARS);
-        Normal {
-            n,
-            a: [[0.0; MAX_VARS]; MAX_VARS],
-        }
-    }
-
-    /// The order `n`.
-    pub fn order(&self) -> usize {
-        self.n
-    }
-
-    /// Sets the matrix to `k · (G_fixed)` lower triangle from a full symmetric array.
-    pub fn set_zero(&mut self) {
-        for row in self.a.iter_mut().take(self.n) {
-            row[..self.n].fill(0.0);
-        }
+impl<const N: usize> Normal<N> {
+    /// A zero matrix.
+    pub fn zeros() -> Self {
+        Normal { a: [[0.0; N]; N] }
     }
 
     /// `H += k g gᵀ` (lower triangle).
     #[inline]
-    pub fn add_rank1(&mut self, k: Real, g: &[Real; MAX_VARS]) {
-        let n = self.n;
+    pub fn add_rank1(&mut self, k: Real, g: &[Real; N]) {
+        let n = N;
         for i in 0..n {
             let kg = k * g[i];
             if kg == 0.0 {
@@ -51,8 +33,8 @@ impl Normal {
     }
 
     /// `H += k M` for a symmetric `M` stored fully.
-    pub fn add_scaled(&mut self, k: Real, m: &[[Real; MAX_VARS]; MAX_VARS]) {
-        let n = self.n;
+    pub fn add_scaled(&mut self, k: Real, m: &[[Real; N]; N]) {
+        let n = N;
         for i in 0..n {
             for j in 0..=i {
                 self.a[i][j] += k * m[i][j];
@@ -64,7 +46,7 @@ impl Normal {
     /// regularisation that keeps the direction a descent direction). Returns false when the
     /// matrix has non-finite entries or no positive diagonal at all.
     pub fn factor(&mut self) -> bool {
-        let n = self.n;
+        let n = N;
         let mut dmax: Real = 0.0;
         for i in 0..n {
             let d = self.a[i][i];
@@ -100,8 +82,8 @@ impl Normal {
     }
 
     /// Solves `H x = b` in place with the factor from [`Normal::factor`].
-    pub fn solve(&self, b: &mut [Real; MAX_VARS]) {
-        let n = self.n;
+    pub fn solve(&self, b: &mut [Real; N]) {
+        let n = N;
         for i in 0..n {
             let mut v = b[i];
             for k in 0..i {
@@ -119,13 +101,10 @@ impl Normal {
     }
 }
 
-/// Solves the dense `n×n` system `m x = b` by Gaussian elimination with partial pivoting
-/// (destroys `m`); `None` when a pivot is zero or not finite.
-pub fn lu_solve(
-    m: &mut [[Real; MAX_VARS]; MAX_VARS],
-    mut b: [Real; MAX_VARS],
-    n: usize,
-) -> Option<[Real; MAX_VARS]> {
+/// Solves the dense system `m x = b` by Gaussian elimination with partial pivoting (destroys
+/// `m`); `None` when a pivot is zero or not finite.
+pub fn lu_solve<const N: usize>(m: &mut [[Real; N]; N], mut b: [Real; N]) -> Option<[Real; N]> {
+    let n = N;
     for k in 0..n {
         let mut p = k;
         for i in (k + 1)..n {
@@ -166,7 +145,7 @@ mod tests {
 
     #[test]
     fn solves_spd_system() {
-        let mut h = Normal::zeros(3);
+        let mut h = Normal::<3>::zeros();
         let rows = [
             [2.0, 1.0, 0.0],
             [1.0, 3.0, 1.0],
@@ -174,9 +153,7 @@ mod tests {
             [1.0, 1.0, 1.0],
         ];
         for r in rows {
-            let mut g = [0.0; MAX_VARS];
-            g[..3].copy_from_slice(&r);
-            h.add_rank1(1.0, &g);
+            h.add_rank1(1.0, &r);
         }
         let mut full = [[0.0; 3]; 3];
         for r in rows {
@@ -188,7 +165,7 @@ mod tests {
         }
         assert!(h.factor());
         let x = [1.0, -2.0, 0.5];
-        let mut b = [0.0; MAX_VARS];
+        let mut b = [0.0; 3];
         for i in 0..3 {
             b[i] = (0..3).map(|j| full[i][j] * x[j]).sum();
         }
@@ -200,17 +177,14 @@ mod tests {
 
     #[test]
     fn lu_solves_nonsymmetric_system() {
-        let mut m = [[0.0; MAX_VARS]; MAX_VARS];
         let a = [[0.0, 2.0, 1.0], [1.0, -1.0, 0.0], [3.0, 0.5, 4.0]];
-        for i in 0..3 {
-            m[i][..3].copy_from_slice(&a[i]);
-        }
+        let mut m = a;
         let x = [1.0, 2.0, -3.0];
-        let mut b = [0.0; MAX_VARS];
+        let mut b = [0.0; 3];
         for i in 0..3 {
             b[i] = (0..3).map(|j| a[i][j] * x[j]).sum();
         }
-        let got = lu_solve(&mut m, b, 3).unwrap();
+        let got = lu_solve(&mut m, b).unwrap();
         for i in 0..3 {
             assert!((got[i] - x[i]).abs() < 1e-14);
         }

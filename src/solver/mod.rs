@@ -1,12 +1,12 @@
 //! A primal-dual interior-point method for small cone programs over the nonnegative orthant and
-//! second-order cones, written for DCOL's problems: at most [`MAX_VARS`] variables and
-//! [`MAX_SOC`] second-order cones of dimension ≤ 4, any number of orthant rows (held in a
-//! caller-provided slice, so the solver itself never allocates).
+//! second-order cones, written for DCOL's problems: `N` variables (a compile-time constant, so
+//! every loop has a fixed bound), at most [`MAX_SOC`] second-order cones of dimension ≤ 4, and
+//! any number of orthant rows held in a caller-provided slice, so the solver never allocates.
 //!
-//! The problem is `minimise cᵀz subject to s = h − G z ∈ K`. The method is the standard one of
-//! CVXOPT's `conelp` without equality constraints: Nesterov–Todd scaling, a Mehrotra
-//! predictor-corrector, and the normal equations `Gᵀ W⁻² G dz = r` factored by a dense Cholesky
-//! of order n. It knows nothing of shapes.
+//! The problem is `minimise cᵀz subject to s = h − G z ∈ K`. The method is that of CVXOPT's
+//! `conelp` without equality constraints: Nesterov–Todd scaling, a Mehrotra
+//! predictor-corrector, the normal equations `Gᵀ W⁻² G dz = r` factored by a dense Cholesky,
+//! one pass of iterative refinement, and a final Newton polish. It knows nothing of shapes.
 
 pub mod cones;
 pub mod kkt;
@@ -20,16 +20,21 @@ use crate::math::Real;
 use cones::{jdot, jprod, jsolve, soc_step, SocScaling, SocVec, SOC_MAX_DIM};
 use kkt::Normal;
 
-/// The most variables a problem may have.
+const D: usize = SOC_MAX_DIM;
+
+/// Iterative-refinement passes per Newton direction.
+const REFINE_PASSES: usize = 1;
+
+/// The most variables a problem may have (the largest `N` the crate instantiates).
 pub const MAX_VARS: usize = 12;
 /// The most second-order cone blocks a problem may have.
 pub const MAX_SOC: usize = 3;
 
 /// One nonnegative-orthant row `s = h − gᵀz ≥ 0` and its iterate.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LpRow {
+pub struct LpRow<const N: usize> {
     /// Row of `G`.
-    pub g: [Real; MAX_VARS],
+    pub g: [Real; N],
     /// Entry of `h`.
     pub h: Real,
     /// Primal slack.
@@ -42,10 +47,10 @@ pub struct LpRow {
     rp: Real,
 }
 
-impl LpRow {
+impl<const N: usize> LpRow<N> {
     /// An all-zero row.
-    pub const ZERO: LpRow = LpRow {
-        g: [0.0; MAX_VARS],
+    pub const ZERO: Self = LpRow {
+        g: [0.0; N],
         h: 0.0,
         s: 0.0,
         lam: 0.0,
@@ -56,19 +61,18 @@ impl LpRow {
     };
 }
 
-impl Default for LpRow {
+impl<const N: usize> Default for LpRow<N> {
     fn default() -> Self {
-        LpRow::ZERO
+        Self::ZERO
     }
 }
 
-/// One second-order cone block `s = h − G z ∈ Q_d` and its iterate.
+/// One second-order cone block `s = h − G z ∈ Q₄` (a 3-dimensional cone has a zero last row)
+/// and its iterate.
 #[derive(Clone, Copy, Debug)]
-pub struct SocBlock {
-    /// Dimension `d` (3 or 4).
-    pub dim: usize,
+pub struct SocBlock<const N: usize> {
     /// Rows of `G`.
-    pub g: [[Real; MAX_VARS]; SOC_MAX_DIM],
+    pub g: [[Real; N]; D],
     /// `h`.
     pub h: SocVec,
     /// Primal slack.
@@ -80,25 +84,27 @@ pub struct SocBlock {
     rc: SocVec,
     rp: SocVec,
     sc: SocScaling,
+    /// `Gᵀ J G`, constant during a solve.
+    gjg: [[Real; N]; N],
 }
 
-impl SocBlock {
+impl<const N: usize> SocBlock<N> {
     /// An empty block.
-    pub const EMPTY: SocBlock = SocBlock {
-        dim: 0,
-        g: [[0.0; MAX_VARS]; SOC_MAX_DIM],
-        h: [0.0; SOC_MAX_DIM],
-        s: [0.0; SOC_MAX_DIM],
-        lam: [0.0; SOC_MAX_DIM],
-        ds: [0.0; SOC_MAX_DIM],
-        dlam: [0.0; SOC_MAX_DIM],
-        rc: [0.0; SOC_MAX_DIM],
-        rp: [0.0; SOC_MAX_DIM],
+    pub const EMPTY: Self = SocBlock {
+        g: [[0.0; N]; D],
+        h: [0.0; D],
+        s: [0.0; D],
+        lam: [0.0; D],
+        ds: [0.0; D],
+        dlam: [0.0; D],
+        rc: [0.0; D],
+        rp: [0.0; D],
         sc: SocScaling {
             eta: 0.0,
-            w: [0.0; SOC_MAX_DIM],
-            v: [0.0; SOC_MAX_DIM],
+            w: [0.0; D],
+            v: [0.0; D],
         },
+        gjg: [[0.0; N]; N],
     };
 
     /// The scaling computed at the last iterate (valid after a solve).
@@ -109,49 +115,68 @@ impl SocBlock {
 
 /// A cone program `min cᵀz s.t. h − G z ∈ K` with its iterate.
 #[derive(Debug)]
-pub struct Problem<'a> {
-    /// Number of variables.
-    pub n: usize,
+pub struct Problem<'a, const N: usize> {
     /// Objective.
-    pub c: [Real; MAX_VARS],
+    pub c: [Real; N],
     /// Orthant rows (caller-provided storage).
-    pub lp: &'a mut [LpRow],
+    pub lp: &'a mut [LpRow<N>],
     /// Second-order cone blocks (first `n_soc` used).
-    pub soc: [SocBlock; MAX_SOC],
+    pub soc: [SocBlock<N>; MAX_SOC],
     /// Number of second-order cone blocks.
     pub n_soc: usize,
 }
 
 /// What a solve returns besides the iterate left in the problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Outcome {
+pub struct Outcome<const N: usize> {
     /// How it ended.
     pub status: SolveStatus,
     /// Newton steps taken.
     pub iterations: u32,
-    /// The primal variables at the last iterate.
-    pub z: [Real; MAX_VARS],
+    /// The primal variables (after the polish, when it was accepted).
+    pub z: [Real; N],
     /// `cᵀz`.
     pub primal_objective: Real,
     /// `−hᵀλ`.
     pub dual_objective: Real,
 }
 
-#[inline]
-fn dotn(a: &[Real; MAX_VARS], b: &[Real; MAX_VARS], n: usize) -> Real {
+#[inline(always)]
+fn dotn<const N: usize>(a: &[Real; N], b: &[Real; N]) -> Real {
     let mut r = 0.0;
-    for i in 0..n {
+    for i in 0..N {
         r += a[i] * b[i];
     }
     r
 }
 
-impl<'a> Problem<'a> {
-    /// An empty problem with `n` variables and storage for its orthant rows.
-    pub fn new(n: usize, lp: &'a mut [LpRow]) -> Problem<'a> {
+/// `G u` for a cone block's rows.
+#[inline(always)]
+fn gmul<const N: usize>(g: &[[Real; N]; D], z: &[Real; N]) -> SocVec {
+    [
+        dotn(&g[0], z),
+        dotn(&g[1], z),
+        dotn(&g[2], z),
+        dotn(&g[3], z),
+    ]
+}
+
+/// `acc += Gᵀ u` for a cone block's rows.
+#[inline(always)]
+fn gtmul_add<const N: usize>(acc: &mut [Real; N], g: &[[Real; N]; D], u: &SocVec, k: Real) {
+    for (r, gr) in g.iter().enumerate() {
+        let ur = k * u[r];
+        for i in 0..N {
+            acc[i] += gr[i] * ur;
+        }
+    }
+}
+
+impl<'a, const N: usize> Problem<'a, N> {
+    /// An empty problem with storage for its orthant rows.
+    pub fn new(lp: &'a mut [LpRow<N>]) -> Self {
         Problem {
-            n,
-            c: [0.0; MAX_VARS],
+            c: [0.0; N],
             lp,
             soc: [SocBlock::EMPTY; MAX_SOC],
             n_soc: 0,
@@ -163,31 +188,32 @@ impl<'a> Problem<'a> {
     }
 
     /// Builds the normal matrix `Gᵀ W⁻² G` at the current iterate (scalings must be current)
-    /// and factors it. `gjg` holds `Gᵀ J G` per cone block.
-    fn normal_matrix(&self, gjg: &[[[Real; MAX_VARS]; MAX_VARS]; MAX_SOC]) -> Option<Normal> {
-        let n = self.n;
-        let mut h = Normal::zeros(n);
+    /// and factors it.
+    fn normal_matrix(&self) -> Option<Normal<N>> {
+        let mut h = Normal::zeros();
         for row in self.lp.iter() {
             h.add_rank1(row.lam / row.s, &row.g);
         }
-        for (k, b) in self.soc[..self.n_soc].iter().enumerate() {
+        for b in self.soc[..self.n_soc].iter() {
             let e2 = 1.0 / (b.sc.eta * b.sc.eta);
-            // a = Gᵀ J w
-            let mut a = [0.0; MAX_VARS];
-            for (i, gi) in b.g[..b.dim].iter().enumerate() {
-                let wi = if i == 0 { b.sc.w[0] } else { -b.sc.w[i] };
-                for j in 0..n {
-                    a[j] += gi[j] * wi;
-                }
-            }
+            // W⁻² = η⁻²(2Jw wᵀJ − J): a = Gᵀ J w
+            let jw = [b.sc.w[0], -b.sc.w[1], -b.sc.w[2], -b.sc.w[3]];
+            let mut a = [0.0; N];
+            gtmul_add(&mut a, &b.g, &jw, 1.0);
             h.add_rank1(2.0 * e2, &a);
-            h.add_scaled(-e2, &gjg[k]);
+            h.add_scaled(-e2, &b.gjg);
         }
         if h.factor() {
             Some(h)
         } else {
             None
         }
+    }
+
+    /// The factored normal matrix `Gᵀ W⁻² G` at the current iterate; after a converged solve,
+    /// at the solution's scaling (what the implicit-function derivatives reuse).
+    pub fn normal_at_iterate(&self) -> Option<Normal<N>> {
+        self.normal_matrix()
     }
 
     /// Updates every block's NT scaling; false if an iterate left the cone interior.
@@ -198,7 +224,7 @@ impl<'a> Problem<'a> {
             }
         }
         for b in self.soc[..self.n_soc].iter_mut() {
-            match SocScaling::new(&b.s, &b.lam, b.dim) {
+            match SocScaling::new(&b.s, &b.lam) {
                 Some(sc) => b.sc = sc,
                 None => return false,
             }
@@ -209,63 +235,50 @@ impl<'a> Problem<'a> {
     /// Solves the Newton system for the complementarity target held in each block's `rc`
     /// (in the scaled space), with residuals `rd` and each block's `rp`. Writes `ds`, `dlam`
     /// into the blocks and returns `dz`.
-    fn direction(&mut self, kkt: &Normal, rd: &[Real; MAX_VARS]) -> [Real; MAX_VARS] {
-        let n = self.n;
-        let mut rhs = [0.0; MAX_VARS];
-        for i in 0..n {
+    fn direction(&mut self, kkt: &Normal<N>, rd: &[Real; N]) -> [Real; N] {
+        let mut rhs = [0.0; N];
+        for i in 0..N {
             rhs[i] = -rd[i];
         }
-        // t = rp + W (v \ rc); rhs -= Gᵀ W⁻² t. Keep t in ds, W(v\rc) in dlam temporarily.
+        // t = rp + W (v \ rc); rhs −= Gᵀ W⁻² t. Keep t in ds for the second pass.
         for row in self.lp.iter_mut() {
-            let wu = row.rc / row.lam;
-            let t = row.rp + wu;
+            let t = row.rp + row.rc / row.lam;
             row.ds = t;
-            row.dlam = wu;
             let k = row.lam / row.s * t;
-            for i in 0..n {
+            for i in 0..N {
                 rhs[i] -= k * row.g[i];
             }
         }
         for b in self.soc[..self.n_soc].iter_mut() {
-            let d = b.dim;
-            let u = jsolve(&b.sc.v, &b.rc, d);
-            let wu = b.sc.apply(&u, d);
-            let mut t = [0.0; SOC_MAX_DIM];
-            for i in 0..d {
+            let u = jsolve(&b.sc.v, &b.rc);
+            let wu = b.sc.apply(&u);
+            let mut t = [0.0; D];
+            for i in 0..D {
                 t[i] = b.rp[i] + wu[i];
             }
-            let wt = b.sc.apply_inv_sq(&t, d);
-            for (i, gi) in b.g[..d].iter().enumerate() {
-                for j in 0..n {
-                    rhs[j] -= gi[j] * wt[i];
-                }
-            }
+            let wt = b.sc.apply_inv_sq(&t);
+            gtmul_add(&mut rhs, &b.g, &wt, -1.0);
             b.ds = t;
-            b.dlam = wu;
         }
         kkt.solve(&mut rhs);
-        let dz = rhs;
+        let mut dz = rhs;
+        // dλ = W⁻²(G dz + t) keeps the dual equation exact; ds from the primal equation
+        // (not from W(v\rc) − W²dλ, which amplifies rounding by ‖W²‖ near the boundary), so
+        // only the self-correcting complementarity equation absorbs rounding.
         for row in self.lp.iter_mut() {
-            // dλ = W⁻²(G dz + t) keeps the dual equation exact; ds from the primal equation
-            // (not from W(v\rc) − W²dλ, which amplifies rounding by ‖W²‖ near the boundary),
-            // so only the self-correcting complementarity equation absorbs rounding.
-            let t = row.ds;
-            let gdz = dotn(&row.g, &dz, n);
-            row.dlam = row.lam / row.s * (gdz + t);
+            let gdz = dotn(&row.g, &dz);
+            row.dlam = row.lam / row.s * (gdz + row.ds);
             row.ds = -row.rp - gdz;
         }
         for b in self.soc[..self.n_soc].iter_mut() {
-            let d = b.dim;
-            let t = b.ds;
-            let mut gt = [0.0; SOC_MAX_DIM];
-            for i in 0..d {
-                let gdz = dotn(&b.g[i], &dz, n);
-                gt[i] = gdz + t[i];
-                b.ds[i] = -b.rp[i] - gdz;
+            let gdz = gmul(&b.g, &dz);
+            let mut gt = [0.0; D];
+            for i in 0..D {
+                gt[i] = gdz[i] + b.ds[i];
+                b.ds[i] = -b.rp[i] - gdz[i];
             }
-            b.dlam = b.sc.apply_inv_sq(&gt, d);
+            b.dlam = b.sc.apply_inv_sq(&gt);
         }
-        let mut dz = dz;
         self.refine(kkt, rd, &mut dz);
         dz
     }
@@ -274,50 +287,39 @@ impl<'a> Problem<'a> {
     /// applying `W⁻²` round differently when the scaling is extreme, so the correction
     /// `H δz = e_d`, `δλ = W⁻² G δz`, `δs = −G δz` (which leaves the primal and linearised
     /// complementarity equations unchanged) is applied while it helps.
-    fn refine(&mut self, kkt: &Normal, rd: &[Real; MAX_VARS], dz: &mut [Real; MAX_VARS]) {
-        let n = self.n;
-        let mut prev = Real::INFINITY;
-        for _ in 0..3 {
-            let mut e = [0.0; MAX_VARS];
-            for i in 0..n {
+    fn refine(&mut self, kkt: &Normal<N>, rd: &[Real; N], dz: &mut [Real; N]) {
+        let scale = rd.iter().map(|v| v.abs()).fold(1e-3, Real::max);
+        for _ in 0..REFINE_PASSES {
+            let mut e = [0.0; N];
+            for i in 0..N {
                 e[i] = -rd[i];
             }
             for row in self.lp.iter() {
-                for i in 0..n {
+                for i in 0..N {
                     e[i] -= row.g[i] * row.dlam;
                 }
             }
             for b in self.soc[..self.n_soc].iter() {
-                for (r, gr) in b.g[..b.dim].iter().enumerate() {
-                    for i in 0..n {
-                        e[i] -= gr[i] * b.dlam[r];
-                    }
-                }
+                gtmul_add(&mut e, &b.g, &b.dlam, -1.0);
             }
-            let err = e[..n].iter().map(|v| v.abs()).fold(0.0, Real::max);
-            let scale = rd[..n].iter().map(|v| v.abs()).fold(1e-300, Real::max);
-            if !(err > 1e-15 * scale.max(1e-3)) || !(err < 0.5 * prev) {
+            let err = e.iter().map(|v| v.abs()).fold(0.0, Real::max);
+            if !(err > 1e-15 * scale) {
                 break;
             }
-            prev = err;
             kkt.solve(&mut e);
-            for i in 0..n {
+            for i in 0..N {
                 dz[i] += e[i];
             }
             for row in self.lp.iter_mut() {
-                let gd = dotn(&row.g, &e, n);
+                let gd = dotn(&row.g, &e);
                 row.dlam += row.lam / row.s * gd;
                 row.ds -= gd;
             }
             for b in self.soc[..self.n_soc].iter_mut() {
-                let d = b.dim;
-                let mut gd = [0.0; SOC_MAX_DIM];
-                for i in 0..d {
-                    gd[i] = dotn(&b.g[i], &e, n);
+                let gd = gmul(&b.g, &e);
+                let dl = b.sc.apply_inv_sq(&gd);
+                for i in 0..D {
                     b.ds[i] -= gd[i];
-                }
-                let dl = b.sc.apply_inv_sq(&gd, d);
-                for i in 0..d {
                     b.dlam[i] += dl[i];
                 }
             }
@@ -336,8 +338,8 @@ impl<'a> Problem<'a> {
             }
         }
         for b in self.soc[..self.n_soc].iter() {
-            t = t.min(soc_step(&b.s, &b.ds, b.dim));
-            t = t.min(soc_step(&b.lam, &b.dlam, b.dim));
+            t = t.min(soc_step(&b.s, &b.ds));
+            t = t.min(soc_step(&b.lam, &b.dlam));
         }
         t
     }
@@ -349,61 +351,51 @@ impl<'a> Problem<'a> {
     /// Where the active set is regular this moves the primal point from O(√μ) to O(μ) of the
     /// solution (an interior-point iterate on a curved contact is only O(√μ) accurate). The step
     /// is kept only if it is finite and changes the objective by no more than the gap tolerance.
-    fn polish(&self, outcome: &mut Outcome, objective_tolerance: Real) {
-        let n = self.n;
-        let mut m = [[0.0; MAX_VARS]; MAX_VARS];
-        let mut rhs = [0.0; MAX_VARS];
-        for i in 0..n {
+    fn polish(&self, outcome: &mut Outcome<N>, objective_tolerance: Real) {
+        let mut m = [[0.0; N]; N];
+        let mut rhs = [0.0; N];
+        for i in 0..N {
             rhs[i] = -self.c[i];
         }
         for row in self.lp.iter() {
             let d = row.lam / row.s;
-            for i in 0..n {
+            for i in 0..N {
                 let gi = row.g[i] * d;
                 if gi == 0.0 {
                     continue;
                 }
                 rhs[i] -= gi * row.rp;
-                for j in 0..n {
+                for j in 0..N {
                     m[i][j] += gi * row.g[j];
                 }
             }
         }
         for b in self.soc[..self.n_soc].iter() {
-            let dim = b.dim;
-            // D applied to each column of G, and to r_p.
-            let apply_d = |u: &SocVec| jsolve(&b.s, &jprod(&b.lam, u, dim), dim);
-            for j in 0..n {
-                let mut col = [0.0; SOC_MAX_DIM];
-                for r in 0..dim {
-                    col[r] = b.g[r][j];
-                }
+            let apply_d = |u: &SocVec| jsolve(&b.s, &jprod(&b.lam, u));
+            for j in 0..N {
+                let col = [b.g[0][j], b.g[1][j], b.g[2][j], b.g[3][j]];
                 let dc = apply_d(&col);
-                for (r, gr) in b.g[..dim].iter().enumerate() {
-                    for i in 0..n {
+                for (r, gr) in b.g.iter().enumerate() {
+                    for i in 0..N {
                         m[i][j] += gr[i] * dc[r];
                     }
                 }
             }
             let drp = apply_d(&b.rp);
-            for (r, gr) in b.g[..dim].iter().enumerate() {
-                for i in 0..n {
-                    rhs[i] -= gr[i] * drp[r];
-                }
-            }
+            gtmul_add(&mut rhs, &b.g, &drp, -1.0);
         }
-        let dz = match kkt::lu_solve(&mut m, rhs, n) {
+        let dz = match kkt::lu_solve(&mut m, rhs) {
             Some(d) => d,
             None => return,
         };
-        if !dz[..n].iter().all(|v| v.is_finite()) {
+        if !dz.iter().all(|v| v.is_finite()) {
             return;
         }
-        let dobj = dotn(&self.c, &dz, n);
+        let dobj = dotn(&self.c, &dz);
         if !(dobj.abs() <= objective_tolerance) {
             return;
         }
-        for i in 0..n {
+        for i in 0..N {
             outcome.z[i] += dz[i];
         }
         outcome.primal_objective += dobj;
@@ -411,25 +403,37 @@ impl<'a> Problem<'a> {
 
     /// Runs the interior-point method from the primal point `z0`, with the dual started at
     /// `mu0 · s⁻¹` (perfectly centred). The final iterate stays in the problem's blocks.
-    pub fn solve(&mut self, z0: &[Real; MAX_VARS], mu0: Real, settings: &Settings) -> Outcome {
-        let n = self.n;
+    pub fn solve(&mut self, z0: &[Real; N], mu0: Real, settings: &Settings) -> Outcome<N> {
         let mut z = *z0;
-        // Initial slacks, pushed into the interior if needed.
-        // Largest violation of strict interiority (negative when z0 is strictly feasible).
+        // Initial slacks; the largest violation of strict interiority (negative when z0 is
+        // strictly feasible) decides whether they must be pushed inside.
         let mut shift = Real::NEG_INFINITY;
         for row in self.lp.iter_mut() {
-            row.s = row.h - dotn(&row.g, &z, n);
+            row.s = row.h - dotn(&row.g, &z);
             shift = shift.max(-row.s);
         }
         for b in self.soc[..self.n_soc].iter_mut() {
-            for i in 0..b.dim {
-                b.s[i] = b.h[i] - dotn(&b.g[i], &z, n);
+            let gz = gmul(&b.g, &z);
+            for i in 0..D {
+                b.s[i] = b.h[i] - gz[i];
             }
-            let mut nrm = 0.0;
-            for i in 1..b.dim {
-                nrm += b.s[i] * b.s[i];
+            let nrm = (b.s[1] * b.s[1] + b.s[2] * b.s[2] + b.s[3] * b.s[3]).sqrt();
+            shift = shift.max(nrm - b.s[0]);
+            // Gᵀ J G (constant during the solve).
+            let mut gjg = [[0.0; N]; N];
+            for (r, gr) in b.g.iter().enumerate() {
+                let sign = if r == 0 { 1.0 } else { -1.0 };
+                for i in 0..N {
+                    let gi = sign * gr[i];
+                    if gi == 0.0 {
+                        continue;
+                    }
+                    for j in 0..N {
+                        gjg[i][j] += gi * gr[j];
+                    }
+                }
             }
-            shift = shift.max(nrm.sqrt() - b.s[0]);
+            b.gjg = gjg;
         }
         let mu0 = if mu0 > 0.0 && mu0.is_finite() {
             mu0
@@ -449,28 +453,13 @@ impl<'a> Problem<'a> {
             row.lam = mu0 / row.s;
         }
         for b in self.soc[..self.n_soc].iter_mut() {
-            let d = b.dim;
-            let sn2 = jdot(&b.s, &b.s, d);
-            b.lam[0] = mu0 * b.s[0] / sn2;
-            for i in 1..d {
-                b.lam[i] = -mu0 * b.s[i] / sn2;
-            }
-        }
-        // Gᵀ J G per cone block (constant).
-        let mut gjg = [[[0.0; MAX_VARS]; MAX_VARS]; MAX_SOC];
-        for (k, b) in self.soc[..self.n_soc].iter().enumerate() {
-            for (r, gr) in b.g[..b.dim].iter().enumerate() {
-                let sign = if r == 0 { 1.0 } else { -1.0 };
-                for i in 0..n {
-                    let gi = sign * gr[i];
-                    if gi == 0.0 {
-                        continue;
-                    }
-                    for j in 0..n {
-                        gjg[k][i][j] += gi * gr[j];
-                    }
-                }
-            }
+            let sn2 = jdot(&b.s, &b.s);
+            b.lam = [
+                mu0 * b.s[0] / sn2,
+                -mu0 * b.s[1] / sn2,
+                -mu0 * b.s[2] / sn2,
+                -mu0 * b.s[3] / sn2,
+            ];
         }
         let hmax = self
             .lp
@@ -479,10 +468,10 @@ impl<'a> Problem<'a> {
             .chain(
                 self.soc[..self.n_soc]
                     .iter()
-                    .flat_map(|b| b.h[..b.dim].iter().map(|v| v.abs())),
+                    .flat_map(|b| b.h.iter().map(|v| v.abs())),
             )
             .fold(0.0, Real::max);
-        let cmax = self.c[..n].iter().map(|v| v.abs()).fold(0.0, Real::max);
+        let cmax = self.c.iter().map(|v| v.abs()).fold(0.0, Real::max);
         let nu = self.degree();
         let tol = settings.tolerance;
         let mut outcome = Outcome {
@@ -500,27 +489,26 @@ impl<'a> Problem<'a> {
             let mut gap = 0.0;
             let mut dobj = 0.0;
             for row in self.lp.iter_mut() {
-                for i in 0..n {
+                for i in 0..N {
                     rd[i] += row.g[i] * row.lam;
                 }
-                row.rp = dotn(&row.g, &z, n) + row.s - row.h;
+                row.rp = dotn(&row.g, &z) + row.s - row.h;
                 pres = pres.max(row.rp.abs());
                 gap += row.s * row.lam;
                 dobj -= row.h * row.lam;
             }
             for b in self.soc[..self.n_soc].iter_mut() {
-                for (r, gr) in b.g[..b.dim].iter().enumerate() {
-                    for i in 0..n {
-                        rd[i] += gr[i] * b.lam[r];
-                    }
-                    b.rp[r] = dotn(gr, &z, n) + b.s[r] - b.h[r];
+                gtmul_add(&mut rd, &b.g, &b.lam, 1.0);
+                let gz = gmul(&b.g, &z);
+                for r in 0..D {
+                    b.rp[r] = gz[r] + b.s[r] - b.h[r];
                     pres = pres.max(b.rp[r].abs());
                     gap += b.s[r] * b.lam[r];
                     dobj -= b.h[r] * b.lam[r];
                 }
             }
-            let pobj = dotn(&self.c, &z, n);
-            let dres = rd[..n].iter().map(|v| v.abs()).fold(0.0, Real::max);
+            let pobj = dotn(&self.c, &z);
+            let dres = rd.iter().map(|v| v.abs()).fold(0.0, Real::max);
             outcome.z = z;
             outcome.iterations = iter;
             outcome.primal_objective = pobj;
@@ -549,7 +537,7 @@ impl<'a> Problem<'a> {
                 outcome.status = SolveStatus::NumericalFailure;
                 return outcome;
             }
-            let kkt = match self.normal_matrix(&gjg) {
+            let kkt = match self.normal_matrix() {
                 Some(k) => k,
                 None => {
                     outcome.status = SolveStatus::NumericalFailure;
@@ -561,12 +549,10 @@ impl<'a> Problem<'a> {
                 row.rc = -row.s * row.lam;
             }
             for b in self.soc[..self.n_soc].iter_mut() {
-                let vv = jprod(&b.sc.v, &b.sc.v, b.dim);
-                for i in 0..b.dim {
-                    b.rc[i] = -vv[i];
-                }
+                let vv = jprod(&b.sc.v, &b.sc.v);
+                b.rc = [-vv[0], -vv[1], -vv[2], -vv[3]];
             }
-            let _dz_aff = self.direction(&kkt, &rd);
+            self.direction(&kkt, &rd);
             let t_aff = self.max_step().min(1.0);
             let mu = gap / nu;
             // Gap after the affine step, for σ.
@@ -575,7 +561,7 @@ impl<'a> Problem<'a> {
                 gap_aff += (row.s + t_aff * row.ds) * (row.lam + t_aff * row.dlam);
             }
             for b in self.soc[..self.n_soc].iter() {
-                for i in 0..b.dim {
+                for i in 0..D {
                     gap_aff += (b.s[i] + t_aff * b.ds[i]) * (b.lam[i] + t_aff * b.dlam[i]);
                 }
             }
@@ -586,26 +572,22 @@ impl<'a> Problem<'a> {
                 row.rc = -row.s * row.lam - row.ds * row.dlam + sigma * mu;
             }
             for b in self.soc[..self.n_soc].iter_mut() {
-                let d = b.dim;
-                let a = b.sc.apply_inv(&b.ds, d);
-                let c = b.sc.apply(&b.dlam, d);
-                let corr = jprod(&a, &c, d);
-                let vv = jprod(&b.sc.v, &b.sc.v, d);
-                for i in 0..d {
+                let a = b.sc.apply_inv(&b.ds);
+                let c = b.sc.apply(&b.dlam);
+                let corr = jprod(&a, &c);
+                let vv = jprod(&b.sc.v, &b.sc.v);
+                for i in 0..D {
                     b.rc[i] = -vv[i] - corr[i];
                 }
                 b.rc[0] += sigma * mu;
             }
             let dz = self.direction(&kkt, &rd);
             let t = (0.99 * self.max_step()).min(1.0);
-            if std::env::var_os("DCOL_TRACE").is_some() {
-                eprintln!("it {iter} pobj {pobj:.12e} dobj {dobj:.12e} gap {gap:.2e} pres {pres:.1e} dres {dres:.1e} t_aff {t_aff:.3e} sigma {sigma:.1e} t {t:.4e}");
-            }
-            if !(t > 0.0) || !dz[..n].iter().all(|v| v.is_finite()) {
+            if !(t > 0.0) || !dz.iter().all(|v| v.is_finite()) {
                 outcome.status = SolveStatus::NumericalFailure;
                 return outcome;
             }
-            for i in 0..n {
+            for i in 0..N {
                 z[i] += t * dz[i];
             }
             for row in self.lp.iter_mut() {
@@ -613,7 +595,7 @@ impl<'a> Problem<'a> {
                 row.lam += t * row.dlam;
             }
             for b in self.soc[..self.n_soc].iter_mut() {
-                for i in 0..b.dim {
+                for i in 0..D {
                     b.s[i] += t * b.ds[i];
                     b.lam[i] += t * b.dlam[i];
                 }
@@ -630,17 +612,15 @@ mod tests {
     /// min x₀ + x₁ s.t. x ≥ (1, 2) (orthant) → optimum 3.
     #[test]
     fn tiny_lp() {
-        let mut rows = [LpRow::ZERO; 2];
+        let mut rows = [LpRow::<2>::ZERO; 2];
         rows[0].g[0] = -1.0;
         rows[0].h = -1.0;
         rows[1].g[1] = -1.0;
         rows[1].h = -2.0;
-        let mut p = Problem::new(2, &mut rows);
+        let mut p = Problem::new(&mut rows);
         p.c[0] = 1.0;
         p.c[1] = 1.0;
-        let mut z0 = [0.0; MAX_VARS];
-        z0[0] = 5.0;
-        z0[1] = 5.0;
+        let z0 = [5.0, 5.0];
         let out = p.solve(&z0, 1.0, &Settings::default());
         assert_eq!(out.status, SolveStatus::Converged);
         assert!((out.z[0] - 1.0).abs() < 1e-9 && (out.z[1] - 2.0).abs() < 1e-9);
@@ -650,24 +630,21 @@ mod tests {
     /// min t s.t. ‖(x − a)‖ ≤ t with x₀ ≤ −1 → distance from a = (1, 0) to the halfplane = 2.
     #[test]
     fn tiny_socp() {
-        let mut rows = [LpRow::ZERO; 1];
+        let mut rows = [LpRow::<3>::ZERO; 1];
         // s = −1 − x₀ ≥ 0  → h = −1, g = (1, 0, 0)
         rows[0].g[0] = 1.0;
         rows[0].h = -1.0;
-        let mut p = Problem::new(3, &mut rows);
+        let mut p = Problem::new(&mut rows);
         p.c[2] = 1.0;
         // [t; x − a] ∈ Q₃ → s = h − Gz with s₀ = t, s₁ = x₀ − 1, s₂ = x₁
         let mut b = SocBlock::EMPTY;
-        b.dim = 3;
         b.g[0][2] = -1.0;
         b.g[1][0] = -1.0;
         b.h[1] = -1.0;
         b.g[2][1] = -1.0;
         p.soc[0] = b;
         p.n_soc = 1;
-        let mut z0 = [0.0; MAX_VARS];
-        z0[0] = -2.0;
-        z0[2] = 10.0;
+        let z0 = [-2.0, 0.0, 10.0];
         let out = p.solve(&z0, 1.0, &Settings::default());
         assert_eq!(out.status, SolveStatus::Converged);
         assert!((out.primal_objective - 2.0).abs() < 1e-9, "{out:?}");

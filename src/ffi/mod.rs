@@ -1,0 +1,51 @@
+//! The C ABI (`include/dcol.h`), the only place in the crate with `unsafe` code.
+//!
+//! One module per C type, in the style of rustls-ffi: [`status`] (`dcol_status`, the last error
+//! message, the version), [`shape`] (`dcol_shape` and its constructors), [`pose`] (`dcol_pose`),
+//! [`options`] (`dcol_options`), [`proximity`] (`dcol_proximity_result`, `dcol_proximity`,
+//! `dcol_gradient`, `dcol_jacobian`) and [`distance`] (`dcol_distance_result`, `dcol_distance`).
+//! [`boundary`] holds the single panic boundary that wraps every exported body, the pointer
+//! helpers and the per-thread error message.
+//!
+//! Rules every exported function keeps:
+//! - every pointer argument is checked for NULL (`DCOL_ERROR_NULL_POINTER`);
+//! - inputs are copied out of caller memory before they are validated and used;
+//! - outputs are written only on success (and on `DCOL_ERROR_NOT_CONVERGED`, which carries the
+//!   last iterate), except the constructors' `*out`, which is set to NULL on error;
+//! - a panic never crosses the boundary: it becomes `DCOL_ERROR_INTERNAL`;
+//! - a failure sets this thread's last error message, a sentence naming the argument and value;
+//! - no query allocates on the heap (the message buffer is a fixed per-thread array).
+//!
+//! The header is generated from this module tree by cbindgen (see `build.rs`), so the doc
+//! comments below are what C users read: they are kept in plain ASCII.
+
+#![deny(unsafe_op_in_unsafe_fn)]
+#![warn(clippy::undocumented_unsafe_blocks)]
+#![allow(non_camel_case_types)]
+
+// Declared in the order of the header: cbindgen keeps source order. The blank lines stop
+// rustfmt from sorting them.
+pub mod status;
+
+pub mod shape;
+
+pub mod pose;
+
+pub mod options;
+
+pub mod proximity;
+
+pub mod distance;
+
+pub mod boundary;
+
+pub use distance::{dcol_distance, dcol_distance_result};
+pub use options::{dcol_options, dcol_options_default};
+pub use pose::dcol_pose;
+pub use proximity::{dcol_gradient, dcol_jacobian, dcol_proximity, dcol_proximity_result};
+pub use shape::{
+    dcol_shape, dcol_shape_free, dcol_shape_new_box, dcol_shape_new_capsule, dcol_shape_new_cone,
+    dcol_shape_new_cylinder, dcol_shape_new_ellipsoid, dcol_shape_new_polygon,
+    dcol_shape_new_polytope, dcol_shape_new_sphere,
+};
+pub use status::{dcol_last_error_message, dcol_status, dcol_status_string, dcol_version};

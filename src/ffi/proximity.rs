@@ -1,0 +1,231 @@
+//! `dcol_proximity_result`, `dcol_proximity`, `dcol_gradient` and `dcol_jacobian`.
+
+use super::boundary::{check_out, run, Failure};
+use super::options::{dcol_options, read_options};
+use super::pose::{dcol_pose, read_pose};
+use super::shape::{dcol_shape, shape_ref};
+use super::status::dcol_status;
+use crate::math::{Pose, Vec3};
+use crate::query::{self, Options, Proximity};
+use crate::shapes::Shape;
+use crate::solver::SolveStatus;
+
+/// The proximity of two posed shapes: the smallest uniform scaling alpha of both shapes (each
+/// about its own origin) at which they touch. alpha > 1: separated, alpha < 1:
+/// interpenetrating, alpha = 1: touching; alpha = 0 only when the two origins coincide.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct dcol_proximity_result {
+    /// alpha*, the optimal scaling.
+    pub alpha: f64,
+    /// x*, an optimal intersection point of the scaled shapes (world).
+    pub point: [f64; 3],
+    /// p1 = r1 + (x* - r1) / alpha*, on the boundary of shape 1 (world); r1 when alpha* = 0.
+    pub contact1: [f64; 3],
+    /// p2 = r2 + (x* - r2) / alpha*, on the boundary of shape 2 (world); r2 when alpha* = 0.
+    pub contact2: [f64; 3],
+    /// Interior-point iterations used.
+    pub iterations: u32,
+}
+
+fn arr(v: &Vec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+impl From<&Proximity> for dcol_proximity_result {
+    fn from(p: &Proximity) -> Self {
+        dcol_proximity_result {
+            alpha: p.alpha,
+            point: arr(&p.point),
+            contact1: arr(&p.contact1),
+            contact2: arr(&p.contact2),
+            iterations: p.iterations,
+        }
+    }
+}
+
+/// The validated, copied inputs of a query.
+pub(crate) struct Inputs<'a> {
+    pub shape1: &'a Shape,
+    pub pose1: Pose,
+    pub shape2: &'a Shape,
+    pub pose2: Pose,
+    pub options: Options,
+}
+
+impl Inputs<'_> {
+    /// `DCOL_ERROR_NOT_CONVERGED` for a solve that ended with `status`, or `Ok`.
+    pub(crate) fn outcome(&self, status: SolveStatus, iterations: u32) -> Result<(), Failure> {
+        if status.is_converged() {
+            Ok(())
+        } else {
+            Err(Failure::NotConverged {
+                status,
+                iterations,
+                max_iterations: self.options.max_iterations,
+                tolerance: self.options.tolerance,
+            })
+        }
+    }
+}
+
+/// Checks the four input pointers for NULL, then copies and validates the poses and options.
+/// Output pointers must be NULL-checked by the caller *between* the two steps; hence two parts.
+///
+/// # Safety
+/// Each pointer must be NULL or valid for its type (shapes live for `'a`).
+pub(crate) unsafe fn check_inputs<'a>(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+) -> Result<(&'a Shape, &'a Shape), Failure> {
+    // SAFETY: forwarded from this function's contract.
+    let s1 = unsafe { shape_ref(shape1, "shape1") }?;
+    if pose1.is_null() {
+        return Err(Failure::Null("pose1"));
+    }
+    // SAFETY: forwarded from this function's contract.
+    let s2 = unsafe { shape_ref(shape2, "shape2") }?;
+    if pose2.is_null() {
+        return Err(Failure::Null("pose2"));
+    }
+    Ok((s1, s2))
+}
+
+/// Copies and validates poses and options (pointers already checked by `check_inputs`).
+///
+/// # Safety
+/// `pose1`, `pose2` must be valid; `options` NULL or valid.
+pub(crate) unsafe fn read_inputs<'a>(
+    shapes: (&'a Shape, &'a Shape),
+    pose1: *const dcol_pose,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+) -> Result<Inputs<'a>, Failure> {
+    // SAFETY: forwarded from this function's contract.
+    let (p1, p2, options) = unsafe {
+        (
+            read_pose(pose1, "pose1", "pose1->")?,
+            read_pose(pose2, "pose2", "pose2->")?,
+            read_options(options)?,
+        )
+    };
+    Ok(Inputs {
+        shape1: shapes.0,
+        pose1: p1,
+        shape2: shapes.1,
+        pose2: p2,
+        options,
+    })
+}
+
+/// alpha*, x* and the contact points of two posed shapes.
+///
+/// `options` may be NULL (defaults). Returns DCOL_OK and fills *result; or
+/// DCOL_ERROR_NOT_CONVERGED and fills *result with the last iterate; or an error status, the
+/// last error message set, and *result untouched.
+///
+/// # Safety
+/// `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
+/// `result` NULL or valid for writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_proximity(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_proximity_result,
+) -> dcol_status {
+    run("dcol_proximity", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        check_out(result, "result")?;
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let prox = query::proximity(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
+            .map_err(Failure::api)?;
+        // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
+        unsafe { result.write((&prox).into()) };
+        q.outcome(prox.status, prox.iterations)
+    })
+}
+
+/// The gradient of alpha* with respect to (r1, q1, r2, q2): 14 numbers, in that order, the
+/// quaternion columns with respect to the four numbers given (through the normalisation).
+///
+/// `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
+/// DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes the gradient only if
+/// all 14 entries are finite. On any other status nothing is written.
+///
+/// # Safety
+/// As dcol_proximity; `gradient` must be NULL or valid for writing 14 doubles.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_gradient(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_proximity_result,
+    gradient: *mut f64,
+) -> dcol_status {
+    run("dcol_gradient", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        check_out(result, "result")?;
+        check_out(gradient, "gradient")?;
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let (prox, g) = query::gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
+            .map_err(Failure::api)?;
+        // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
+        unsafe { result.write((&prox).into()) };
+        if prox.status.is_converged() || g.iter().all(|v| v.is_finite()) {
+            // SAFETY: non-NULL (checked); the caller guarantees 14 writable doubles, and
+            // `[f64; 14]` has the alignment of `f64`.
+            unsafe { gradient.cast::<[f64; 14]>().write(g) };
+        }
+        q.outcome(prox.status, prox.iterations)
+    })
+}
+
+/// The Jacobian of (x*, alpha*) with respect to (r1, q1, r2, q2): 4 x 14, row-major (56
+/// doubles), rows (x1, x2, x3, alpha), columns as in dcol_gradient.
+///
+/// `options` may be NULL (defaults). On DCOL_OK fills *result and jacobian[0..56]. On
+/// DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes the Jacobian only if
+/// all 56 entries are finite. On any other status nothing is written.
+///
+/// # Safety
+/// As dcol_proximity; `jacobian` must be NULL or valid for writing 56 doubles.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_jacobian(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_proximity_result,
+    jacobian: *mut f64,
+) -> dcol_status {
+    run("dcol_jacobian", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        check_out(result, "result")?;
+        check_out(jacobian, "jacobian")?;
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let (prox, j) = query::jacobian(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
+            .map_err(Failure::api)?;
+        // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
+        unsafe { result.write((&prox).into()) };
+        if prox.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()) {
+            // SAFETY: non-NULL (checked); the caller guarantees 56 writable doubles, and
+            // `[[f64; 14]; 4]` is 56 contiguous doubles (row-major) with `f64` alignment.
+            unsafe { jacobian.cast::<[[f64; 14]; 4]>().write(j) };
+        }
+        q.outcome(prox.status, prox.iterations)
+    })
+}
