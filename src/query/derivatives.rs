@@ -3,16 +3,20 @@
 //! In solver coordinates (lengths over ℓ, a fixed origin), shape i's rows are
 //! `s = f_u·Qᵢᵀ(ξ − cᵢ) + f_α α + f_w·w` with `cᵢ = (rᵢ − o)/ℓ`, so with `a = Qᵢ f_u` (= −the
 //! row's x-part of `G`) and `eᵢ = ξ − cᵢ = (x* − rᵢ)/ℓ`:
-//! - `∂(Gz − h)/∂rᵢ = −a/ℓ` as a row of `G` would give, and `∂(Gz − h)/∂q_k = −(M_k a)·eᵢ` with
+//! - `∂(Gz − h)/∂rᵢ = a/ℓ` (only `h = −a·cᵢ` moves), and `∂(Gz − h)/∂q_k = −(M_k a)·eᵢ` with
 //!   `M_k = (∂Q/∂q_k) Qᵀ` (through the quaternion normalisation);
 //! - the gradient of α is `λᵀ ∂(Gz − h)/∂θ` (envelope theorem on the Lagrangian), which per shape
 //!   collapses to `∂α/∂rᵢ = vᵢ/ℓ` and `∂α/∂q_k = −eᵢᵀ M_k vᵢ` with `vᵢ = Σ λ a` over its rows;
-//! - the Jacobian of `(x*, α*)` solves the implicit-function system
-//!   `Gᵀ W⁻² G dz = −dGᵀλ − Gᵀ W⁻² (dG z − dh)` with the solver's final scaling and factor.
+//! - the Jacobian of `(x*, α*)` solves the implicit-function system of the KKT conditions with
+//!   the complementarity linearised as `λ∘ds + s∘dλ = 0` (so `dλ = −D ds`, `D = L(s)⁻¹L(λ)` at
+//!   the final iterate): `GᵀDG dz = −dGᵀλ − GᵀD (dG z − dh)`, reusing the LU factor of `GᵀDG`
+//!   that the solver's final Newton polish already computed. (The NT-scaled form `Gᵀ W⁻² G`
+//!   loses the tangential information in rounding once μ is small.)
 //!
 //! The solver works with the offset stretched by `t = κℓ/‖r₂ − r₁‖`; its primal iterate is `t`
 //! times the physical one, its multipliers are the physical ones, and its normal matrix is the
-//! physical one over `t`, which the formulas below account for.
+//! `D` is invariant (L(ts)⁻¹L(λ) = L(s)⁻¹L(λ)/t … times t in GᵀDG on the physical scale), so
+//! the physical system is the solver's `GᵀD'G dz = −dGᵀλ/t − GᵀD'ρ` with `D' = D/t`.
 
 use super::proximity::{query, Context, Full, Options, Proximity, Want};
 use crate::error::Error;
@@ -77,11 +81,11 @@ pub(crate) fn compute<const N: usize>(
     let mut v = [Vec3::zeros(); 2];
     for (i, r) in ranges.iter().enumerate() {
         for row in &problem.lp[r.lp.clone()] {
-            v[i] += gx(&row.g) * row.lam;
+            v[i] += gx(&row.g) * row.lam_polished;
         }
         if let Some(k) = r.soc {
             let b = &problem.soc[k];
-            for (gr, l) in b.g.iter().zip(b.lam.iter()) {
+            for (gr, l) in b.g.iter().zip(b.lam_polished.iter()) {
                 v[i] += gx(gr) * *l;
             }
         }
@@ -100,29 +104,356 @@ pub(crate) fn compute<const N: usize>(
     if want < Want::Jacobian {
         return;
     }
-    let kkt = match problem.normal_at_iterate() {
-        Some(k) => k,
-        None => {
-            full.prox.status = crate::solver::SolveStatus::NumericalFailure;
-            return;
+    if !exact_jacobian(
+        ctx,
+        problem,
+        outcome,
+        &ranges,
+        &gens,
+        &e,
+        &v_polished(problem, &ranges),
+        t,
+        full,
+    ) {
+        smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
+    }
+}
+
+/// `vᵢ = Σ λ̄ a` with the polished multipliers (already in `compute`, repeated for clarity).
+fn v_polished<const N: usize>(problem: &Problem<'_, N>, ranges: &[Rows; 2]) -> [Vec3; 2] {
+    let mut v = [Vec3::zeros(); 2];
+    for (i, r) in ranges.iter().enumerate() {
+        for row in &problem.lp[r.lp.clone()] {
+            v[i] += gx(&row.g) * row.lam_polished;
         }
+        if let Some(k) = r.soc {
+            let b = &problem.soc[k];
+            for (gr, l) in b.g.iter().zip(b.lam_polished.iter()) {
+                v[i] += gx(gr) * *l;
+            }
+        }
+    }
+    v
+}
+
+/// ρ = ∂(gᵀz − h)/∂θ for one row of shape `i` and pose parameter `p` (0..3 position, 3..7
+/// quaternion): `a_p/ℓ` for a position, `−(M_k a)·eᵢ` for a quaternion.
+#[inline]
+fn rho_of<const N: usize>(g: &[Real; N], p: usize, gen: &[Mat3; 4], e: &Vec3, ell: Real) -> Real {
+    let a = gx(g);
+    if p < 3 {
+        a[p] / ell
+    } else {
+        -(gen[p - 3] * a).dot(e)
+    }
+}
+
+/// Largest order of the active-set system.
+const MAX_ACTIVE: usize = 24;
+
+/// The exact (non-smoothed) Jacobian on the identified active set at the polished solution:
+/// unknowns `[dz, dλ of active orthant rows, dλ of active cones]`, equations `Gᵀdλ = −dGᵀλ̄`,
+/// `gᵀdz = −ρ` for active rows (and cones whose slack is at the apex), and
+/// `−L(λ̄)G dz + L(s̄)dλ = L(λ̄)ρ` for cones active on their boundary. Returns false (leaving
+/// `full` alone) when the active set is degenerate: a singular or oversized system.
+#[allow(clippy::too_many_arguments)]
+fn exact_jacobian<const N: usize>(
+    ctx: &Context<'_>,
+    problem: &Problem<'_, N>,
+    outcome: &Outcome<N>,
+    ranges: &[Rows; 2],
+    gens: &[[Mat3; 4]; 2],
+    e: &[Vec3; 2],
+    v: &[Vec3; 2],
+    t: Real,
+    full: &mut Full,
+) -> bool {
+    if problem.aho.is_none() {
+        return false; // the polish was not accepted: no reliable solution point
+    }
+    let ell = ctx.frame.ell;
+    let z = &outcome.z;
+    // Physical z̄ = z/t; slacks s̄ = h − G z̄ scale the same way, multipliers do not.
+    let mut a = [[0.0; MAX_ACTIVE]; MAX_ACTIVE];
+    let mut order = N;
+    // Columns for multipliers: (shape index, row kind) recorded to build right-hand sides.
+    #[derive(Clone, Copy)]
+    enum Eq {
+        Lp(usize),              // active orthant row: g dz = −ρ
+        SocApex(usize, usize),  // cone k, component r: g_r dz = −ρ_r
+        SocPad(usize),          // padded component of cone k at the apex: dλ₃ = 0
+        SocBound(usize, usize), // cone k, component r of −L(λ̄)G dz + L(s̄)dλ = L(λ̄)ρ
+    }
+    let mut eqs = [Eq::Lp(0); MAX_ACTIVE];
+    let mut n_eq = 0usize;
+    let mut shape_of_eq = [0usize; MAX_ACTIVE];
+    for (i, r) in ranges.iter().enumerate() {
+        for j in r.lp.clone() {
+            let row = &problem.lp[j];
+            if row.lam > row.s {
+                if order >= MAX_ACTIVE {
+                    return false;
+                }
+                // column `order` = dλ_j; stationarity gets g_j in that column
+                for q in 0..N {
+                    a[q][order] = row.g[q];
+                }
+                eqs[n_eq] = Eq::Lp(j);
+                shape_of_eq[n_eq] = i;
+                n_eq += 1;
+                order += 1;
+            }
+        }
+        if let Some(k) = r.soc {
+            let b = &problem.soc[k];
+            if b.lam[0] < 1e-6 * b.s[0] {
+                continue; // inactive cone: dλ = 0
+            }
+            if order + 4 > MAX_ACTIVE {
+                return false;
+            }
+            let apex = b.s[0] < 1e-6 * b.lam[0];
+            let padded = b.g[3].iter().all(|v| *v == 0.0) && b.h[3] == 0.0;
+            for c in 0..4 {
+                for q in 0..N {
+                    a[q][order + c] = b.g[c][q];
+                }
+                eqs[n_eq] = if apex {
+                    if c == 3 && padded {
+                        Eq::SocPad(k)
+                    } else {
+                        Eq::SocApex(k, c)
+                    }
+                } else {
+                    Eq::SocBound(k, c)
+                };
+                shape_of_eq[n_eq] = i;
+                n_eq += 1;
+            }
+            order += 4;
+        }
+    }
+    debug_assert_eq!(order, N + n_eq);
+    // Rows N.. of the matrix: one per equation in `eqs`. Multiplier columns start at N in the
+    // same order as the equations.
+    let mut lam_col = N;
+    let mut soc_first_col = [0usize; crate::solver::MAX_SOC];
+    for (qi, eq) in eqs[..n_eq].iter().enumerate() {
+        let row_idx = N + qi;
+        match *eq {
+            Eq::Lp(j) => {
+                for q in 0..N {
+                    a[row_idx][q] = problem.lp[j].g[q];
+                }
+                lam_col += 1;
+            }
+            Eq::SocApex(k, c) => {
+                if c == 0 {
+                    soc_first_col[k] = lam_col;
+                }
+                for q in 0..N {
+                    a[row_idx][q] = problem.soc[k].g[c][q];
+                }
+                lam_col += 1;
+            }
+            Eq::SocPad(k) => {
+                a[row_idx][soc_first_col[k] + 3] = 1.0;
+                lam_col += 1;
+            }
+            Eq::SocBound(k, c) => {
+                if c == 0 {
+                    soc_first_col[k] = lam_col;
+                }
+                let b = &problem.soc[k];
+                // s̄ = (h − G z)/t on the physical scale (the polished point, on the boundary).
+                let gz = [0, 1, 2, 3].map(|r| {
+                    let mut acc = 0.0;
+                    for q in 0..N {
+                        acc += b.g[r][q] * z[q];
+                    }
+                    (b.h[r] - acc) / t
+                });
+                let l = b.lam_polished;
+                // L(λ̄) row c and L(s̄) row c.
+                let lrow = |u: &[Real; 4], c: usize| -> [Real; 4] {
+                    if c == 0 {
+                        *u
+                    } else {
+                        let mut r = [0.0; 4];
+                        r[0] = u[c];
+                        r[c] = u[0];
+                        r
+                    }
+                };
+                let ll = lrow(&l, c);
+                let ls = lrow(&gz, c);
+                for q in 0..N {
+                    let mut acc = 0.0;
+                    for r in 0..4 {
+                        acc += ll[r] * b.g[r][q];
+                    }
+                    a[row_idx][q] = -acc;
+                }
+                let first = soc_first_col[k];
+                for r in 0..4 {
+                    a[row_idx][first + r] = ls[r];
+                }
+                lam_col += 1;
+            }
+        }
+    }
+    let lu = match DynLu::factor(&a, order) {
+        Some(lu) => lu,
+        None => return false,
     };
-    // One right-hand side per pose parameter: rhs = −dGᵀλ/t − Gᵀ W'⁻² ρ, where ρ = dG z − dh
-    // is nonzero only on the moved shape's rows.
+    let mut jac = [[0.0; 14]; 4];
+    for col in 0..14 {
+        let i = col / 7;
+        let p = col % 7;
+        let mut rhs = [0.0; MAX_ACTIVE];
+        if p >= 3 {
+            let dgl = -(gens[i][p - 3] * v[i]);
+            for j in 0..3 {
+                rhs[j] = -dgl[j];
+            }
+        }
+        for (qi, eq) in eqs[..n_eq].iter().enumerate() {
+            if shape_of_eq[qi] != i {
+                continue;
+            }
+            let row_idx = N + qi;
+            rhs[row_idx] = match *eq {
+                Eq::Lp(j) => -rho_of(&problem.lp[j].g, p, &gens[i], &e[i], ell),
+                Eq::SocApex(k, c) => -rho_of(&problem.soc[k].g[c], p, &gens[i], &e[i], ell),
+                Eq::SocPad(_) => 0.0,
+                Eq::SocBound(k, c) => {
+                    let b = &problem.soc[k];
+                    let rv = [0, 1, 2, 3].map(|r| rho_of(&b.g[r], p, &gens[i], &e[i], ell));
+                    let l = b.lam_polished;
+                    if c == 0 {
+                        l[0] * rv[0] + l[1] * rv[1] + l[2] * rv[2] + l[3] * rv[3]
+                    } else {
+                        l[c] * rv[0] + l[0] * rv[c]
+                    }
+                }
+            };
+        }
+        let x = lu.solve(&rhs);
+        if !x[..order].iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        for j in 0..3 {
+            jac[j][col] = x[j] * ell;
+        }
+        jac[3][col] = x[3];
+    }
+    full.jacobian = jac;
+    true
+}
+
+/// LU with partial pivoting of the leading `n×n` block of a `MAX_ACTIVE` square array.
+struct DynLu {
+    a: [[Real; MAX_ACTIVE]; MAX_ACTIVE],
+    perm: [usize; MAX_ACTIVE],
+    n: usize,
+}
+
+impl DynLu {
+    /// `None` when a pivot is below 1e-13 of the largest entry (a degenerate active set).
+    fn factor(m: &[[Real; MAX_ACTIVE]; MAX_ACTIVE], n: usize) -> Option<DynLu> {
+        let mut a = *m;
+        let mut perm = [0usize; MAX_ACTIVE];
+        for (i, p) in perm.iter_mut().enumerate() {
+            *p = i;
+        }
+        let mut big: Real = 0.0;
+        for row in a.iter().take(n) {
+            for v in row.iter().take(n) {
+                big = big.max(v.abs());
+            }
+        }
+        if !(big > 0.0) || !big.is_finite() {
+            return None;
+        }
+        for k in 0..n {
+            let mut p = k;
+            for i in (k + 1)..n {
+                if a[i][k].abs() > a[p][k].abs() {
+                    p = i;
+                }
+            }
+            let piv = a[p][k];
+            if !(piv.abs() > 1e-13 * big) {
+                return None;
+            }
+            a.swap(k, p);
+            perm.swap(k, p);
+            for i in (k + 1)..n {
+                let f = a[i][k] / piv;
+                a[i][k] = f;
+                if f == 0.0 {
+                    continue;
+                }
+                for j in (k + 1)..n {
+                    a[i][j] -= f * a[k][j];
+                }
+            }
+        }
+        Some(DynLu { a, perm, n })
+    }
+
+    fn solve(&self, b: &[Real; MAX_ACTIVE]) -> [Real; MAX_ACTIVE] {
+        let n = self.n;
+        let mut x = [0.0; MAX_ACTIVE];
+        for i in 0..n {
+            x[i] = b[self.perm[i]];
+        }
+        for i in 0..n {
+            for k in 0..i {
+                x[i] -= self.a[i][k] * x[k];
+            }
+        }
+        for i in (0..n).rev() {
+            for k in (i + 1)..n {
+                x[i] -= self.a[i][k] * x[k];
+            }
+            x[i] /= self.a[i][i];
+        }
+        x
+    }
+}
+
+/// The barrier-smoothed Jacobian: the implicit-function system at the final interior iterate,
+/// `GᵀDG dz = −dGᵀλ − GᵀDρ` with `D = L(s)⁻¹L(λ)` (the LU of `GᵀDG` from the polish), used when
+/// the active set is degenerate. It is the derivative of the central-path point, which smooths
+/// the kinks of α* at edges and corners and approaches the exact one as the tolerance shrinks.
+#[allow(clippy::too_many_arguments)]
+fn smoothed_jacobian<const N: usize>(
+    problem: &Problem<'_, N>,
+    ranges: &[Rows; 2],
+    gens: &[[Mat3; 4]; 2],
+    e: &[Vec3; 2],
+    v: &[Vec3; 2],
+    t: Real,
+    ell: Real,
+    full: &mut Full,
+) {
+    let lu = match problem.aho {
+        Some(lu) => lu,
+        None => match aho_at_iterate(problem) {
+            Some(lu) => lu,
+            None => {
+                full.prox.status = crate::solver::SolveStatus::NumericalFailure;
+                return;
+            }
+        },
+    };
     for col in 0..14 {
         let i = col / 7;
         let p = col % 7;
         let r = &ranges[i];
         let mut rhs = [0.0; N];
-        // ρ for one row with x-part g: position column j → −a_j/ℓ with a = −g_x, i.e. g_x[j]…
-        let rho = |g: &[Real; N]| -> Real {
-            let a = gx(g);
-            if p < 3 {
-                -a[p] / ell
-            } else {
-                -(gens[i][p - 3] * a).dot(&e[i])
-            }
-        };
+        let rho = |g: &[Real; N]| rho_of(g, p, &gens[i], &e[i], ell);
         if p >= 3 {
             // dG only touches the x-columns: x-part of G = −a, d(−a)/dq_k = −M_k a, so
             // dGᵀλ = −M_k vᵢ in the x-columns.
@@ -140,19 +471,26 @@ pub(crate) fn compute<const N: usize>(
         if let Some(k) = r.soc {
             let b = &problem.soc[k];
             let rv = [rho(&b.g[0]), rho(&b.g[1]), rho(&b.g[2]), rho(&b.g[3])];
-            let w = b.scaling().apply_inv_sq(&rv);
+            let w = problem.soc_d(k, &rv);
             for (gr, wr) in b.g.iter().zip(w.iter()) {
                 for j in 0..N {
                     rhs[j] -= gr[j] * wr;
                 }
             }
         }
-        kkt.solve(&mut rhs);
+        let x = lu.solve(&rhs);
         for j in 0..3 {
-            full.jacobian[j][col] = rhs[j] * ell;
+            full.jacobian[j][col] = x[j] * ell;
         }
-        full.jacobian[3][col] = rhs[3];
+        full.jacobian[3][col] = x[3];
     }
+}
+
+/// The LU of `GᵀDG` at the current iterate when the polish did not store one.
+fn aho_at_iterate<const N: usize>(problem: &Problem<'_, N>) -> Option<crate::solver::kkt::Lu<N>> {
+    problem
+        .aho_matrix()
+        .and_then(crate::solver::kkt::Lu::factor)
 }
 
 /// Derivatives at exactly coincident origins, where α* = 0 is not differentiable (α* is the

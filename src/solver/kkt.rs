@@ -101,42 +101,66 @@ impl<const N: usize> Normal<N> {
     }
 }
 
-/// Solves the dense system `m x = b` by Gaussian elimination with partial pivoting (destroys
-/// `m`); `None` when a pivot is zero or not finite.
-pub fn lu_solve<const N: usize>(m: &mut [[Real; N]; N], mut b: [Real; N]) -> Option<[Real; N]> {
-    let n = N;
-    for k in 0..n {
-        let mut p = k;
-        for i in (k + 1)..n {
-            if m[i][k].abs() > m[p][k].abs() {
-                p = i;
+/// An LU factorisation with partial pivoting of a dense `N×N` matrix.
+#[derive(Clone, Copy, Debug)]
+pub struct Lu<const N: usize> {
+    a: [[Real; N]; N],
+    perm: [usize; N],
+}
+
+impl<const N: usize> Lu<N> {
+    /// Factors `m`; `None` when a pivot is zero or not finite.
+    pub fn factor(mut m: [[Real; N]; N]) -> Option<Self> {
+        let mut perm = [0usize; N];
+        for (i, p) in perm.iter_mut().enumerate() {
+            *p = i;
+        }
+        for k in 0..N {
+            let mut p = k;
+            for i in (k + 1)..N {
+                if m[i][k].abs() > m[p][k].abs() {
+                    p = i;
+                }
+            }
+            let piv = m[p][k];
+            if !(piv.abs() > 0.0) || !piv.is_finite() {
+                return None;
+            }
+            m.swap(k, p);
+            perm.swap(k, p);
+            for i in (k + 1)..N {
+                let f = m[i][k] / piv;
+                m[i][k] = f;
+                if f == 0.0 {
+                    continue;
+                }
+                for j in (k + 1)..N {
+                    m[i][j] -= f * m[k][j];
+                }
             }
         }
-        let piv = m[p][k];
-        if !(piv.abs() > 0.0) || !piv.is_finite() {
-            return None;
-        }
-        m.swap(k, p);
-        b.swap(k, p);
-        for i in (k + 1)..n {
-            let f = m[i][k] / piv;
-            if f == 0.0 {
-                continue;
-            }
-            for j in k..n {
-                m[i][j] -= f * m[k][j];
-            }
-            b[i] -= f * b[k];
-        }
+        Some(Lu { a: m, perm })
     }
-    for k in (0..n).rev() {
-        let mut v = b[k];
-        for j in (k + 1)..n {
-            v -= m[k][j] * b[j];
+
+    /// Solves `m x = b`.
+    pub fn solve(&self, b: &[Real; N]) -> [Real; N] {
+        let mut x = [0.0; N];
+        for i in 0..N {
+            x[i] = b[self.perm[i]];
         }
-        b[k] = v / m[k][k];
+        for i in 0..N {
+            for k in 0..i {
+                x[i] -= self.a[i][k] * x[k];
+            }
+        }
+        for i in (0..N).rev() {
+            for k in (i + 1)..N {
+                x[i] -= self.a[i][k] * x[k];
+            }
+            x[i] /= self.a[i][i];
+        }
+        x
     }
-    Some(b)
 }
 
 #[cfg(test)]
@@ -178,13 +202,13 @@ mod tests {
     #[test]
     fn lu_solves_nonsymmetric_system() {
         let a = [[0.0, 2.0, 1.0], [1.0, -1.0, 0.0], [3.0, 0.5, 4.0]];
-        let mut m = a;
+        let m = a;
         let x = [1.0, 2.0, -3.0];
         let mut b = [0.0; 3];
         for i in 0..3 {
             b[i] = (0..3).map(|j| a[i][j] * x[j]).sum();
         }
-        let got = lu_solve(&mut m, b).unwrap();
+        let got = Lu::factor(m).unwrap().solve(&b);
         for i in 0..3 {
             assert!((got[i] - x[i]).abs() < 1e-14);
         }

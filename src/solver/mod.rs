@@ -18,12 +18,16 @@ pub use status::SolveStatus;
 
 use crate::math::Real;
 use cones::{jdot, jprod, jsolve, soc_step, SocScaling, SocVec, SOC_MAX_DIM};
-use kkt::Normal;
+use kkt::{Lu, Normal};
 
 const D: usize = SOC_MAX_DIM;
 
 /// Iterative-refinement passes per Newton direction.
 const REFINE_PASSES: usize = 1;
+
+/// Largest change of a multiplier, relative to the largest multiplier, that the final polish
+/// may make (an interior iterate's multipliers are O(√μ) off on curved contacts).
+const POLISH_DUAL_CHANGE: Real = 1e-3;
 
 /// The most variables a problem may have (the largest `N` the crate instantiates).
 pub const MAX_VARS: usize = 12;
@@ -41,6 +45,8 @@ pub struct LpRow<const N: usize> {
     pub s: Real,
     /// Dual variable.
     pub lam: Real,
+    /// Dual variable after the final Newton polish (equal to `lam` when it was not applied).
+    pub lam_polished: Real,
     ds: Real,
     dlam: Real,
     rc: Real,
@@ -54,6 +60,7 @@ impl<const N: usize> LpRow<N> {
         h: 0.0,
         s: 0.0,
         lam: 0.0,
+        lam_polished: 0.0,
         ds: 0.0,
         dlam: 0.0,
         rc: 0.0,
@@ -79,6 +86,8 @@ pub struct SocBlock<const N: usize> {
     pub s: SocVec,
     /// Dual variable.
     pub lam: SocVec,
+    /// Dual variable after the final Newton polish (equal to `lam` when it was not applied).
+    pub lam_polished: SocVec,
     ds: SocVec,
     dlam: SocVec,
     rc: SocVec,
@@ -95,6 +104,7 @@ impl<const N: usize> SocBlock<N> {
         h: [0.0; D],
         s: [0.0; D],
         lam: [0.0; D],
+        lam_polished: [0.0; D],
         ds: [0.0; D],
         dlam: [0.0; D],
         rc: [0.0; D],
@@ -124,6 +134,8 @@ pub struct Problem<'a, const N: usize> {
     pub soc: [SocBlock<N>; MAX_SOC],
     /// Number of second-order cone blocks.
     pub n_soc: usize,
+    /// LU factor of `GᵀDG`, `D = L(s)⁻¹L(λ)`, at the final iterate (set by the polish).
+    pub aho: Option<Lu<N>>,
 }
 
 /// What a solve returns besides the iterate left in the problem.
@@ -180,6 +192,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             lp,
             soc: [SocBlock::EMPTY; MAX_SOC],
             n_soc: 0,
+            aho: None,
         }
     }
 
@@ -210,10 +223,41 @@ impl<'a, const N: usize> Problem<'a, N> {
         }
     }
 
-    /// The factored normal matrix `Gᵀ W⁻² G` at the current iterate; after a converged solve,
-    /// at the solution's scaling (what the implicit-function derivatives reuse).
-    pub fn normal_at_iterate(&self) -> Option<Normal<N>> {
-        self.normal_matrix()
+    /// `GᵀDG` with `D = L(s)⁻¹L(λ)` at the current iterate (`None` if not finite).
+    pub fn aho_matrix(&self) -> Option<[[Real; N]; N]> {
+        let mut m = [[0.0; N]; N];
+        for row in self.lp.iter() {
+            let d = row.lam / row.s;
+            for i in 0..N {
+                let gi = row.g[i] * d;
+                if gi == 0.0 {
+                    continue;
+                }
+                for j in 0..N {
+                    m[i][j] += gi * row.g[j];
+                }
+            }
+        }
+        for k in 0..self.n_soc {
+            let b = &self.soc[k];
+            for j in 0..N {
+                let col = [b.g[0][j], b.g[1][j], b.g[2][j], b.g[3][j]];
+                let dc = self.soc_d(k, &col);
+                for (r, gr) in b.g.iter().enumerate() {
+                    for i in 0..N {
+                        m[i][j] += gr[i] * dc[r];
+                    }
+                }
+            }
+        }
+        m.iter().flatten().all(|v| v.is_finite()).then_some(m)
+    }
+
+    /// `D u = L(s)⁻¹(λ∘u)` for cone block `k` at the final iterate: the linearised
+    /// complementarity `λ∘ds + s∘dλ = 0` gives `dλ = −D ds`.
+    pub fn soc_d(&self, k: usize, u: &SocVec) -> SocVec {
+        let b = &self.soc[k];
+        jsolve(&b.s, &jprod(&b.lam, u))
     }
 
     /// Updates every block's NT scaling; false if an iterate left the cone interior.
@@ -351,49 +395,94 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// Where the active set is regular this moves the primal point from O(√μ) to O(μ) of the
     /// solution (an interior-point iterate on a curved contact is only O(√μ) accurate). The step
     /// is kept only if it is finite and changes the objective by no more than the gap tolerance.
-    fn polish(&self, outcome: &mut Outcome<N>, objective_tolerance: Real) {
-        let mut m = [[0.0; N]; N];
+    /// The multipliers of the same step, `λ + dλ`, go to `lam_polished`, and the factor of
+    /// `GᵀDG` to `aho` for the implicit-function derivatives.
+    fn polish(&mut self, outcome: &mut Outcome<N>, objective_tolerance: Real) {
+        for row in self.lp.iter_mut() {
+            row.lam_polished = row.lam;
+        }
+        for b in self.soc[..self.n_soc].iter_mut() {
+            b.lam_polished = b.lam;
+        }
+        let m = match self.aho_matrix() {
+            Some(m) => m,
+            None => return,
+        };
+        // rhs = −c − Gᵀ D r_p
         let mut rhs = [0.0; N];
         for i in 0..N {
             rhs[i] = -self.c[i];
         }
         for row in self.lp.iter() {
-            let d = row.lam / row.s;
+            let k = row.lam / row.s * row.rp;
             for i in 0..N {
-                let gi = row.g[i] * d;
-                if gi == 0.0 {
-                    continue;
-                }
-                rhs[i] -= gi * row.rp;
-                for j in 0..N {
-                    m[i][j] += gi * row.g[j];
-                }
+                rhs[i] -= row.g[i] * k;
             }
         }
-        for b in self.soc[..self.n_soc].iter() {
-            let apply_d = |u: &SocVec| jsolve(&b.s, &jprod(&b.lam, u));
-            for j in 0..N {
-                let col = [b.g[0][j], b.g[1][j], b.g[2][j], b.g[3][j]];
-                let dc = apply_d(&col);
-                for (r, gr) in b.g.iter().enumerate() {
-                    for i in 0..N {
-                        m[i][j] += gr[i] * dc[r];
-                    }
-                }
-            }
-            let drp = apply_d(&b.rp);
-            gtmul_add(&mut rhs, &b.g, &drp, -1.0);
+        for k in 0..self.n_soc {
+            let drp = self.soc_d(k, &self.soc[k].rp);
+            gtmul_add(&mut rhs, &self.soc[k].g, &drp, -1.0);
         }
-        let dz = match kkt::lu_solve(&mut m, rhs) {
-            Some(d) => d,
+        let lu = match Lu::factor(m) {
+            Some(lu) => lu,
             None => return,
         };
+        self.aho = Some(lu);
+        let dz = lu.solve(&rhs);
         if !dz.iter().all(|v| v.is_finite()) {
             return;
         }
         let dobj = dotn(&self.c, &dz);
         if !(dobj.abs() <= objective_tolerance) {
             return;
+        }
+        // λ + dλ = D(r_p + G dz), checked finite before anything is written.
+        let mut ok = true;
+        for row in self.lp.iter() {
+            ok &= (row.lam / row.s * (row.rp + dotn(&row.g, &dz))).is_finite();
+        }
+        let mut soc_l = [[0.0; D]; MAX_SOC];
+        for (k, b) in self.soc[..self.n_soc].iter().enumerate() {
+            let gdz = gmul(&b.g, &dz);
+            let u = [
+                b.rp[0] + gdz[0],
+                b.rp[1] + gdz[1],
+                b.rp[2] + gdz[2],
+                b.rp[3] + gdz[3],
+            ];
+            soc_l[k] = jsolve(&b.s, &jprod(&b.lam, &u));
+            ok &= soc_l[k].iter().all(|v| v.is_finite());
+        }
+        // Keep the polished multipliers only where the step is a small correction that stays
+        // in the dual cone: at a degenerate solution (e.g. parallel faces) the Newton system is
+        // singular and its multipliers are meaningless, while the interior ones are fine.
+        let lam_max = self
+            .lp
+            .iter()
+            .map(|r| r.lam.abs())
+            .chain(self.soc[..self.n_soc].iter().map(|b| b.lam[0].abs()))
+            .fold(0.0, Real::max);
+        let slack = POLISH_DUAL_CHANGE * lam_max;
+        for row in self.lp.iter() {
+            let lp = row.lam / row.s * (row.rp + dotn(&row.g, &dz));
+            ok &= lp >= -slack && (lp - row.lam).abs() <= slack;
+        }
+        for (k, b) in self.soc[..self.n_soc].iter().enumerate() {
+            let l = &soc_l[k];
+            let nrm = (l[1] * l[1] + l[2] * l[2] + l[3] * l[3]).sqrt();
+            ok &= l[0] - nrm >= -slack;
+            for i in 0..D {
+                ok &= (l[i] - b.lam[i]).abs() <= slack;
+            }
+        }
+        if !ok {
+            return;
+        }
+        for row in self.lp.iter_mut() {
+            row.lam_polished = row.lam / row.s * (row.rp + dotn(&row.g, &dz));
+        }
+        for (k, b) in self.soc[..self.n_soc].iter_mut().enumerate() {
+            b.lam_polished = soc_l[k];
         }
         for i in 0..N {
             outcome.z[i] += dz[i];
