@@ -77,7 +77,7 @@ pub(crate) fn compute<const N: usize>(
         rotation_generators(ctx.pose2),
     ];
     let ranges = row_ranges(ctx.shape1, ctx.shape2);
-    // vᵢ = Σ λ a over shape i's rows.
+    // vᵢ = Σ λ̄ a over shape i's rows, with the polished multipliers λ̄.
     let mut v = [Vec3::zeros(); 2];
     for (i, r) in ranges.iter().enumerate() {
         for row in &problem.lp[r.lp.clone()] {
@@ -119,23 +119,6 @@ pub(crate) fn compute<const N: usize>(
     }
 }
 
-/// `vᵢ = Σ λ̄ a` with the polished multipliers (already in `compute`, repeated for clarity).
-fn v_polished<const N: usize>(problem: &Problem<'_, N>, ranges: &[Rows; 2]) -> [Vec3; 2] {
-    let mut v = [Vec3::zeros(); 2];
-    for (i, r) in ranges.iter().enumerate() {
-        for row in &problem.lp[r.lp.clone()] {
-            v[i] += gx(&row.g) * row.lam_polished;
-        }
-        if let Some(k) = r.soc {
-            let b = &problem.soc[k];
-            for (gr, l) in b.g.iter().zip(b.lam_polished.iter()) {
-                v[i] += gx(gr) * *l;
-            }
-        }
-    }
-    v
-}
-
 /// ρ = ∂(gᵀz − h)/∂θ for one row of shape `i` and pose parameter `p` (0..3 position, 3..7
 /// quaternion): `a_p/ℓ` for a position, `−(M_k a)·eᵢ` for a quaternion.
 #[inline]
@@ -150,6 +133,12 @@ fn rho_of<const N: usize>(g: &[Real; N], p: usize, gen: &[Mat3; 4], e: &Vec3, el
 
 /// Largest order of the active-set system.
 const MAX_ACTIVE: usize = 24;
+
+/// `−δ` on the diagonal of each equality row's own multiplier: when more constraints are
+/// active than the dimension needs (a polytope vertex where four or more facets meet), the
+/// multipliers are not unique and the unregularised system is singular although `dz` is
+/// unique; the regularisation picks small multipliers and moves `dz` by O(δ).
+const DUAL_REGULARISATION: Real = 1e-12;
 
 /// The exact (non-smoothed) Jacobian on the identified active set at the polished solution:
 /// unknowns `[dz, dλ of active orthant rows, dλ of active cones]`, equations `Gᵀdλ = −dGᵀλ̄`,
@@ -245,6 +234,7 @@ fn exact_jacobian<const N: usize>(
                 for q in 0..N {
                     a[row_idx][q] = problem.lp[j].g[q];
                 }
+                a[row_idx][lam_col] = -DUAL_REGULARISATION;
                 lam_col += 1;
             }
             Eq::SocApex(k, c) => {
@@ -254,6 +244,7 @@ fn exact_jacobian<const N: usize>(
                 for q in 0..N {
                     a[row_idx][q] = problem.soc[k].g[c][q];
                 }
+                a[row_idx][lam_col] = -DUAL_REGULARISATION;
                 lam_col += 1;
             }
             Eq::SocPad(k) => {
@@ -359,7 +350,7 @@ struct DynLu {
 }
 
 impl DynLu {
-    /// `None` when a pivot is below 1e-13 of the largest entry (a degenerate active set).
+    /// `None` when a pivot is below 1e-14 of the largest entry (a degenerate active set).
     fn factor(m: &[[Real; MAX_ACTIVE]; MAX_ACTIVE], n: usize) -> Option<DynLu> {
         let mut a = *m;
         let mut perm = [0usize; MAX_ACTIVE];
@@ -383,7 +374,7 @@ impl DynLu {
                 }
             }
             let piv = a[p][k];
-            if !(piv.abs() > 1e-13 * big) {
+            if !(piv.abs() > 1e-14 * big) {
                 return None;
             }
             a.swap(k, p);
