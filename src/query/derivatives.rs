@@ -104,17 +104,7 @@ pub(crate) fn compute<const N: usize>(
     if want < Want::Jacobian {
         return;
     }
-    if !exact_jacobian(
-        ctx,
-        problem,
-        outcome,
-        &ranges,
-        &gens,
-        &e,
-        &v_polished(problem, &ranges),
-        t,
-        full,
-    ) {
+    if !exact_jacobian(ctx, problem, outcome, &ranges, &gens, &e, &v, t, full) {
         smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
     }
 }
