@@ -32,6 +32,8 @@ pub mod solver;
 
 pub use error::{Error, ErrorDetail};
 pub use math::{Pose, Real, Vec3};
-pub use query::{distance, gradient, jacobian, proximity, Distance, Options, Proximity};
+pub use query::{
+    distance, distance_gradient, gradient, jacobian, proximity, Distance, Options, Proximity,
+};
 pub use shapes::{Shape, ShapeKind};
 pub use solver::SolveStatus;

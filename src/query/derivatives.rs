@@ -25,12 +25,12 @@ use crate::shapes::{ConicShape, Shape};
 use crate::solver::{Outcome, Problem};
 
 /// Row ranges of one shape inside the stacked problem.
-struct Rows {
-    lp: std::ops::Range<usize>,
-    soc: Option<usize>,
+pub(crate) struct Rows {
+    pub lp: std::ops::Range<usize>,
+    pub soc: Option<usize>,
 }
 
-fn row_ranges(s1: &Shape, s2: &Shape) -> [Rows; 2] {
+pub(crate) fn row_ranges(s1: &Shape, s2: &Shape) -> [Rows; 2] {
     let m1 = s1.lp_count();
     let m2 = s2.lp_count();
     let k1 = s1.soc_count();
@@ -52,7 +52,7 @@ fn gx<const N: usize>(g: &[Real; N]) -> Vec3 {
 }
 
 /// `M_k = (∂Q/∂q_k) Qᵀ` for k = 0..3.
-fn rotation_generators(pose: &Pose) -> [Mat3; 4] {
+pub(crate) fn rotation_generators(pose: &Pose) -> [Mat3; 4] {
     let d = rotation_derivatives(pose.quaternion());
     let qt = pose.rotation().transpose();
     [d[0] * qt, d[1] * qt, d[2] * qt, d[3] * qt]

@@ -7,5 +7,5 @@ mod distance;
 mod proximity;
 
 pub use derivatives::{gradient, jacobian};
-pub use distance::{distance, Distance};
+pub use distance::{distance, distance_gradient, Distance};
 pub use proximity::{proximity, Options, Proximity};
