@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Checks that a shared libdcol exports only dcol_* symbols (all of the contract) and has the
+# expected SONAME.  Usage: check_symbols.sh LIBRARY SONAME
+set -euo pipefail
+lib=$1
+soname=$2
+
+symbols=$(nm -D --defined-only "$lib" | awk 'NF >= 3 { print $3 }' | sort)
+stray=$(grep -v '^dcol_' <<<"$symbols" || true)
+if [[ -n "$stray" ]]; then
+  echo "FAILED: $lib exports symbols outside the dcol_ namespace:"
+  echo "$stray"
+  exit 1
+fi
+for name in dcol_status_string dcol_last_error_message dcol_version dcol_shape_new_sphere \
+  dcol_shape_new_ellipsoid dcol_shape_new_polytope dcol_shape_new_box dcol_shape_new_capsule \
+  dcol_shape_new_cylinder dcol_shape_new_cone dcol_shape_new_polygon dcol_shape_free \
+  dcol_options_default dcol_proximity dcol_gradient dcol_jacobian dcol_distance; do
+  if ! grep -qx "$name" <<<"$symbols"; then
+    echo "FAILED: $lib does not export $name"
+    exit 1
+  fi
+done
+
+actual=$(readelf -d "$lib" | sed -n 's/.*(SONAME).*\[\(.*\)\].*/\1/p')
+if [[ "$actual" != "$soname" ]]; then
+  echo "FAILED: SONAME of $lib is '$actual', expected '$soname'"
+  exit 1
+fi
+echo "$(wc -l <<<"$symbols") dcol_ symbols exported, SONAME $actual"

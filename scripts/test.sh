@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Runs the whole test suite: the Rust tests, then the CMake build with its C tests (ctest), once
+# normally and once with AddressSanitizer + UBSan.
+#
+#   ./scripts/test.sh
+#
+# Both CMake builds share one cargo target directory (build/cargo-target), so the Rust library
+# is compiled for them once. Set JOBS to change the build parallelism (default 2).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+jobs=${JOBS:-2}
+cargo_target=$PWD/build/cargo-target
+
+echo "== cargo test --release"
+cargo test --release
+
+for config in normal sanitize; do
+  dir=build/cmake-$config
+  sanitize=OFF
+  [[ $config == sanitize ]] && sanitize=ON
+  echo "== CMake ($config): configure, build, ctest"
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DDCOL_SANITIZE=$sanitize \
+    -DDCOL_CARGO_TARGET_DIR="$cargo_target"
+  cmake --build "$dir" -j "$jobs"
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs"
+done
