@@ -23,5 +23,5 @@ for config in normal sanitize; do
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DDCOL_SANITIZE=$sanitize \
     -DDCOL_CARGO_TARGET_DIR="$cargo_target"
   cmake --build "$dir" -j "$jobs"
-  ctest --test-dir "$dir" --output-on-failure -j "$jobs"
+  (cd "$dir" && ctest --output-on-failure -j "$jobs")
 done
