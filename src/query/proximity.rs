@@ -116,7 +116,7 @@ impl Task for ProximityTask<'_> {
         z0[1] = xi.y;
         z0[2] = xi.z;
         z0[3] = 1.2 * alpha_in;
-        let mu0 = (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
+        let mu0 = 10.0 * (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
         let outcome = problem.solve(&z0, mu0, ctx.options);
         let z = &outcome.z;
         let alpha_n = z[3];

@@ -24,6 +24,8 @@ const D: usize = SOC_MAX_DIM;
 
 /// Iterative-refinement passes per Newton direction.
 const REFINE_PASSES: usize = 1;
+/// Refinement runs once the duality gap (relative) is below this.
+const REFINE_BELOW_GAP: Real = 1e-5;
 
 /// Largest change of a multiplier, relative to the largest multiplier, that the final polish
 /// may make (an interior iterate's multipliers are O(√μ) off on curved contacts).
@@ -279,7 +281,7 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// Solves the Newton system for the complementarity target held in each block's `rc`
     /// (in the scaled space), with residuals `rd` and each block's `rp`. Writes `ds`, `dlam`
     /// into the blocks and returns `dz`.
-    fn direction(&mut self, kkt: &Normal<N>, rd: &[Real; N]) -> [Real; N] {
+    fn direction(&mut self, kkt: &Normal<N>, rd: &[Real; N], refine: bool) -> [Real; N] {
         let mut rhs = [0.0; N];
         for i in 0..N {
             rhs[i] = -rd[i];
@@ -323,7 +325,9 @@ impl<'a, const N: usize> Problem<'a, N> {
             }
             b.dlam = b.sc.apply_inv_sq(&gt);
         }
-        self.refine(kkt, rd, &mut dz);
+        if refine {
+            self.refine(kkt, rd, &mut dz);
+        }
         dz
     }
 
@@ -394,7 +398,7 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// and `dλ = −λ + D(r_p + G dz)` with `D = L(s)⁻¹L(λ)` leaves `GᵀDG dz = −c − GᵀD r_p`.
     /// Where the active set is regular this moves the primal point from O(√μ) to O(μ) of the
     /// solution (an interior-point iterate on a curved contact is only O(√μ) accurate). The step
-    /// is kept only if it is finite and changes the objective by no more than the gap tolerance.
+    /// is kept only if it is finite and keeps the objective inside the duality bracket.
     /// The multipliers of the same step, `λ + dλ`, go to `lam_polished`, and the factor of
     /// `GᵀDG` to `aho` for the implicit-function derivatives.
     fn polish(&mut self, outcome: &mut Outcome<N>, objective_tolerance: Real) {
@@ -432,8 +436,13 @@ impl<'a, const N: usize> Problem<'a, N> {
         if !dz.iter().all(|v| v.is_finite()) {
             return;
         }
+        // The optimal value lies in [dual objective, primal objective] (up to the residuals), so
+        // a step that leaves that bracket by more than the tolerance is not trusted.
         let dobj = dotn(&self.c, &dz);
-        if !(dobj.abs() <= objective_tolerance) {
+        let polished = outcome.primal_objective + dobj;
+        let lo = outcome.dual_objective.min(outcome.primal_objective) - objective_tolerance;
+        let hi = outcome.primal_objective + objective_tolerance;
+        if !(polished >= lo && polished <= hi) {
             return;
         }
         // λ + dλ = D(r_p + G dz), checked finite before anything is written.
@@ -641,7 +650,9 @@ impl<'a, const N: usize> Problem<'a, N> {
                 let vv = jprod(&b.sc.v, &b.sc.v);
                 b.rc = [-vv[0], -vv[1], -vv[2], -vv[3]];
             }
-            self.direction(&kkt, &rd);
+            // Rounding in the normal equations only matters once the scaling is extreme.
+            let refine = gap < REFINE_BELOW_GAP * scale;
+            self.direction(&kkt, &rd, refine);
             let t_aff = self.max_step().min(1.0);
             let mu = gap / nu;
             // Gap after the affine step, for σ.
@@ -670,7 +681,7 @@ impl<'a, const N: usize> Problem<'a, N> {
                 }
                 b.rc[0] += sigma * mu;
             }
-            let dz = self.direction(&kkt, &rd);
+            let dz = self.direction(&kkt, &rd, refine);
             let t = (0.99 * self.max_step()).min(1.0);
             if !(t > 0.0) || !dz.iter().all(|v| v.is_finite()) {
                 outcome.status = SolveStatus::NumericalFailure;

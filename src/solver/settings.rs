@@ -4,7 +4,7 @@ use crate::error::{Error, ErrorDetail};
 use crate::math::Real;
 
 /// Default stopping tolerance on the relative duality gap (and the residuals).
-pub const DEFAULT_TOLERANCE: Real = 1e-10;
+pub const DEFAULT_TOLERANCE: Real = 1e-9;
 /// Default iteration limit.
 pub const DEFAULT_MAX_ITERATIONS: u32 = 50;
 
