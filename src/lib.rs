@@ -21,6 +21,10 @@
 
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
+// Numerical kernels index several fixed-size arrays in lockstep; index loops say that best.
+#![allow(clippy::needless_range_loop)]
+// `!(x > y)` is used on purpose: it is true when x is NaN, so NaN fails every such check.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod error;
 #[allow(unsafe_code)]

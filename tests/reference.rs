@@ -6,6 +6,8 @@
 //! plain suggestion at default options: α to 1e-10·max(1, α_ref) (absolute for `coincident`),
 //! x* to 1e-7·ℓ and p_i to 1e-7·ℓ/min(1, α_ref). (Measured: α ≤ 4e-11, x* ≤ 1.3e-8·ℓ.)
 
+#![allow(clippy::needless_range_loop)] // entries are compared by index in lockstep
+
 mod common;
 
 use common::*;

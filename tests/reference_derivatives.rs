@@ -3,6 +3,8 @@
 //! ℓ; require |J − J_ref| ≤ 1e-5·max(1, |J_ref|) (the finite-difference error of every kept entry
 //! is ≤ 1e-6 in those units).
 
+#![allow(clippy::needless_range_loop)] // entries are compared by index in lockstep
+
 mod common;
 
 use common::*;

@@ -3,6 +3,8 @@
 //! ones (d_ref = 0.0), witness points (only where `closest_unique`) within 1e-6·ℓ, and the
 //! distance gradient against central finite differences of `distance` on separated cases.
 
+#![allow(clippy::needless_range_loop)] // entries are compared by index in lockstep
+
 mod common;
 
 use common::*;

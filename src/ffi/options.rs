@@ -9,9 +9,9 @@ use crate::query::Options;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct dcol_options {
     /// Solver stopping tolerance on the duality measure (relative to max(1, alpha)): positive and
-    /// finite. Default 1e-10.
+    /// finite. The default is in dcol_options_default().
     pub tolerance: f64,
-    /// Interior-point iteration limit, at least 1. Default 50.
+    /// Interior-point iteration limit, at least 1. The default is in dcol_options_default().
     pub max_iterations: u32,
 }
 

@@ -276,9 +276,7 @@ fn exact_jacobian<const N: usize>(
                     a[row_idx][q] = -acc;
                 }
                 let first = soc_first_col[k];
-                for r in 0..4 {
-                    a[row_idx][first + r] = ls[r];
-                }
+                a[row_idx][first..first + 4].copy_from_slice(&ls);
                 lam_col += 1;
             }
         }
