@@ -37,7 +37,8 @@ pub mod solver;
 pub use error::{Error, ErrorDetail};
 pub use math::{Pose, Real, Vec3};
 pub use query::{
-    distance, distance_gradient, gradient, jacobian, proximity, Distance, Options, Proximity,
+    derivatives, distance, distance_gradient, gradient, gradient_mrp, jacobian, jacobian_mrp,
+    proximity, Derivatives, Distance, Options, Proximity,
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::SolveStatus;

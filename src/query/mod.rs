@@ -6,6 +6,6 @@ mod derivatives;
 mod distance;
 mod proximity;
 
-pub use derivatives::{gradient, jacobian};
+pub use derivatives::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
 pub use distance::{distance, distance_gradient, Distance};
 pub use proximity::{proximity, Options, Proximity};
