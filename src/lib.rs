@@ -37,8 +37,9 @@ pub mod solver;
 pub use error::{Error, ErrorDetail};
 pub use math::{Pose, Real, Vec3};
 pub use query::{
-    derivatives, distance, distance_gradient, gradient, gradient_mrp, jacobian, jacobian_mrp,
-    proximity, Derivatives, Distance, Options, Proximity,
+    alpha_below, alpha_bounds, derivatives, distance, distance_gradient, gradient, gradient_mrp,
+    intersect, jacobian, jacobian_mrp, proximity, DecidedBy, Decision, Derivatives, Distance,
+    Options, Proximity,
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::SolveStatus;

@@ -4,8 +4,10 @@
 mod assemble;
 mod derivatives;
 mod distance;
+mod early_exit;
 mod proximity;
 
 pub use derivatives::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
 pub use distance::{distance, distance_gradient, Distance};
+pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::{proximity, Options, Proximity};

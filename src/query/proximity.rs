@@ -73,6 +73,8 @@ pub(crate) struct Full {
     pub prox: Proximity,
     pub gradient: [Real; 14],
     pub jacobian: [[Real; 14]; 4],
+    /// With a threshold: whether α* was proven below (true) or above (false) it early.
+    pub decided: Option<bool>,
 }
 
 /// The inputs of one proximity solve, in solver coordinates.
@@ -92,6 +94,8 @@ pub(crate) struct Context<'q> {
 struct ProximityTask<'q> {
     ctx: Context<'q>,
     want: Want,
+    /// Stop as soon as α* is proven below or above this (world) value.
+    threshold: Option<Real>,
 }
 
 impl Task for ProximityTask<'_> {
@@ -117,7 +121,12 @@ impl Task for ProximityTask<'_> {
         z0[2] = xi.z;
         z0[3] = 1.2 * alpha_in;
         let mu0 = 10.0 * (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
-        let outcome = problem.solve(&z0, mu0, ctx.options);
+        // Threshold in solver units; ‖z*‖₁ ≤ N α' bounds the dual-residual term (every
+        // component of z* is at most α' in magnitude in these coordinates).
+        let threshold = self
+            .threshold
+            .map(|t| (t / frame.alpha_factor(), N as Real));
+        let outcome = problem.solve_until(&z0, mu0, ctx.options, threshold);
         let z = &outcome.z;
         let alpha_n = z[3];
         let xi = Vec3::new(z[0], z[1], z[2]);
@@ -135,7 +144,11 @@ impl Task for ProximityTask<'_> {
             prox,
             gradient: [0.0; 14],
             jacobian: [[0.0; 14]; 4],
+            decided: outcome.decided,
         };
+        if outcome.decided.is_some() {
+            return full;
+        }
         if self.want >= Want::Gradient {
             derivatives::compute(ctx, &problem, &outcome, self.want, &mut full);
         }
@@ -162,6 +175,19 @@ pub(crate) fn query(
     options: &Options,
     want: Want,
 ) -> Result<Full, Error> {
+    query_until(shape1, pose1, shape2, pose2, options, want, None)
+}
+
+/// [`query`] that may stop early once α* is proven below or above `threshold`.
+pub(crate) fn query_until(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    want: Want,
+    threshold: Option<Real>,
+) -> Result<Full, Error> {
     options.validate()?;
     let r1 = *pose1.position();
     let r2 = *pose2.position();
@@ -180,6 +206,7 @@ pub(crate) fn query(
             prox,
             gradient: [0.0; 14],
             jacobian: [[0.0; 14]; 4],
+            decided: None,
         };
         if want >= Want::Gradient {
             derivatives::coincident(shape1, pose1, shape2, pose2, options, want, &mut full)?;
@@ -231,8 +258,16 @@ pub(crate) fn query(
         inv_scale: inv,
     };
     let m = shape1.lp_count() + shape2.lp_count();
-    dispatch(4 + k1 + k2, m, ProximityTask { ctx, want })
-        .ok_or(Error::Internal("proximity: variable count out of range"))
+    dispatch(
+        4 + k1 + k2,
+        m,
+        ProximityTask {
+            ctx,
+            want,
+            threshold,
+        },
+    )
+    .ok_or(Error::Internal("proximity: variable count out of range"))
 }
 
 /// α*, x* and the contact points of two posed shapes.

@@ -153,6 +153,9 @@ pub struct Outcome<const N: usize> {
     pub primal_objective: Real,
     /// `−hᵀλ`.
     pub dual_objective: Real,
+    /// With [`Problem::solve_until`]: `Some(true)` when the optimal value was proven below the
+    /// threshold, `Some(false)` when proven above it, `None` when the solve ran to its end.
+    pub decided: Option<bool>,
 }
 
 #[inline(always)]
@@ -502,6 +505,20 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// Runs the interior-point method from the primal point `z0`, with the dual started at
     /// `mu0 · s⁻¹` (perfectly centred). The final iterate stays in the problem's blocks.
     pub fn solve(&mut self, z0: &[Real; N], mu0: Real, settings: &Settings) -> Outcome<N> {
+        self.solve_until(z0, mu0, settings, None)
+    }
+
+    /// [`Problem::solve`], stopping as soon as certified bounds decide whether the optimal value
+    /// is below `threshold`. The upper bound is the primal objective of a primal-feasible
+    /// iterate; the lower bound is `−hᵀλ − B‖r_d‖∞` where `B` bounds `‖z*‖₁`, which the caller
+    /// supplies through `threshold = Some((t, B_per_unit))` as `B = B_per_unit · cᵀz`.
+    pub fn solve_until(
+        &mut self,
+        z0: &[Real; N],
+        mu0: Real,
+        settings: &Settings,
+        threshold: Option<(Real, Real)>,
+    ) -> Outcome<N> {
         let mut z = *z0;
         // Initial slacks; the largest violation of strict interiority (negative when z0 is
         // strictly feasible) decides whether they must be pushed inside.
@@ -578,6 +595,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             z,
             primal_objective: Real::NAN,
             dual_objective: Real::NAN,
+            decided: None,
         };
         let mut iter = 0u32;
         loop {
@@ -612,6 +630,17 @@ impl<'a, const N: usize> Problem<'a, N> {
             outcome.primal_objective = pobj;
             outcome.dual_objective = dobj;
             let scale = pobj.abs().max(1.0);
+            if let Some((t, b)) = threshold {
+                let primal_feasible = pres <= tol * (1.0 + hmax);
+                if primal_feasible && pobj < t {
+                    outcome.decided = Some(true);
+                    return outcome;
+                }
+                if primal_feasible && dobj - b * pobj.abs() * dres > t {
+                    outcome.decided = Some(false);
+                    return outcome;
+                }
+            }
             if gap <= tol * scale
                 && (pobj - dobj).abs() <= tol * scale
                 && pres <= tol * (1.0 + hmax)

@@ -1,0 +1,88 @@
+//! The threshold fast paths against the full answer: on every reference case, `alpha_below(t)`
+//! equals `α_ref < t` for thresholds on both sides of α_ref outside a 1e-6 relative band, and
+//! the closed-form bracket contains α_ref. Prints the iterations each regime needs with and
+//! without the early exit.
+
+mod common;
+
+use common::*;
+use dcol::{alpha_below, alpha_bounds, intersect, proximity, DecidedBy, Options};
+use std::collections::BTreeMap;
+
+#[test]
+fn threshold_answers_match_reference() {
+    let Some(dir) = reference_dir() else { return };
+    let opts = Options::default();
+    // regime -> (cases, full iterations, early iterations at t = 1, decided by bounds)
+    let mut stats: BTreeMap<String, (usize, u64, u64, usize)> = BTreeMap::new();
+    let mut failures = Vec::new();
+    for file in all_files(&dir) {
+        for case in load(&file) {
+            let id = case["id"].as_str().unwrap().to_string();
+            let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
+            let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
+            // `coincident` cases are α* = 0 up to the oracle's 1e-28 noise (reference README).
+            let a_ref = if case["category"] == "coincident" {
+                0.0
+            } else {
+                f(&case["alpha"])
+            };
+            let (lo, hi) = alpha_bounds(&s1, &p1, &s2, &p2);
+            if !(lo <= a_ref * (1.0 + 1e-12) + 1e-300 && a_ref <= hi * (1.0 + 1e-12)) {
+                failures.push(format!("{id}: bracket [{lo}, {hi}] misses {a_ref}"));
+            }
+            for t in [a_ref * (1.0 - 1e-6), a_ref * (1.0 + 1e-6), 0.5, 1.0, 2.0] {
+                if !(t > 0.0) || ((t - a_ref) / a_ref.max(1e-300)).abs() < 1e-6 * 0.99 {
+                    continue;
+                }
+                let d = alpha_below(&s1, &p1, &s2, &p2, t, &opts).unwrap();
+                if d.below != (a_ref < t) {
+                    failures.push(format!(
+                        "{id}: t = {t}: below = {} but α_ref = {a_ref}",
+                        d.below
+                    ));
+                }
+            }
+            let category = case["category"].as_str().unwrap().to_string();
+            let e = stats.entry(category).or_insert((0, 0, 0, 0));
+            let full = proximity(&s1, &p1, &s2, &p2, &opts).unwrap();
+            let quick = intersect(&s1, &p1, &s2, &p2, &opts).unwrap();
+            e.0 += 1;
+            e.1 += full.iterations as u64;
+            e.2 += quick.iterations as u64;
+            e.3 += (quick.decided_by == DecidedBy::Bounds) as usize;
+        }
+    }
+    println!(
+        "{:<18} {:>6} {:>12} {:>16} {:>12}",
+        "regime", "cases", "full iters", "intersect iters", "by bounds"
+    );
+    for (k, (n, a, b, c)) in &stats {
+        println!(
+            "{k:<18} {n:>6} {:>12.2} {:>16.2} {:>11.1}%",
+            *a as f64 / *n as f64,
+            *b as f64 / *n as f64,
+            100.0 * *c as f64 / *n as f64
+        );
+    }
+    for f in failures.iter().take(20) {
+        println!("FAIL {f}");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} threshold answers wrong",
+        failures.len()
+    );
+}
+
+#[test]
+fn threshold_rejects_bad_values() {
+    let s = dcol::Shape::sphere(1.0).unwrap();
+    let p = dcol::Pose::from_position([0.0; 3]).unwrap();
+    for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            alpha_below(&s, &p, &s, &p, t, &Options::default()),
+            Err(dcol::Error::InvalidOptions(_))
+        ));
+    }
+}
