@@ -94,11 +94,11 @@ typedef struct dcol_shape dcol_shape;
 typedef struct dcol_options {
   /**
    * Solver stopping tolerance on the duality measure (relative to max(1, alpha)): positive and
-   * finite. Default 1e-10.
+   * finite. The default is in dcol_options_default().
    */
   double tolerance;
   /**
-   * Interior-point iteration limit, at least 1. Default 50.
+   * Interior-point iteration limit, at least 1. The default is in dcol_options_default().
    */
   uint32_t max_iterations;
 } dcol_options;
