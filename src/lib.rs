@@ -26,11 +26,13 @@
 // `!(x > y)` is used on purpose: it is true when x is NaN, so NaN fails every such check.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod batch;
 pub mod error;
 #[allow(unsafe_code)]
 pub mod ffi;
 pub mod math;
 pub mod query;
+pub mod scene;
 pub mod shapes;
 pub mod solver;
 

@@ -90,7 +90,7 @@ pub fn alpha_below(
         pose2,
         options,
         Want::Proximity,
-        Some(threshold),
+        Some((threshold, true)),
     )?;
     Ok(match f.decided {
         Some(below) => Decision {

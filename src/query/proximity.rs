@@ -94,8 +94,8 @@ pub(crate) struct Context<'q> {
 struct ProximityTask<'q> {
     ctx: Context<'q>,
     want: Want,
-    /// Stop as soon as α* is proven below or above this (world) value.
-    threshold: Option<Real>,
+    /// Stop as soon as α* is proven above this (world) value, or below it when the flag is set.
+    threshold: Option<(Real, bool)>,
 }
 
 impl Task for ProximityTask<'_> {
@@ -125,7 +125,7 @@ impl Task for ProximityTask<'_> {
         // component of z* is at most α' in magnitude in these coordinates).
         let threshold = self
             .threshold
-            .map(|t| (t / frame.alpha_factor(), N as Real));
+            .map(|(t, stop_below)| (t / frame.alpha_factor(), N as Real, stop_below));
         let outcome = problem.solve_until(&z0, mu0, ctx.options, threshold);
         let z = &outcome.z;
         let alpha_n = z[3];
@@ -178,7 +178,8 @@ pub(crate) fn query(
     query_until(shape1, pose1, shape2, pose2, options, want, None)
 }
 
-/// [`query`] that may stop early once α* is proven below or above `threshold`.
+/// [`query`] that may stop early once α* is proven above `threshold.0` (or below it, when
+/// `threshold.1`).
 pub(crate) fn query_until(
     shape1: &Shape,
     pose1: &Pose,
@@ -186,7 +187,7 @@ pub(crate) fn query_until(
     pose2: &Pose,
     options: &Options,
     want: Want,
-    threshold: Option<Real>,
+    threshold: Option<(Real, bool)>,
 ) -> Result<Full, Error> {
     options.validate()?;
     let r1 = *pose1.position();

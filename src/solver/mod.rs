@@ -511,13 +511,15 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// [`Problem::solve`], stopping as soon as certified bounds decide whether the optimal value
     /// is below `threshold`. The upper bound is the primal objective of a primal-feasible
     /// iterate; the lower bound is `−hᵀλ − B‖r_d‖∞` where `B` bounds `‖z*‖₁`, which the caller
-    /// supplies through `threshold = Some((t, B_per_unit))` as `B = B_per_unit · cᵀz`.
+    /// supplies through `threshold = Some((t, B_per_unit, stop_below))` as
+    /// `B = B_per_unit · cᵀz`. With `stop_below == false` only a proof that the value is above
+    /// the threshold stops the solve (a caller that needs the full answer for values below).
     pub fn solve_until(
         &mut self,
         z0: &[Real; N],
         mu0: Real,
         settings: &Settings,
-        threshold: Option<(Real, Real)>,
+        threshold: Option<(Real, Real, bool)>,
     ) -> Outcome<N> {
         let mut z = *z0;
         // Initial slacks; the largest violation of strict interiority (negative when z0 is
@@ -630,9 +632,9 @@ impl<'a, const N: usize> Problem<'a, N> {
             outcome.primal_objective = pobj;
             outcome.dual_objective = dobj;
             let scale = pobj.abs().max(1.0);
-            if let Some((t, b)) = threshold {
+            if let Some((t, b, stop_below)) = threshold {
                 let primal_feasible = pres <= tol * (1.0 + hmax);
-                if primal_feasible && pobj < t {
+                if stop_below && primal_feasible && pobj < t {
                     outcome.decided = Some(true);
                     return outcome;
                 }
