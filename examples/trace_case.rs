@@ -5,7 +5,8 @@ use serde_json::Value;
 mod common;
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    if a[1] == "time" {
+    if a[1] == "time" || a[1] == "timejac" {
+        let jac = a[1] == "timejac";
         let mut all = Vec::new();
         for f in &a[2..] {
             for c in common::load(std::path::Path::new(f)) {
@@ -22,9 +23,15 @@ fn main() {
             for (s1, p1, s2, p2) in &all {
                 let st = std::time::Instant::now();
                 for _ in 0..20 {
-                    std::hint::black_box(
-                        dcol::proximity(s1, p1, s2, p2, &Default::default()).unwrap(),
-                    );
+                    if jac {
+                        std::hint::black_box(
+                            dcol::jacobian(s1, p1, s2, p2, &Default::default()).unwrap(),
+                        );
+                    } else {
+                        std::hint::black_box(
+                            dcol::proximity(s1, p1, s2, p2, &Default::default()).unwrap(),
+                        );
+                    }
                 }
                 t.push(st.elapsed().as_nanos() as f64 / 20.0);
             }

@@ -281,34 +281,37 @@ fn exact_jacobian<const N: usize>(
             }
         }
     }
-    let lu = match DynLu::factor(&a, order) {
-        Some(lu) => lu,
+    let perm = match lu_factor_in_place(&mut a, order) {
+        Some(p) => p,
         None => return false,
     };
-    let mut jac = [[0.0; 14]; 4];
+    // All 14 right-hand sides at once: b[row][col].
+    let mut b = [[0.0; 14]; MAX_ACTIVE];
     for col in 0..14 {
         let i = col / 7;
         let p = col % 7;
-        let mut rhs = [0.0; MAX_ACTIVE];
+        let mut rv = [0.0; 4];
         if p >= 3 {
             let dgl = -(gens[i][p - 3] * v[i]);
             for j in 0..3 {
-                rhs[j] = -dgl[j];
+                b[j][col] = -dgl[j];
             }
         }
         for (qi, eq) in eqs[..n_eq].iter().enumerate() {
             if shape_of_eq[qi] != i {
                 continue;
             }
-            let row_idx = N + qi;
-            rhs[row_idx] = match *eq {
+            b[N + qi][col] = match *eq {
                 Eq::Lp(j) => -rho_of(&problem.lp[j].g, p, &gens[i], &e[i], ell),
                 Eq::SocApex(k, c) => -rho_of(&problem.soc[k].g[c], p, &gens[i], &e[i], ell),
                 Eq::SocPad(_) => 0.0,
                 Eq::SocBound(k, c) => {
-                    let b = &problem.soc[k];
-                    let rv = [0, 1, 2, 3].map(|r| rho_of(&b.g[r], p, &gens[i], &e[i], ell));
-                    let l = b.lam_polished;
+                    let bk = &problem.soc[k];
+                    if c == 0 {
+                        // ρ of the whole cone, computed once per column (components follow).
+                        rv = [0, 1, 2, 3].map(|r| rho_of(&bk.g[r], p, &gens[i], &e[i], ell));
+                    }
+                    let l = bk.lam_polished;
                     if c == 0 {
                         l[0] * rv[0] + l[1] * rv[1] + l[2] * rv[2] + l[3] * rv[3]
                     } else {
@@ -317,88 +320,113 @@ fn exact_jacobian<const N: usize>(
                 }
             };
         }
-        let x = lu.solve(&rhs);
-        if !x[..order].iter().all(|v| v.is_finite()) {
-            return false;
+    }
+    lu_solve_multi(&a, &perm, order, &mut b);
+    let mut finite = true;
+    for row in &b[..order] {
+        for v in row {
+            finite &= v.is_finite();
         }
+    }
+    if !finite {
+        return false;
+    }
+    let mut jac = [[0.0; 14]; 4];
+    for col in 0..14 {
         for j in 0..3 {
-            jac[j][col] = x[j] * ell;
+            jac[j][col] = b[j][col] * ell;
         }
-        jac[3][col] = x[3];
+        jac[3][col] = b[3][col];
     }
     full.jacobian = jac;
     true
 }
 
-/// LU with partial pivoting of the leading `n×n` block of a `MAX_ACTIVE` square array.
-struct DynLu {
-    a: [[Real; MAX_ACTIVE]; MAX_ACTIVE],
-    perm: [usize; MAX_ACTIVE],
+/// LU with partial pivoting, in place, of the leading `n×n` block of `a`; returns the pivot
+/// row chosen at each step (LAPACK's `ipiv`), or `None` when a pivot is below 1e-14 of the
+/// largest entry (a degenerate active set).
+fn lu_factor_in_place(
+    a: &mut [[Real; MAX_ACTIVE]; MAX_ACTIVE],
     n: usize,
-}
-
-impl DynLu {
-    /// `None` when a pivot is below 1e-14 of the largest entry (a degenerate active set).
-    fn factor(m: &[[Real; MAX_ACTIVE]; MAX_ACTIVE], n: usize) -> Option<DynLu> {
-        let mut a = *m;
-        let mut perm = [0usize; MAX_ACTIVE];
-        for (i, p) in perm.iter_mut().enumerate() {
-            *p = i;
+) -> Option<[usize; MAX_ACTIVE]> {
+    let mut ipiv = [0usize; MAX_ACTIVE];
+    let mut big: Real = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            big = big.max(a[i][j].abs());
         }
-        let mut big: Real = 0.0;
-        for row in a.iter().take(n) {
-            for v in row.iter().take(n) {
-                big = big.max(v.abs());
+    }
+    if !(big > 0.0) || !big.is_finite() {
+        return None;
+    }
+    for k in 0..n {
+        let mut p = k;
+        for i in (k + 1)..n {
+            if a[i][k].abs() > a[p][k].abs() {
+                p = i;
             }
         }
-        if !(big > 0.0) || !big.is_finite() {
+        let piv = a[p][k];
+        if !(piv.abs() > 1e-14 * big) {
             return None;
         }
-        for k in 0..n {
-            let mut p = k;
-            for i in (k + 1)..n {
-                if a[i][k].abs() > a[p][k].abs() {
-                    p = i;
-                }
+        a.swap(k, p);
+        ipiv[k] = p;
+        let pivot_row = a[k];
+        for i in (k + 1)..n {
+            let f = a[i][k] / piv;
+            a[i][k] = f;
+            if f == 0.0 {
+                continue;
             }
-            let piv = a[p][k];
-            if !(piv.abs() > 1e-14 * big) {
-                return None;
-            }
-            a.swap(k, p);
-            perm.swap(k, p);
-            for i in (k + 1)..n {
-                let f = a[i][k] / piv;
-                a[i][k] = f;
-                if f == 0.0 {
-                    continue;
-                }
-                for j in (k + 1)..n {
-                    a[i][j] -= f * a[k][j];
-                }
+            for j in (k + 1)..n {
+                a[i][j] -= f * pivot_row[j];
             }
         }
-        Some(DynLu { a, perm, n })
     }
+    Some(ipiv)
+}
 
-    fn solve(&self, b: &[Real; MAX_ACTIVE]) -> [Real; MAX_ACTIVE] {
-        let n = self.n;
-        let mut x = [0.0; MAX_ACTIVE];
-        for i in 0..n {
-            x[i] = b[self.perm[i]];
-        }
-        for i in 0..n {
-            for k in 0..i {
-                x[i] -= self.a[i][k] * x[k];
+/// Solves `A X = B` in place for all 14 columns of `b` with the factor from
+/// [`lu_factor_in_place`] (row operations on 14-wide rows).
+fn lu_solve_multi(
+    a: &[[Real; MAX_ACTIVE]; MAX_ACTIVE],
+    ipiv: &[usize; MAX_ACTIVE],
+    n: usize,
+    b: &mut [[Real; 14]; MAX_ACTIVE],
+) {
+    for k in 0..n {
+        b.swap(k, ipiv[k]);
+    }
+    for i in 0..n {
+        let (done, rest) = b.split_at_mut(i);
+        let bi = &mut rest[0];
+        for (k, bk) in done.iter().enumerate() {
+            let l = a[i][k];
+            if l == 0.0 {
+                continue;
+            }
+            for c in 0..14 {
+                bi[c] -= l * bk[c];
             }
         }
-        for i in (0..n).rev() {
-            for k in (i + 1)..n {
-                x[i] -= self.a[i][k] * x[k];
+    }
+    for i in (0..n).rev() {
+        let (head, tail) = b.split_at_mut(i + 1);
+        let bi = &mut head[i];
+        for (k, bk) in tail.iter().enumerate().take(n - i - 1) {
+            let u = a[i][i + 1 + k];
+            if u == 0.0 {
+                continue;
             }
-            x[i] /= self.a[i][i];
+            for c in 0..14 {
+                bi[c] -= u * bk[c];
+            }
         }
-        x
+        let inv = 1.0 / a[i][i];
+        for v in bi.iter_mut() {
+            *v *= inv;
+        }
     }
 }
 
