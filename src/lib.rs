@@ -45,3 +45,8 @@ pub use query::{
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::SolveStatus;
+
+/// The README's Rust examples, compiled and run as doctests so they cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
