@@ -20,6 +20,7 @@
 //! | `flat` | ellipsoids and polytopes with thickness 1e-3..1e-4 of their width | Clarabel |
 //! | `quat_norm` | quaternions of norm 1e-6, 1e6 (and 1e±30) | dcol with unit quaternions, Clarabel |
 //! | `many_facets` | polytopes with 100–256 facets | Clarabel |
+//! | `mixed_scale` | a small shape near one 1e2..1e5 times larger | Clarabel |
 //!
 //! For every case: no panic; `proximity`, `gradient`, `jacobian` and `distance` all return `Ok`;
 //! every output is finite (also for a non-converged status, which must then carry a finite last
@@ -1809,6 +1810,45 @@ fn class_many_facets(t: &mut Table, rng: &mut Rng) {
     }
 }
 
+/// Two shapes of very different sizes (a small object near a large one, e.g. a ball on a
+/// ground slab): size ratios 1e2..1e5, the small shape within a few of its own sizes of the
+/// large one's surface (α* of order 1).
+fn class_mixed_scale(t: &mut Table, rng: &mut Rng) {
+    let st = t.entry("mixed_scale").or_default();
+    for id in 0..48 {
+        let k = 10f64.powi(2 + (id % 4) as i32);
+        let big = random_spec(rng).scaled(k);
+        let small = random_spec(rng);
+        // Place the small shape's origin at (1 + f)·(big's extent along a random direction):
+        // the gauge of the big shape at that point is about 1 + f.
+        let qb = rng.unit_quat();
+        let dir = rng.unit_vec();
+        let probe = Posed {
+            spec: big.clone(),
+            r: [0.0; 3],
+            q: qb,
+        };
+        let g = gauge(&probe, &dir).expect("gauge");
+        let f = rng.range(-0.3, 0.6);
+        let r2 = scale(&dir, (1.0 + f) / g);
+        let a = Posed {
+            spec: big,
+            r: [0.0; 3],
+            q: qb,
+        };
+        let b = Posed {
+            spec: small,
+            r: r2,
+            q: rng.unit_quat(),
+        };
+        if id % 2 == 0 {
+            run_case("mixed_scale", id, &a, &b, Reference::Oracle, st);
+        } else {
+            run_case("mixed_scale", id, &b, &a, Reference::Oracle, st);
+        }
+    }
+}
+
 /// Beyond double precision: positions 1e8 m with sizes 1e-6 m (the offset keeps ~2 digits),
 /// aspect ratios 1e6, thickness 1e-8, cones of 0.01° and 89.99°, overall scales 1e±12.
 /// Asserted: every query returns `Ok`, no panic, every output finite (converged or not).
@@ -1894,6 +1934,7 @@ fn stress_suite() {
     class_flat(&mut t, &mut rng);
     class_quat_norm(&mut t, &mut rng);
     class_many_facets(&mut t, &mut rng);
+    class_mixed_scale(&mut t, &mut rng);
     class_extreme(&mut t, &mut rng);
 
     println!(
@@ -2004,4 +2045,34 @@ fn regression_gradient_extreme_quaternion_norm() {
     let p1 = Pose::new([0.0; 3], [1e-150, 0.0, 0.0, 0.0]).unwrap();
     let (_, g) = gradient(&bx, &p1, &ball, &p2, &opts).unwrap();
     assert!(g.iter().all(|v| v.is_finite()), "gradient {g:?}");
+}
+
+/// dcol bug found by this suite (reported with issue 6): a unit sphere resting in a large thin
+/// slab — a box of half extents (1e6, 1e6, 1), as used for a ground plane — at (0.3, 0.2, 1.5):
+/// α* = 0.75 exactly, and dcol's iterate is right to 5e-15, but the status is
+/// NumericalFailure (so the C ABI returns DCOL_ERROR_NOT_CONVERGED), in both argument orders.
+/// The same happens from half extents ~3e5 on, and for every height from 1e7 on; at 1e5 and
+/// below it converges. Random pairs with size ratios up to 1e7 (`mixed_scale`, measured) and
+/// aspect ratios up to 1e3 (`aspect`) converge, so it is the combination of a 1e6 aspect ratio
+/// and the small partner that stalls the stopping test.
+#[test]
+#[ignore = "reason: see issue (large thin slab and unit sphere: correct α* but NumericalFailure)"]
+fn regression_ground_slab_converges() {
+    let opts = Options::default();
+    let slab = Shape::cuboid(1e6, 1e6, 1.0).unwrap();
+    let ball = Shape::sphere(1.0).unwrap();
+    let p1 = Pose::from_position([0.0; 3]).unwrap();
+    for z in [1.5, 3.0] {
+        let p2 = Pose::from_position([0.3, 0.2, z]).unwrap();
+        let a = proximity(&slab, &p1, &ball, &p2, &opts).unwrap();
+        let b = proximity(&ball, &p2, &slab, &p1, &opts).unwrap();
+        for p in [a, b] {
+            assert!(
+                (p.alpha - z / 2.0).abs() < 1e-12,
+                "z = {z}: α* = {}",
+                p.alpha
+            );
+            assert!(p.status.is_converged(), "z = {z}: {:?}", p.status);
+        }
+    }
 }

@@ -1,0 +1,186 @@
+//! Regression tests for the failures the fuzzers (`fuzz/`, issue 6) found, each reduced to a
+//! minimal reproduction. Those that still fail are marked `#[ignore]` with the reason; run them
+//! with `cargo test --release --test fuzz_regressions -- --include-ignored`. The fuzz targets
+//! suppress these known failures (see `fuzz/src/lib.rs`) until they are fixed.
+//!
+//! The contract they check (API.md, `SolveStatus`): a shape a constructor accepts is usable,
+//! and every query result is finite — a non-converged status carries the finite last iterate.
+
+use dcol::{distance, gradient, proximity, Error, Options, Pose, Shape};
+
+fn at(r: [f64; 3]) -> Pose {
+    Pose::from_position(r).unwrap()
+}
+
+/// Either the constructor rejects the shape with `InvalidShape`, or the accepted shape has
+/// finite positive radii and a proximity query with itself (origins 3 apart) and with a unit
+/// sphere returns finite numbers.
+fn rejected_or_usable(shape: Result<Shape, Error>, what: &str) {
+    let s = match shape {
+        Err(Error::InvalidShape(_)) => return,
+        Err(e) => panic!("{what}: wrong error variant {e:?}"),
+        Ok(s) => s,
+    };
+    let (rho, iota) = (s.bounding_radius(), s.inscribed_radius());
+    let ball = Shape::sphere(1.0).unwrap();
+    let opts = Options::default();
+    for (other, name) in [(&s, "itself"), (&ball, "a unit sphere")] {
+        let p = proximity(&s, &at([0.0; 3]), other, &at([0.0, 3.0, 0.0]), &opts).unwrap();
+        let (_, g) = gradient(&s, &at([0.0; 3]), other, &at([0.0, 3.0, 0.0]), &opts).unwrap();
+        assert!(
+            p.alpha.is_finite()
+                && p.point.iter().all(|v| v.is_finite())
+                && p.contact1.iter().all(|v| v.is_finite())
+                && p.contact2.iter().all(|v| v.is_finite())
+                && g.iter().all(|v| v.is_finite()),
+            "{what} was accepted (bounding radius {rho:e}, inscribed radius {iota:e}), but \
+             proximity with {name} gives {p:?}, gradient {g:?}"
+        );
+    }
+}
+
+/// A cylinder of length 5e-324 (the smallest subnormal) is accepted, but its inscribed radius
+/// `min(R, L/2)` rounds to 0; proximity of two of them 3 apart returns α* = inf and x* = NaN
+/// (status NumericalFailure), and the gradient has NaN entries.
+#[test]
+#[ignore = "reason: see issue (constructors accept shapes whose inscribed radius underflows to 0)"]
+fn degenerate_radii_cylinder_length_subnormal() {
+    rejected_or_usable(Shape::cylinder(1.0, 5e-324), "cylinder(1, 5e-324)");
+}
+
+/// A cone of half angle 1e-320 is accepted with inscribed radius 7.5e-321 (subnormal);
+/// proximity of two of them 3 apart returns α* = inf (NumericalFailure).
+#[test]
+#[ignore = "reason: see issue (constructors accept shapes whose inscribed radius underflows)"]
+fn degenerate_radii_cone_angle_subnormal() {
+    rejected_or_usable(Shape::cone(1.0, 1e-320), "cone(1, 1e-320)");
+}
+
+/// A cone of height f64::MAX is accepted with bounding radius inf (`hypot` overflows);
+/// proximity with a unit sphere returns α* = NaN and x* = NaN.
+#[test]
+#[ignore = "reason: see issue (constructors accept shapes whose bounding radius overflows)"]
+fn degenerate_radii_cone_height_max() {
+    rejected_or_usable(Shape::cone(f64::MAX, 1.0), "cone(f64::MAX, 1)");
+}
+
+/// A box written as a polytope with one right-hand side 5e-324 is accepted with inscribed
+/// radius 5e-324; proximity of two of them returns α* = inf (NumericalFailure).
+#[test]
+#[ignore = "reason: see issue (constructors accept shapes whose inscribed radius underflows)"]
+fn degenerate_radii_polytope_subnormal_offset() {
+    let a = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, -1.0],
+    ];
+    rejected_or_usable(
+        Shape::polytope(&a, &[5e-324, 1.0, 1.0, 1.0, 1.0, 1.0]),
+        "box polytope with b₀ = 5e-324",
+    );
+}
+
+/// A cube of half extent 1e154 is rejected as "rows must describe a bounded polytope" (the
+/// squared vertex norm overflows in the bounding-radius computation), while `sphere(1e154)` is
+/// accepted. The error variant is right (InvalidShape) but the reason is wrong; the cube is a
+/// valid bounded polytope with a representable bounding radius (1.7e154).
+#[test]
+#[ignore = "reason: see issue (polytope bounding radius overflows for vertices beyond 1.3e154)"]
+fn large_box_rejected_as_unbounded() {
+    for h in [1e154, 1e200, 1e300] {
+        let b = Shape::cuboid(h, h, h);
+        assert!(b.is_ok(), "cuboid({h:e}, {h:e}, {h:e}) rejected: {b:?}");
+    }
+}
+
+/// `distance` between two unit spheres 1e155 apart returns distance = inf with status
+/// NumericalFailure (the last iterate is not finite), although the distance (1e155 − 2) is
+/// representable and `proximity` solves the same pair exactly (α* = 5e154). From about 1e12
+/// apart (ratio to the shapes' size) `distance` already stops converging (MaxIterations) for a
+/// box and a sphere.
+#[test]
+#[ignore = "reason: see issue (distance overflows for offsets beyond ~1e154 times the size)"]
+fn distance_far_apart_is_finite() {
+    let ball = Shape::sphere(1.0).unwrap();
+    for d in [1e155, 1e200, 1e300] {
+        let r = distance(
+            &ball,
+            &at([0.0; 3]),
+            &ball,
+            &at([d, 0.0, 0.0]),
+            &Options::default(),
+        )
+        .unwrap();
+        assert!(
+            r.distance.is_finite()
+                && r.closest1.iter().all(|v| v.is_finite())
+                && r.closest2.iter().all(|v| v.is_finite()),
+            "offset {d:e}: {r:?}"
+        );
+    }
+}
+
+/// What the fuzzers checked and found to hold, kept as a fast deterministic test: the
+/// constructors' exact validity rules at the boundary values the fuzzer favours.
+#[test]
+fn constructor_rules_at_special_values() {
+    let specials = [
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        0.0,
+        -0.0,
+        -1.0,
+        f64::MIN_POSITIVE,
+        1e-300,
+        1.0,
+        1e300,
+    ];
+    for &r in &specials {
+        let ok = r.is_finite() && r > 0.0;
+        assert_eq!(Shape::sphere(r).is_ok(), ok, "sphere({r:e})");
+        for &l in &specials {
+            let ok2 = ok && l.is_finite() && l > 0.0;
+            for (name, s) in [
+                ("capsule", Shape::capsule(r, l)),
+                ("cylinder", Shape::cylinder(r, l)),
+            ] {
+                assert_eq!(s.is_ok(), ok2, "{name}({r:e}, {l:e})");
+                if let Err(e) = s {
+                    assert!(matches!(e, Error::InvalidShape(_)), "{name}: {e:?}");
+                }
+            }
+        }
+        for beta in [
+            f64::NAN,
+            0.0,
+            -0.1,
+            1e-300,
+            0.5,
+            std::f64::consts::FRAC_PI_2,
+            2.0,
+            f64::INFINITY,
+        ] {
+            let ok2 = ok && beta > 0.0 && beta < std::f64::consts::FRAC_PI_2;
+            assert_eq!(Shape::cone(r, beta).is_ok(), ok2, "cone({r:e}, {beta:e})");
+        }
+    }
+    // More than MAX_FACETS rows, mismatched lengths, an empty system: InvalidShape.
+    let rows = vec![[1.0, 0.0, 0.0]; dcol::shapes::MAX_FACETS + 1];
+    let rhs = vec![1.0; dcol::shapes::MAX_FACETS + 1];
+    assert!(matches!(
+        Shape::polytope(&rows, &rhs),
+        Err(Error::InvalidShape(_))
+    ));
+    assert!(matches!(
+        Shape::polytope(&rows[..6], &rhs[..5]),
+        Err(Error::InvalidShape(_))
+    ));
+    assert!(matches!(
+        Shape::polytope(&[], &[]),
+        Err(Error::InvalidShape(_))
+    ));
+}
