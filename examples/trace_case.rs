@@ -1,5 +1,7 @@
-// Development aid: trace one reference case (DCOL_TRACE=1 prints the iterations) or, with
-// `time FILE...`, print the median time of proximity over reference files.
+// Development aid for solver work: `trace_case FILE INDEX` solves one reference case and
+// prints the result beside the reference α*; `trace_case time FILE...` (or `timejac`) prints the
+// median time of proximity (or jacobian) over reference files. Pair it with
+// `valgrind --tool=callgrind` for instruction counts that do not depend on machine load.
 use serde_json::Value;
 #[path = "../tests/common/mod.rs"]
 mod common;

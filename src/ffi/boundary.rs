@@ -29,6 +29,15 @@ pub(crate) enum Failure {
     /// The core rejected an input. `context` names the C argument it came from
     /// (`"pose2->"`, `"options->"`) or is empty.
     Api { error: Error, context: &'static str },
+    /// A caller buffer is too small: the argument `argument` (its capacity) is `given`, but
+    /// `needed` elements (`what`) were found; the output `*count` holds `needed`.
+    Capacity {
+        argument: &'static str,
+        given: usize,
+        needed: usize,
+        what: &'static str,
+        count: &'static str,
+    },
     /// The solve ran but did not converge; the outputs hold the last iterate.
     NotConverged {
         status: SolveStatus,
@@ -54,6 +63,7 @@ impl Failure {
         match self {
             Failure::Null(_) => dcol_status::DCOL_ERROR_NULL_POINTER,
             Failure::Api { error, .. } => status_of(error),
+            Failure::Capacity { .. } => dcol_status::DCOL_ERROR_INVALID_OPTIONS,
             Failure::NotConverged { .. } => dcol_status::DCOL_ERROR_NOT_CONVERGED,
         }
     }
@@ -97,6 +107,17 @@ fn describe(w: &mut impl fmt::Write, func: &str, failure: &Failure) -> fmt::Resu
             }
             Error::Internal(s) => write!(w, "internal error: {s}"),
         },
+        Failure::Capacity {
+            argument,
+            given,
+            needed,
+            what,
+            count,
+        } => write!(
+            w,
+            "invalid options: argument `{argument}` = {given}: too small for the {needed} {what} \
+             found (`*{count}` holds the number needed; nothing else was written)"
+        ),
         Failure::NotConverged {
             status,
             iterations,

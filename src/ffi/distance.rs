@@ -1,4 +1,4 @@
-//! `dcol_distance_result` and `dcol_distance`.
+//! `dcol_distance_result`, `dcol_distance` and `dcol_distance_gradient`.
 
 use super::boundary::{check_out, run, Failure};
 use super::options::dcol_options;
@@ -70,6 +70,49 @@ pub unsafe extern "C" fn dcol_distance(
             .map_err(Failure::api)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
+        q.outcome(d.status, d.iterations)
+    })
+}
+
+/// The distance (as dcol_distance) and its gradient with respect to (r1, q1, r2, q2): 14
+/// numbers, in that order, the quaternion columns with respect to the four numbers given
+/// (through the normalisation). For touching or overlapping shapes the distance is 0 and the
+/// gradient is all zeros (the distance is not differentiable there; alpha* from dcol_gradient
+/// is the smooth measure to use).
+///
+/// `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
+/// DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes the gradient only if
+/// all 14 entries are finite. On any other status nothing is written. Does not allocate (as
+/// dcol_distance).
+///
+/// # Safety
+/// As dcol_distance; `gradient` must be NULL or valid for writing 14 doubles.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_distance_gradient(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_distance_result,
+    gradient: *mut f64,
+) -> dcol_status {
+    run("dcol_distance_gradient", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        check_out(result, "result")?;
+        check_out(gradient, "gradient")?;
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let (d, g) = query::distance_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
+            .map_err(Failure::api)?;
+        // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
+        unsafe { result.write((&d).into()) };
+        if d.status.is_converged() || g.iter().all(|v| v.is_finite()) {
+            // SAFETY: non-NULL (checked); the caller guarantees 14 writable doubles, and
+            // `[f64; 14]` has the alignment of `f64`.
+            unsafe { gradient.cast::<[f64; 14]>().write(g) };
+        }
         q.outcome(d.status, d.iterations)
     })
 }

@@ -3,7 +3,11 @@
 //! One module per C type, in the style of rustls-ffi: [`status`] (`dcol_status`, the last error
 //! message, the version), [`shape`] (`dcol_shape` and its constructors), [`pose`] (`dcol_pose`),
 //! [`options`] (`dcol_options`), [`proximity`] (`dcol_proximity_result`, `dcol_proximity`,
-//! `dcol_gradient`, `dcol_jacobian`) and [`distance`] (`dcol_distance_result`, `dcol_distance`).
+//! `dcol_gradient`, `dcol_jacobian`), [`distance`] (`dcol_distance_result`, `dcol_distance`,
+//! `dcol_distance_gradient`), [`early_exit`] (`dcol_alpha_below`, `dcol_intersect`),
+//! [`derivatives`] (`dcol_derivatives_result`, `dcol_derivatives`, `dcol_gradient_mrp`,
+//! `dcol_jacobian_mrp`), [`batch`] (`dcol_proximity_batch`) and [`scene`] (`dcol_scene`,
+//! `dcol_scene_pair`, `dcol_scene_stats` and the scene functions).
 //! [`boundary`] holds the single panic boundary that wraps every exported body, the pointer
 //! helpers and the per-thread error message.
 //!
@@ -37,12 +41,29 @@ pub mod proximity;
 
 pub mod distance;
 
+pub mod early_exit;
+
+pub mod derivatives;
+
+pub mod batch;
+
+pub mod scene;
+
 pub mod boundary;
 
-pub use distance::{dcol_distance, dcol_distance_result};
+pub use batch::{dcol_proximity_batch, DCOL_BATCH_MAX_THREADS};
+pub use derivatives::{
+    dcol_derivatives, dcol_derivatives_result, dcol_gradient_mrp, dcol_jacobian_mrp,
+};
+pub use distance::{dcol_distance, dcol_distance_gradient, dcol_distance_result};
+pub use early_exit::{dcol_alpha_below, dcol_intersect};
 pub use options::{dcol_options, dcol_options_default};
 pub use pose::dcol_pose;
 pub use proximity::{dcol_gradient, dcol_jacobian, dcol_proximity, dcol_proximity_result};
+pub use scene::{
+    dcol_scene, dcol_scene_add, dcol_scene_free, dcol_scene_new, dcol_scene_pair,
+    dcol_scene_pairs_within, dcol_scene_set_pose, dcol_scene_size, dcol_scene_stats,
+};
 pub use shape::{
     dcol_shape, dcol_shape_free, dcol_shape_new_box, dcol_shape_new_capsule, dcol_shape_new_cone,
     dcol_shape_new_cylinder, dcol_shape_new_ellipsoid, dcol_shape_new_polygon,

@@ -56,16 +56,25 @@ pub(crate) struct Inputs<'a> {
 impl Inputs<'_> {
     /// `DCOL_ERROR_NOT_CONVERGED` for a solve that ended with `status`, or `Ok`.
     pub(crate) fn outcome(&self, status: SolveStatus, iterations: u32) -> Result<(), Failure> {
-        if status.is_converged() {
-            Ok(())
-        } else {
-            Err(Failure::NotConverged {
-                status,
-                iterations,
-                max_iterations: self.options.max_iterations,
-                tolerance: self.options.tolerance,
-            })
-        }
+        outcome(&self.options, status, iterations)
+    }
+}
+
+/// `DCOL_ERROR_NOT_CONVERGED` for a solve with `options` that ended with `status`, or `Ok`.
+pub(crate) fn outcome(
+    options: &Options,
+    status: SolveStatus,
+    iterations: u32,
+) -> Result<(), Failure> {
+    if status.is_converged() {
+        Ok(())
+    } else {
+        Err(Failure::NotConverged {
+            status,
+            iterations,
+            max_iterations: options.max_iterations,
+            tolerance: options.tolerance,
+        })
     }
 }
 

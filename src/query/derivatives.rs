@@ -503,18 +503,9 @@ fn aho_at_iterate<const N: usize>(problem: &Problem<'_, N>) -> Option<crate::sol
 /// Derivatives at exactly coincident origins, where α* = 0 is not differentiable (α* is the
 /// gauge of S₁ − S₂ at r₂ − r₁, homogeneous of degree one): zero is a valid subgradient of α*
 /// and the rotation derivatives are exactly zero; the x rows of the Jacobian are left zero.
-pub(crate) fn coincident(
-    _shape1: &Shape,
-    _pose1: &Pose,
-    _shape2: &Shape,
-    _pose2: &Pose,
-    _options: &Options,
-    _want: Want,
-    full: &mut Full,
-) -> Result<(), Error> {
+pub(crate) fn coincident(full: &mut Full) {
     full.gradient = [0.0; 14];
     full.jacobian = [[0.0; 14]; 4];
-    Ok(())
 }
 
 /// ∂α*/∂(r₁, q₁, r₂, q₂): 14 numbers, `q` as given (through the normalisation), from the

@@ -210,7 +210,7 @@ pub(crate) fn query_until(
             decided: None,
         };
         if want >= Want::Gradient {
-            derivatives::coincident(shape1, pose1, shape2, pose2, options, want, &mut full)?;
+            derivatives::coincident(&mut full);
         }
         return Ok(full);
     }
