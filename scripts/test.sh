@@ -15,6 +15,10 @@ cargo_target=$PWD/build/cargo-target
 echo "== cargo test --release"
 cargo test --release
 
+echo "== benchmark smoke runs (a few poses each, so the benchmarks cannot rot)"
+cargo bench --bench proximity -- --test
+cargo bench --bench scene -- --test
+
 for config in normal sanitize; do
   dir=build/cmake-$config
   sanitize=OFF
