@@ -15,7 +15,10 @@ fi
 for name in dcol_status_string dcol_last_error_message dcol_version dcol_shape_new_sphere \
   dcol_shape_new_ellipsoid dcol_shape_new_polytope dcol_shape_new_box dcol_shape_new_capsule \
   dcol_shape_new_cylinder dcol_shape_new_cone dcol_shape_new_polygon dcol_shape_free \
-  dcol_options_default dcol_proximity dcol_gradient dcol_jacobian dcol_distance; do
+  dcol_options_default dcol_proximity dcol_gradient dcol_jacobian dcol_distance \
+  dcol_distance_gradient dcol_alpha_below dcol_intersect dcol_derivatives dcol_gradient_mrp \
+  dcol_jacobian_mrp dcol_proximity_batch dcol_scene_new dcol_scene_free dcol_scene_add \
+  dcol_scene_set_pose dcol_scene_size dcol_scene_pairs_within; do
   if ! grep -qx "$name" <<<"$symbols"; then
     echo "FAILED: $lib does not export $name"
     exit 1

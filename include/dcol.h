@@ -45,6 +45,12 @@
 #define DCOL_VERSION_STRING "0.1.0"
 
 /**
+ * The most threads one dcol_proximity_batch call uses, the calling thread included; a larger
+ * `threads` argument is treated as this value.
+ */
+#define DCOL_BATCH_MAX_THREADS 256
+
+/**
  * The result of every fallible function. The values are fixed and never change meaning.
  */
 typedef enum dcol_status {
@@ -79,6 +85,17 @@ typedef enum dcol_status {
    */
   DCOL_ERROR_INTERNAL = 6,
 } dcol_status;
+
+/**
+ * An opaque set of bodies (a shape and a pose each) for repeated all-pairs threshold queries
+ * (dcol_scene_pairs_within). Made by dcol_scene_new, released with dcol_scene_free; bodies are
+ * added with dcol_scene_add and moved with dcol_scene_set_pose.
+ *
+ * Not thread-safe: a scene must be used by one thread at a time (no call on a scene may run
+ * concurrently with another call on the same scene, including dcol_scene_size). Different
+ * scenes are independent and may be used by different threads at once.
+ */
+typedef struct dcol_scene dcol_scene;
 
 /**
  * An opaque, validated convex shape (body frame). Built by one of the dcol_shape_new_*
@@ -176,6 +193,98 @@ typedef struct dcol_distance_result {
    */
   double normal[3];
 } dcol_distance_result;
+
+/**
+ * Everything differentiable about a proximity query, from one solve (dcol_derivatives).
+ * Columns are always (r1, q1, r2, q2): 14, the quaternion columns with respect to the four
+ * numbers given (through the normalisation), as in dcol_gradient. Matrices are row-major
+ * (jacobian[row][column]).
+ */
+typedef struct dcol_derivatives_result {
+  /**
+   * alpha*, x* and the contact points, as dcol_proximity.
+   */
+  struct dcol_proximity_result proximity;
+  /**
+   * d alpha* / d(r1, q1, r2, q2), as dcol_gradient.
+   */
+  double gradient[14];
+  /**
+   * d(x*, alpha*) / d(r1, q1, r2, q2): 4 x 14, rows (x1, x2, x3, alpha), as dcol_jacobian.
+   */
+  double jacobian[4][14];
+  /**
+   * d p1 / d(r1, q1, r2, q2): 3 x 14, the Jacobian of contact point 1
+   * (p1 = r1 + (x* - r1) / alpha*, by the chain rule); all zeros when alpha* = 0.
+   */
+  double contact_jacobian1[3][14];
+  /**
+   * d p2 / d(r1, q1, r2, q2): 3 x 14, the Jacobian of contact point 2; all zeros when
+   * alpha* = 0.
+   */
+  double contact_jacobian2[3][14];
+} dcol_derivatives_result;
+
+/**
+ * One pair reported by dcol_scene_pairs_within.
+ */
+typedef struct dcol_scene_pair {
+  /**
+   * The lower body id (body1 < body2).
+   */
+  size_t body1;
+  /**
+   * The higher body id.
+   */
+  size_t body2;
+  /**
+   * The proximity of (body1, body2), as dcol_proximity with the bodies' shapes and poses in
+   * that order.
+   */
+  struct dcol_proximity_result proximity;
+  /**
+   * DCOL_OK, or DCOL_ERROR_NOT_CONVERGED when the pair's solve hit the iteration limit and
+   * `proximity` holds the last iterate (reported because that iterate's alpha is <= the
+   * threshold).
+   */
+  enum dcol_status status;
+} dcol_scene_pair;
+
+/**
+ * How many pairs each level of a dcol_scene_pairs_within step handled, cheapest level first.
+ */
+typedef struct dcol_scene_stats {
+  /**
+   * N (N - 1) / 2 for N bodies.
+   */
+  size_t pairs_total;
+  /**
+   * Pairs whose sweep-and-prune intervals (x extent of the bounding spheres scaled by the
+   * threshold) overlap.
+   */
+  size_t sweep_candidates;
+  /**
+   * Of those, pairs whose scaled bounding spheres overlap.
+   */
+  size_t sphere_candidates;
+  /**
+   * Of those, pairs proven below the threshold by the inscribed-sphere bound (then solved
+   * fully).
+   */
+  size_t proven_by_bounds;
+  /**
+   * Pairs whose solve stopped early once alpha* > threshold was proven.
+   */
+  size_t early_exits;
+  /**
+   * Pairs solved to convergence.
+   */
+  size_t full_solves;
+  /**
+   * Pairs reported (alpha* <= threshold).
+   */
+  size_t reported;
+} dcol_scene_stats;
 
 #ifdef __cplusplus
 extern "C" {
@@ -382,6 +491,292 @@ enum dcol_status dcol_distance(const struct dcol_shape *shape1,
                                const struct dcol_pose *pose2,
                                const struct dcol_options *options,
                                struct dcol_distance_result *result);
+
+/**
+ * The distance (as dcol_distance) and its gradient with respect to (r1, q1, r2, q2): 14
+ * numbers, in that order, the quaternion columns with respect to the four numbers given
+ * (through the normalisation). For touching or overlapping shapes the distance is 0 and the
+ * gradient is all zeros (the distance is not differentiable there; alpha* from dcol_gradient
+ * is the smooth measure to use).
+ *
+ * `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
+ * DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes the gradient only if
+ * all 14 entries are finite. On any other status nothing is written. Does not allocate (as
+ * dcol_distance).
+ *
+ * # Safety
+ * As dcol_distance; `gradient` must be NULL or valid for writing 14 doubles.
+ */
+enum dcol_status dcol_distance_gradient(const struct dcol_shape *shape1,
+                                        const struct dcol_pose *pose1,
+                                        const struct dcol_shape *shape2,
+                                        const struct dcol_pose *pose2,
+                                        const struct dcol_options *options,
+                                        struct dcol_distance_result *result,
+                                        double *gradient);
+
+/**
+ * Is alpha* < `threshold`? Writes 1 to *below when it is, 0 when it is not (alpha* >=
+ * threshold).
+ *
+ * Cheaper than dcol_proximity: the closed-form bracket
+ * |r2 - r1| / (rho1 + rho2) <= alpha* <= |r2 - r1| / (iota1 + iota2) (bounding and inscribed
+ * radii) answers without any solve when it decides, and otherwise the solve stops as soon as
+ * its certified primal/dual bounds on alpha* decide. The answer equals
+ * (dcol_proximity(...).alpha < threshold) except within a band of about the solver tolerance
+ * around the threshold, where either answer may be returned.
+ *
+ * `threshold` must be positive and finite (else DCOL_ERROR_INVALID_OPTIONS naming
+ * `threshold`); `options` may be NULL (defaults). Returns DCOL_OK and writes *below; or
+ * DCOL_ERROR_NOT_CONVERGED when neither the bounds nor the solve could decide within
+ * options->max_iterations, with *below written from the last iterate (not certain); or an
+ * error status, the last error message set, and *below untouched. Does not allocate.
+ *
+ * # Safety
+ * `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
+ * `below` NULL or valid for writing one int32_t.
+ */
+enum dcol_status dcol_alpha_below(const struct dcol_shape *shape1,
+                                  const struct dcol_pose *pose1,
+                                  const struct dcol_shape *shape2,
+                                  const struct dcol_pose *pose2,
+                                  double threshold,
+                                  const struct dcol_options *options,
+                                  int32_t *below);
+
+/**
+ * Do the shapes interpenetrate (alpha* < 1)? Writes 1 to *intersecting when they do, 0 when
+ * they do not (alpha* >= 1: separated or touching). Exactly dcol_alpha_below with threshold 1,
+ * with the same statuses and outputs; shapes that touch to within the solver tolerance may be
+ * reported either way. Does not allocate.
+ *
+ * # Safety
+ * As dcol_alpha_below; `intersecting` must be NULL or valid for writing one int32_t.
+ */
+enum dcol_status dcol_intersect(const struct dcol_shape *shape1,
+                                const struct dcol_pose *pose1,
+                                const struct dcol_shape *shape2,
+                                const struct dcol_pose *pose2,
+                                const struct dcol_options *options,
+                                int32_t *intersecting);
+
+/**
+ * alpha*, x*, the contact points and all their derivatives with respect to (r1, q1, r2, q2)
+ * in one solve: the gradient of alpha*, the Jacobian of (x*, alpha*) and the Jacobians of both
+ * contact points (see dcol_derivatives_result). The gradient and Jacobian are those of
+ * dcol_gradient and dcol_jacobian, bit for bit.
+ *
+ * `options` may be NULL (defaults). On DCOL_OK fills *result. On DCOL_ERROR_NOT_CONVERGED
+ * fills result->proximity with the last iterate, and the derivative fields only if all of them
+ * are finite (otherwise they are left untouched). On any other status nothing is written.
+ * Does not allocate.
+ *
+ * # Safety
+ * `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
+ * `result` NULL or valid for writes.
+ */
+enum dcol_status dcol_derivatives(const struct dcol_shape *shape1,
+                                  const struct dcol_pose *pose1,
+                                  const struct dcol_shape *shape2,
+                                  const struct dcol_pose *pose2,
+                                  const struct dcol_options *options,
+                                  struct dcol_derivatives_result *result);
+
+/**
+ * The gradient of alpha* with respect to (r1, p1, r2, p2) for attitudes given as modified
+ * Rodrigues parameters (MRPs) p, the quaternion being q = [1 - p.p, 2 p] / (1 + p.p)
+ * ([w, x, y, z], world-from-body). 12 numbers: d/dr1 (3), d/dp1 (3), d/dr2 (3), d/dp2 (3);
+ * equal to the quaternion gradient of dcol_gradient times dq/dp (chain rule).
+ *
+ * `position1`, `mrp1`, `position2`, `mrp2` each point to 3 doubles, all finite (an MRP whose
+ * squared norm overflows a double is rejected as DCOL_ERROR_INVALID_POSE; errors name the
+ * argument, e.g. `mrp2[0]`). `options` may be NULL (defaults). On DCOL_OK fills *result and
+ * gradient[0..12]. On DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes
+ * the gradient only if all 12 entries are finite. On any other status nothing is written. Does
+ * not allocate.
+ *
+ * # Safety
+ * `shape1`, `shape2` must be NULL or live shapes; `position1`, `mrp1`, `position2`, `mrp2`
+ * NULL or valid for reading 3 doubles; `options` NULL or valid; `result` NULL or valid for
+ * writes; `gradient` NULL or valid for writing 12 doubles.
+ */
+enum dcol_status dcol_gradient_mrp(const struct dcol_shape *shape1,
+                                   const double *position1,
+                                   const double *mrp1,
+                                   const struct dcol_shape *shape2,
+                                   const double *position2,
+                                   const double *mrp2,
+                                   const struct dcol_options *options,
+                                   struct dcol_proximity_result *result,
+                                   double *gradient);
+
+/**
+ * The Jacobian of (x*, alpha*) with respect to (r1, p1, r2, p2) for attitudes given as
+ * modified Rodrigues parameters (see dcol_gradient_mrp): 4 x 12, row-major (48 doubles), rows
+ * (x1, x2, x3, alpha), columns as in dcol_gradient_mrp; equal to the Jacobian of
+ * dcol_jacobian times dq/dp (chain rule).
+ *
+ * Inputs and validation as dcol_gradient_mrp. On DCOL_OK fills *result and jacobian[0..48]. On
+ * DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes the Jacobian only if
+ * all 48 entries are finite. On any other status nothing is written. Does not allocate.
+ *
+ * # Safety
+ * As dcol_gradient_mrp; `jacobian` must be NULL or valid for writing 48 doubles.
+ */
+enum dcol_status dcol_jacobian_mrp(const struct dcol_shape *shape1,
+                                   const double *position1,
+                                   const double *mrp1,
+                                   const struct dcol_shape *shape2,
+                                   const double *position2,
+                                   const double *mrp2,
+                                   const struct dcol_options *options,
+                                   struct dcol_proximity_result *result,
+                                   double *jacobian);
+
+/**
+ * Proximity (as dcol_proximity) of `count` pairs: pair i is (shapes1[i], poses1[i],
+ * shapes2[i], poses2[i]); its result goes to results[i] and its status to statuses[i].
+ *
+ * Each pair is independent: a bad pair does not fail the batch. statuses[i] is DCOL_OK
+ * (results[i] written), DCOL_ERROR_NOT_CONVERGED (results[i] holds the last iterate),
+ * DCOL_ERROR_NULL_POINTER (shapes1[i] or shapes2[i] is NULL), DCOL_ERROR_INVALID_POSE (poses1[i]
+ * or poses2[i] rejected, or their origins too far apart) or DCOL_ERROR_INTERNAL, and on these
+ * errors results[i] is untouched. Per-pair failures do not set the last error message (the call
+ * itself succeeds): call dcol_proximity on that pair for the sentence. results[i] is exactly
+ * what dcol_proximity returns for the pair, bit for bit, whatever `threads` is.
+ *
+ * The call returns DCOL_OK once every pair has its status; or DCOL_ERROR_NULL_POINTER if one of
+ * the six arrays is NULL while count > 0, or DCOL_ERROR_INVALID_OPTIONS if *options is
+ * invalid, writing nothing (statuses included). With count == 0 nothing is read or written and
+ * the arrays may be NULL. `options` may be NULL (defaults).
+ *
+ * `threads` <= 1 runs every pair on the calling thread. Otherwise the pairs are split into at
+ * most min(threads, DCOL_BATCH_MAX_THREADS) contiguous chunks of equal size (the last may be
+ * shorter): the calling thread runs the first and one new thread per other chunk runs the
+ * rest; the call returns when all are done. Spawning those threads allocates (their stacks and
+ * bookkeeping), and a shape with many facets makes each new thread allocate its scratch buffer
+ * once; nothing is allocated per pair, and with threads <= 1 the call does not allocate (as
+ * dcol_proximity). If a thread cannot be spawned, its chunk runs on the calling thread.
+ *
+ * # Safety
+ * Unless count == 0: `shapes1`, `poses1`, `shapes2`, `poses2` must each be NULL or valid for
+ * reading `count` elements, each shape pointer in them NULL or a live shape; `results` and
+ * `statuses` NULL or valid for writing `count` elements; none of the output arrays may overlap
+ * the inputs or each other. `options` must be NULL or valid.
+ */
+enum dcol_status dcol_proximity_batch(const struct dcol_shape *const *shapes1,
+                                      const struct dcol_pose *poses1,
+                                      const struct dcol_shape *const *shapes2,
+                                      const struct dcol_pose *poses2,
+                                      size_t count,
+                                      const struct dcol_options *options,
+                                      uint32_t threads,
+                                      struct dcol_proximity_result *results,
+                                      enum dcol_status *statuses);
+
+/**
+ * A new, empty scene. On success *out receives a scene owned by the caller (release it with
+ * dcol_scene_free); on error *out is set to NULL. Allocates.
+ *
+ * # Safety
+ * `out` must be NULL or valid for writing one pointer.
+ */
+enum dcol_status dcol_scene_new(struct dcol_scene **out);
+
+/**
+ * Releases a scene made by dcol_scene_new, with its copies of the bodies' shapes. NULL is a
+ * no-op. The scene must not be in use by another thread, and must not be used or freed again
+ * afterwards. The shapes passed to dcol_scene_add are not affected (the scene holds copies).
+ *
+ * # Safety
+ * `scene` must be NULL or a live pointer returned by `dcol_scene_new`.
+ */
+void dcol_scene_free(struct dcol_scene *scene);
+
+/**
+ * Adds a body with a copy of `shape` at `pose` and writes its id to *id. Ids are consecutive
+ * from 0 in the order of addition and never change. The scene keeps its own copy of the shape:
+ * the caller may free `shape` at once. Allocates (the copy, and the scene's arrays as they
+ * grow).
+ *
+ * Returns DCOL_OK; or DCOL_ERROR_NULL_POINTER (`scene`, `shape`, `pose` or `id` NULL) or
+ * DCOL_ERROR_INVALID_POSE (naming e.g. `pose->position[0]`), with the scene and *id
+ * untouched.
+ *
+ * # Safety
+ * `scene` must be NULL or a live scene not used by another thread; `shape` NULL or a live
+ * shape; `pose` NULL or valid; `id` NULL or valid for writing one size_t.
+ */
+enum dcol_status dcol_scene_add(struct dcol_scene *scene,
+                                const struct dcol_shape *shape,
+                                const struct dcol_pose *pose,
+                                size_t *id);
+
+/**
+ * Moves body `id` to `pose`. Does not allocate.
+ *
+ * Returns DCOL_OK; or DCOL_ERROR_NULL_POINTER (`scene` or `pose` NULL), DCOL_ERROR_INVALID_POSE
+ * (naming e.g. `pose->quaternion`), or DCOL_ERROR_INVALID_OPTIONS when `id` is not a body of
+ * this scene (id >= dcol_scene_size), with the scene unchanged.
+ *
+ * # Safety
+ * `scene` must be NULL or a live scene not used by another thread; `pose` NULL or valid.
+ */
+enum dcol_status dcol_scene_set_pose(struct dcol_scene *scene,
+                                     size_t id,
+                                     const struct dcol_pose *pose);
+
+/**
+ * Writes the number of bodies in the scene to *size. Does not allocate.
+ *
+ * # Safety
+ * `scene` must be NULL or a live scene not used by another thread; `size` NULL or valid for
+ * writing one size_t.
+ */
+enum dcol_status dcol_scene_size(const struct dcol_scene *scene, size_t *size);
+
+/**
+ * Every pair of bodies with alpha* <= `threshold` (> 0, finite): a broad phase (sweep and
+ * prune on the bounding spheres scaled by the threshold, then the exact bounding-sphere test)
+ * skips the pairs it can, the inscribed-sphere bound proves some pairs close without a
+ * threshold test, and the remaining solves stop as soon as alpha* > threshold is proven. Each
+ * reported pair carries its full proximity, equal bit for bit to dcol_proximity on the two
+ * bodies (lower id first); pairs within about the solver tolerance of the threshold may be
+ * reported or not.
+ *
+ * The pairs are written to pairs[0..*count] in increasing (body1, body2) order. `capacity` is
+ * the number of elements `pairs` can hold; `pairs` may be NULL when capacity is 0 (to learn the
+ * count). `stats` may be NULL; otherwise it receives the work done by each level.
+ * `options` may be NULL (defaults).
+ *
+ * Returns DCOL_OK with pairs[0..*count] and *stats written. If more than `capacity` pairs
+ * qualify, returns DCOL_ERROR_INVALID_OPTIONS naming `capacity`, writes the number of pairs
+ * needed to *count (a documented exception to "outputs only on success") and writes nothing
+ * else: call again with a buffer of at least *count pairs (the step is deterministic, so the
+ * same poses give the same pairs). Other errors: DCOL_ERROR_NULL_POINTER (`scene`, `count`,
+ * or `pairs` with capacity > 0), DCOL_ERROR_INVALID_OPTIONS (`threshold` or *options), with
+ * nothing written. A pair whose solve did not converge is reported with status
+ * DCOL_ERROR_NOT_CONVERGED in its dcol_scene_pair when its last iterate is <= threshold; the
+ * call still returns DCOL_OK.
+ *
+ * Cost: O(N log N) for the sweep plus one (often truncated) solve per pair whose scaled
+ * bounding spheres overlap. Allocation: the scene keeps its sweep order and the list of
+ * reported pairs between steps, so a step allocates only when the number of bodies or of
+ * reported pairs exceeds that of every earlier step (and a many-facet shape uses the
+ * per-thread scratch buffer, allocated once).
+ *
+ * # Safety
+ * `scene` must be NULL or a live scene not used by another thread; `options` NULL or valid;
+ * `pairs` NULL or valid for writing `capacity` elements; `count` NULL or valid for writing one
+ * size_t; `stats` NULL or valid for writes.
+ */
+enum dcol_status dcol_scene_pairs_within(struct dcol_scene *scene,
+                                         double threshold,
+                                         const struct dcol_options *options,
+                                         struct dcol_scene_pair *pairs,
+                                         size_t capacity,
+                                         size_t *count,
+                                         struct dcol_scene_stats *stats);
 
 #ifdef __cplusplus
 }  // extern "C"

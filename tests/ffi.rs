@@ -242,3 +242,313 @@ fn last_error_is_per_thread() {
         .unwrap();
     assert_eq!(there, "");
 }
+
+/// Modified Rodrigues parameters of the rotation of `q` (the short way round).
+fn mrp_of(q: [f64; 4]) -> [f64; 3] {
+    let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let s = if q[0] < 0.0 { -1.0 / n } else { 1.0 / n };
+    let w = q[0] * s;
+    [
+        q[1] * s / (1.0 + w),
+        q[2] * s / (1.0 + w),
+        q[3] * s / (1.0 + w),
+    ]
+}
+
+fn bits<const N: usize>(a: &[f64; N]) -> [u64; N] {
+    a.map(f64::to_bits)
+}
+
+fn same_prox(c: &dcol_proximity_result, p: &dcol::Proximity) -> bool {
+    c.alpha.to_bits() == p.alpha.to_bits()
+        && bits(&c.point) == bits(&v(&p.point))
+        && bits(&c.contact1) == bits(&v(&p.contact1))
+        && bits(&c.contact2) == bits(&v(&p.contact2))
+        && c.iterations == p.iterations
+}
+
+/// The extensions (early exit, distance gradient, derivatives, MRP, batch, scene) give the
+/// Rust API's answers bit for bit on the reference cases.
+#[test]
+fn c_extensions_match_rust_api_on_reference_cases() {
+    use dcol::batch::{proximity_batch, Pair};
+    use dcol::scene::Scene;
+    use dcol::{alpha_below, derivatives, distance_gradient, gradient_mrp, jacobian_mrp};
+
+    let Some(dir) = reference_dir() else { return };
+    let opts = Options::default();
+    let (mut rs, mut rp, mut cs, mut cp) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for file in all_files(&dir) {
+        for case in load(&file).iter().take(2) {
+            let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
+            let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
+            let (c1, c2) = (c_shape(&case["shape1"]), c_shape(&case["shape2"]));
+            let (q1, q2) = (c_pose(&case["pose1"]), c_pose(&case["pose2"]));
+            let id = case["id"].as_str().unwrap();
+            let alpha = proximity(&s1, &p1, &s2, &p2, &opts).unwrap().alpha;
+
+            for t in [1.0, 0.9 * alpha, 1.1 * alpha, alpha] {
+                if t <= 0.0 {
+                    continue;
+                }
+                let rust = alpha_below(&s1, &p1, &s2, &p2, t, &opts);
+                let mut below = -1;
+                // SAFETY: live shapes and valid locals.
+                let st = unsafe {
+                    dcol_alpha_below(c1.ptr(), &q1, c2.ptr(), &q2, t, ptr::null(), &mut below)
+                };
+                let conv = || rust.as_ref().unwrap().status.is_converged();
+                assert_eq!(st, status_of(&rust, conv), "{id} t {t}");
+                assert_eq!(below, i32::from(rust.unwrap().below), "{id} t {t}");
+                if t == 1.0 {
+                    let mut inter = -1;
+                    // SAFETY: as above.
+                    let st = unsafe {
+                        dcol_intersect(c1.ptr(), &q1, c2.ptr(), &q2, ptr::null(), &mut inter)
+                    };
+                    assert_eq!(st, dcol_status::DCOL_OK, "{id}");
+                    assert_eq!(inter, below, "{id}");
+                }
+            }
+
+            let rust = distance_gradient(&s1, &p1, &s2, &p2, &opts);
+            let mut d = dcol_distance_result::default();
+            let mut g = [f64::NAN; 14];
+            // SAFETY: as above; `g` holds 14 doubles.
+            let st = unsafe {
+                dcol_distance_gradient(
+                    c1.ptr(),
+                    &q1,
+                    c2.ptr(),
+                    &q2,
+                    ptr::null(),
+                    &mut d,
+                    g.as_mut_ptr(),
+                )
+            };
+            let conv = || rust.as_ref().unwrap().0.status.is_converged();
+            assert_eq!(st, status_of(&rust, conv), "{id}");
+            let (rd, rg) = rust.unwrap();
+            assert_eq!(d.distance.to_bits(), rd.distance.to_bits(), "{id}");
+            assert_eq!(bits(&d.closest1), bits(&v(&rd.closest1)), "{id}");
+            assert_eq!(bits(&d.closest2), bits(&v(&rd.closest2)), "{id}");
+            assert_eq!(bits(&g), bits(&rg), "{id}");
+
+            let rust = derivatives(&s1, &p1, &s2, &p2, &opts);
+            let mut dr = dcol_derivatives_result::default();
+            // SAFETY: as above.
+            let st =
+                unsafe { dcol_derivatives(c1.ptr(), &q1, c2.ptr(), &q2, ptr::null(), &mut dr) };
+            let conv = || rust.as_ref().unwrap().proximity.status.is_converged();
+            assert_eq!(st, status_of(&rust, conv), "{id}");
+            let rd = rust.unwrap();
+            assert!(same_prox(&dr.proximity, &rd.proximity), "{id}");
+            assert_eq!(bits(&dr.gradient), bits(&rd.dalpha), "{id}");
+            for r in 0..4 {
+                assert_eq!(bits(&dr.jacobian[r]), bits(&rd.jacobian[r]), "{id}");
+            }
+            for r in 0..3 {
+                assert_eq!(
+                    bits(&dr.contact_jacobian1[r]),
+                    bits(&rd.dcontact1[r]),
+                    "{id}"
+                );
+                assert_eq!(
+                    bits(&dr.contact_jacobian2[r]),
+                    bits(&rd.dcontact2[r]),
+                    "{id}"
+                );
+            }
+
+            let (m1, m2) = (mrp_of(q1.quaternion), mrp_of(q2.quaternion));
+            let (r1, r2) = (q1.position, q2.position);
+            let rust = gradient_mrp(&s1, r1, m1, &s2, r2, m2, &opts);
+            let mut res = dcol_proximity_result::default();
+            let mut gm = [f64::NAN; 12];
+            // SAFETY: live shapes, 3-double arrays, valid outputs (`gm` holds 12 doubles).
+            let st = unsafe {
+                dcol_gradient_mrp(
+                    c1.ptr(),
+                    r1.as_ptr(),
+                    m1.as_ptr(),
+                    c2.ptr(),
+                    r2.as_ptr(),
+                    m2.as_ptr(),
+                    ptr::null(),
+                    &mut res,
+                    gm.as_mut_ptr(),
+                )
+            };
+            let conv = || rust.as_ref().unwrap().0.status.is_converged();
+            assert_eq!(st, status_of(&rust, conv), "{id}");
+            let (rprox, rg) = rust.unwrap();
+            assert!(same_prox(&res, &rprox), "{id}");
+            assert_eq!(bits(&gm), bits(&rg), "{id}");
+
+            let rust = jacobian_mrp(&s1, r1, m1, &s2, r2, m2, &opts);
+            let mut jm = [f64::NAN; 48];
+            // SAFETY: as above; `jm` holds 48 doubles.
+            let st = unsafe {
+                dcol_jacobian_mrp(
+                    c1.ptr(),
+                    r1.as_ptr(),
+                    m1.as_ptr(),
+                    c2.ptr(),
+                    r2.as_ptr(),
+                    m2.as_ptr(),
+                    ptr::null(),
+                    &mut res,
+                    jm.as_mut_ptr(),
+                )
+            };
+            let conv = || rust.as_ref().unwrap().0.status.is_converged();
+            assert_eq!(st, status_of(&rust, conv), "{id}");
+            let (rprox, rj) = rust.unwrap();
+            assert!(same_prox(&res, &rprox), "{id}");
+            let flat: Vec<u64> = rj.iter().flatten().map(|x| x.to_bits()).collect();
+            assert_eq!(jm.map(f64::to_bits).to_vec(), flat, "{id}");
+
+            rs.push((s1, p1, s2, p2));
+            cs.push((c1, c2));
+            cp.push((q1, q2));
+            rp.push(id.to_string());
+        }
+    }
+    assert!(rs.len() >= 100, "only {} cases", rs.len());
+
+    // Batch: every case at once, against the Rust batch, on 1 and 3 threads.
+    let pairs: Vec<Pair> = rs
+        .iter()
+        .map(|(s1, p1, s2, p2)| Pair {
+            shape1: s1,
+            pose1: p1,
+            shape2: s2,
+            pose2: p2,
+        })
+        .collect();
+    let mut rust_out = vec![Err(Error::Internal("unset")); pairs.len()];
+    proximity_batch(&pairs, &opts, 1, &mut rust_out).unwrap();
+    let shapes1: Vec<*const dcol_shape> = cs.iter().map(|c| c.0.ptr()).collect();
+    let shapes2: Vec<*const dcol_shape> = cs.iter().map(|c| c.1.ptr()).collect();
+    let poses1: Vec<dcol_pose> = cp.iter().map(|p| p.0).collect();
+    let poses2: Vec<dcol_pose> = cp.iter().map(|p| p.1).collect();
+    for threads in [1, 3] {
+        let n = pairs.len();
+        let mut results = vec![dcol_proximity_result::default(); n];
+        let mut statuses = vec![dcol_status::DCOL_ERROR_INTERNAL; n];
+        // SAFETY: every array holds `n` elements; the shapes are live.
+        let st = unsafe {
+            dcol_proximity_batch(
+                shapes1.as_ptr(),
+                poses1.as_ptr(),
+                shapes2.as_ptr(),
+                poses2.as_ptr(),
+                n,
+                ptr::null(),
+                threads,
+                results.as_mut_ptr(),
+                statuses.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, dcol_status::DCOL_OK);
+        for i in 0..n {
+            let conv = || rust_out[i].as_ref().unwrap().status.is_converged();
+            assert_eq!(statuses[i], status_of(&rust_out[i], conv), "{}", rp[i]);
+            assert!(
+                same_prox(&results[i], rust_out[i].as_ref().unwrap()),
+                "{}",
+                rp[i]
+            );
+        }
+    }
+
+    // Scene: the first shape of each case at its pose, spread out a little, against the Rust
+    // scene.
+    let mut rust_scene = Scene::new();
+    let mut scene = ptr::null_mut();
+    // SAFETY: valid out pointer.
+    assert_eq!(unsafe { dcol_scene_new(&mut scene) }, dcol_status::DCOL_OK);
+    for (i, ((s1, _, _, _), (c1, _))) in rs.iter().zip(&cs).enumerate() {
+        let mut q = cp[i].0;
+        q.position[0] += 0.05 * (i % 40) as f64;
+        rust_scene.add(
+            s1.clone(),
+            dcol::Pose::new(q.position, q.quaternion).unwrap(),
+        );
+        let mut id = usize::MAX;
+        // SAFETY: live scene and shape, valid locals.
+        assert_eq!(
+            unsafe { dcol_scene_add(scene, c1.ptr(), &q, &mut id) },
+            dcol_status::DCOL_OK
+        );
+        assert_eq!(id, i);
+    }
+    let mut rust_pairs = Vec::new();
+    let mut reported = 0;
+    for t in [0.5, 1.0, 2.0] {
+        let rust_stats = rust_scene.pairs_within(t, &opts, &mut rust_pairs).unwrap();
+        let mut count = usize::MAX;
+        // SAFETY: a size query: capacity 0, `pairs` NULL.
+        let st = unsafe {
+            dcol_scene_pairs_within(
+                scene,
+                t,
+                ptr::null(),
+                ptr::null_mut(),
+                0,
+                &mut count,
+                ptr::null_mut(),
+            )
+        };
+        assert_eq!(count, rust_pairs.len());
+        assert_eq!(
+            st,
+            if count == 0 {
+                dcol_status::DCOL_OK
+            } else {
+                dcol_status::DCOL_ERROR_INVALID_OPTIONS
+            }
+        );
+        let template = dcol_scene_pair {
+            body1: usize::MAX,
+            body2: usize::MAX,
+            proximity: dcol_proximity_result::default(),
+            status: dcol_status::DCOL_ERROR_INTERNAL,
+        };
+        let mut out = vec![template; count];
+        let mut stats = dcol_scene_stats::default();
+        // SAFETY: `out` holds `count` pairs.
+        let st = unsafe {
+            dcol_scene_pairs_within(
+                scene,
+                t,
+                ptr::null(),
+                out.as_mut_ptr(),
+                count,
+                &mut count,
+                &mut stats,
+            )
+        };
+        assert_eq!(st, dcol_status::DCOL_OK);
+        assert_eq!(count, rust_pairs.len());
+        reported += count;
+        assert_eq!(stats.reported, rust_stats.reported);
+        assert_eq!(stats.pairs_total, rust_stats.pairs_total);
+        assert_eq!(stats.sweep_candidates, rust_stats.sweep_candidates);
+        assert_eq!(stats.sphere_candidates, rust_stats.sphere_candidates);
+        assert_eq!(stats.proven_by_bounds, rust_stats.proven_by_bounds);
+        assert_eq!(stats.early_exits, rust_stats.early_exits);
+        assert_eq!(stats.full_solves, rust_stats.full_solves);
+        for (c, r) in out.iter().zip(&rust_pairs) {
+            assert_eq!((c.body1, c.body2), (r.body1, r.body2));
+            assert!(same_prox(&c.proximity, &r.proximity));
+            assert_eq!(
+                c.status == dcol_status::DCOL_OK,
+                r.proximity.status.is_converged()
+            );
+        }
+    }
+    assert!(reported > 10, "only {reported} scene pairs compared");
+    // SAFETY: made by dcol_scene_new, freed once.
+    unsafe { dcol_scene_free(scene) };
+}

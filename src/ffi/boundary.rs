@@ -308,6 +308,25 @@ mod tests {
     }
 
     #[test]
+    fn capacity_failures_name_the_capacity_and_the_count() {
+        let st = run("dcol_scene_pairs_within", || {
+            Err(Failure::Capacity {
+                argument: "capacity",
+                given: 2,
+                needed: 5,
+                what: "pairs",
+                count: "count",
+            })
+        });
+        assert_eq!(st, dcol_status::DCOL_ERROR_INVALID_OPTIONS);
+        assert_eq!(
+            last(),
+            "dcol_scene_pairs_within: invalid options: argument `capacity` = 2: too small for the \
+             5 pairs found (`*count` holds the number needed; nothing else was written)"
+        );
+    }
+
+    #[test]
     fn panics_become_internal_errors() {
         let st = run("dcol_test", || panic!("boom"));
         assert_eq!(st, dcol_status::DCOL_ERROR_INTERNAL);
