@@ -719,6 +719,10 @@ struct Stats {
     not_converged: usize,
     /// Shapes rejected by a constructor (allowed only in the `extreme` class).
     rejected: usize,
+    /// `distance` solves that did not converge.
+    dist_not_converged: usize,
+    /// Largest distance error against a closed form, in units of ℓ.
+    dist_err: f64,
     alpha_err: f64,
     x_excess: f64,
     grad_err: f64,
@@ -913,6 +917,40 @@ fn run_case(
             if !all_finite(&o) {
                 fail(st, format!("non-finite distance output {o:?}"));
             }
+            if !d.status.is_converged() {
+                st.dist_not_converged += 1;
+                if std::env::var_os("STRESS_VERBOSE").is_some() {
+                    println!("{tag}: distance {:?}", d.status);
+                }
+            }
+            // Closed forms: spheres, and boxes sharing one attitude (the distance is the norm
+            // of the positive parts of |QᵀΔ| − (a + b)).
+            let exact = match (&a.spec, &b.spec) {
+                (Spec::Sphere { r: ra }, Spec::Sphere { r: rb }) => {
+                    Some((norm(&sub(&b.r, &a.r)) - ra - rb).max(0.0))
+                }
+                (Spec::Cuboid { h: ha }, Spec::Cuboid { h: hb }) if a.q == b.q => {
+                    let dd = rot_t(&rot(&a.q), &sub(&b.r, &a.r));
+                    let e: [f64; 3] =
+                        std::array::from_fn(|i| (dd[i].abs() - ha[i] - hb[i]).max(0.0));
+                    Some(norm(&e))
+                }
+                _ => None,
+            };
+            if let (Some(ex), true) = (exact, d.status.is_converged()) {
+                let ell = a.spec.size().max(b.spec.size());
+                let err = (d.distance - ex).abs() / ell;
+                st.dist_err = st.dist_err.max(err);
+                if strict && err > 1e-9 {
+                    fail(
+                        st,
+                        format!(
+                            "distance {:.17e}, exact {ex:.17e} (error {err:.2e} ℓ)",
+                            d.distance
+                        ),
+                    );
+                }
+            }
             if d.status.is_converged() && converged && d.distance < 0.0 {
                 fail(st, format!("negative distance {}", d.distance));
             }
@@ -1058,6 +1096,10 @@ fn run_case(
 // The classes.
 
 type Table = BTreeMap<&'static str, Stats>;
+
+/// `distance` solves per class known not to converge (a dcol bug, see
+/// `regression_distance_thin_polytopes`); the suite fails if a class has more.
+const KNOWN_DISTANCE_NOT_CONVERGED: [(&str, usize); 2] = [("flat", 1), ("many_facets", 1)];
 
 fn class_random(t: &mut Table, rng: &mut Rng) {
     let st = t.entry("random").or_default();
@@ -1938,7 +1980,7 @@ fn stress_suite() {
     class_extreme(&mut t, &mut rng);
 
     println!(
-        "\n{:<16} {:>6} {:>11} {:>14} {:>14} {:>14} {:>9} {:>8} {:>9}",
+        "\n{:<16} {:>6} {:>11} {:>14} {:>14} {:>14} {:>9} {:>8} {:>9} {:>10} {:>12}",
         "class",
         "cases",
         "converged%",
@@ -1947,13 +1989,15 @@ fn stress_suite() {
         "max grad err",
         "not conv",
         "max it",
-        "rejected"
+        "rejected",
+        "dist nc",
+        "dist err/ℓ"
     );
     let mut failures = Vec::new();
     let (mut total, mut total_nc) = (0, 0);
     for (name, s) in &t {
         println!(
-            "{:<16} {:>6} {:>10.1}% {:>14.2e} {:>14.2e} {:>14.2e} {:>9} {:>8} {:>9}",
+            "{:<16} {:>6} {:>10.1}% {:>14.2e} {:>14.2e} {:>14.2e} {:>9} {:>8} {:>9} {:>10} {:>12.2e}",
             name,
             s.cases,
             100.0 * s.converged as f64 / s.cases as f64,
@@ -1962,13 +2006,29 @@ fn stress_suite() {
             s.grad_err,
             s.not_converged,
             s.max_iter,
-            s.rejected
+            s.rejected,
+            s.dist_not_converged,
+            s.dist_err
         );
         total += s.cases;
         total_nc += s.not_converged;
         failures.extend(s.failures.iter().cloned());
         // Every class here is solvable in double precision: a non-converged status is a
         // failure (its outputs were still checked to be finite above).
+        // Known dcol bug (`regression_distance_thin_polytopes`,
+        // `regression_distance_many_facets_overlap`): `distance` does not converge for some
+        // thin or 256-facet polytope pairs. The exact current counts are allowed, so that any
+        // further non-convergence fails, and a fix shows as a count below the budget.
+        let budget = KNOWN_DISTANCE_NOT_CONVERGED
+            .iter()
+            .find(|(c, _)| c == name)
+            .map_or(0, |(_, n)| *n);
+        if s.dist_not_converged > budget && !name.starts_with("extreme") {
+            failures.push(format!(
+                "{name}: {} distance solves did not converge (known: {budget})",
+                s.dist_not_converged
+            ));
+        }
         if s.not_converged > 0 && !name.starts_with("extreme") {
             failures.push(format!(
                 "{name}: {} cases did not converge",
@@ -2075,4 +2135,121 @@ fn regression_ground_slab_converges() {
             assert!(p.status.is_converged(), "z = {z}: {:?}", p.status);
         }
     }
+}
+
+/// dcol bug found by this suite (reported with issue 6): `distance` does not converge for
+/// thin polytopes although `proximity` always does. Over 100 random pairs of two copies of a
+/// polytope squashed to 1e-3 (1e-4) of its width, `distance` ends with NumericalFailure in 6
+/// (14) cases; at 1e-2 and thicker, never. Minimal reproduction: the 16-facet polytope below
+/// (the box rows with z scaled to ±1e-3, plus 10 random tangent planes), twice, at the poses
+/// below: α* = 1.898 (converged), `distance` → NumericalFailure after ~20 iterations.
+#[test]
+#[ignore = "reason: see issue (distance: NumericalFailure for thin polytopes)"]
+fn regression_distance_thin_polytopes() {
+    let a = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1000.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, -1000.0],
+        [1.6057732337732142, 0.3780453289026357, 454.43888935277073],
+        [-0.8870285566839878, 0.42976478031911414, 779.4914789135906],
+        [-0.3514151647194886, -0.2991514156946727, 206.25098628703853],
+        [0.4213732220646186, -0.14899419232647398, 1137.1063107569619],
+        [-1.4461776143602552, -0.2150882414303612, 473.5040783829848],
+        [
+            -0.4912753782532907,
+            -0.18997697473742478,
+            448.17642121155427,
+        ],
+        [0.1519296779236992, 0.7384767207779186, 639.9175587782976],
+        [
+            -0.3859018046735899,
+            0.33730694316553766,
+            -429.63035606664334,
+        ],
+        [0.615441001049038, 0.5636633660695896, 868.5873271242426],
+        [
+            0.47841161675429583,
+            -0.12725807004816464,
+            -289.8316817129222,
+        ],
+    ];
+    let b = [
+        0.9785254882857115,
+        0.8225371602408503,
+        0.8422155397878,
+        1.020296878632628,
+        1.1294752090089206,
+        0.8770481046111892,
+        1.4079286456224613,
+        1.132640470442033,
+        0.4372788539624632,
+        1.196598033916937,
+        1.5312783952651439,
+        0.6350615245010223,
+        0.7649055523562637,
+        0.5420190012024355,
+        1.119375098837384,
+        0.5319164297408985,
+    ];
+    let s = Shape::polytope(&a, &b).unwrap();
+    let p1 = Pose::new(
+        [-0.8825309869914606, 1.030476015779372, -0.5348242414279838],
+        [
+            -0.6344320017210819,
+            -0.41923826158802846,
+            -0.6493752292612589,
+            -0.006864898740440352,
+        ],
+    )
+    .unwrap();
+    let p2 = Pose::new(
+        [0.13322015394826758, 2.3352946220839232, -1.9129749461237293],
+        [
+            -0.41852367174267036,
+            0.8764927051246018,
+            -0.15699572432606032,
+            -0.1787479135478991,
+        ],
+    )
+    .unwrap();
+    let opts = Options::default();
+    let prox = proximity(&s, &p1, &s, &p2, &opts).unwrap();
+    assert!(prox.status.is_converged());
+    let d = distance(&s, &p1, &s, &p2, &opts).unwrap();
+    assert!(
+        d.status.is_converged(),
+        "distance: {d:?} (α* = {})",
+        prox.alpha
+    );
+}
+
+/// dcol bug found by this suite (reported with issue 6): `distance` between a 256-facet
+/// polytope and a partner that overlaps it deeply (α* ≈ 0.2) hits the iteration limit (50) in
+/// about 1 of 20 random cases, and the last iterate it returns is far off: distance 1.65e14
+/// for shapes that overlap (exact answer 0). Reproduction: the generator of this file with
+/// seed 79 (a 256-facet `random_polytope` and a cone, origins 0.18·(size₁ + size₂) apart).
+#[test]
+#[ignore = "reason: see issue (distance: MaxIterations for deeply overlapping 256-facet polytopes)"]
+fn regression_distance_many_facets_overlap() {
+    let mut rng = Rng::new(79);
+    let s1 = random_polytope(&mut rng, 256);
+    let s2 = random_spec(&mut rng);
+    let (f, o) = (rng.log_range(0.1, 2.0), rng.point());
+    let (a, b) = place(&mut rng, s1, s2, f, o);
+    assert_eq!(b.spec.name(), "cone");
+    let (sa, sb) = (a.spec.build(), b.spec.build());
+    let (pa, pb) = (Pose::new(a.r, a.q).unwrap(), Pose::new(b.r, b.q).unwrap());
+    let opts = Options::default();
+    let prox = proximity(&sa, &pa, &sb, &pb, &opts).unwrap();
+    assert!(prox.status.is_converged() && prox.alpha < 1.0);
+    let d = distance(&sa, &pa, &sb, &pb, &opts).unwrap();
+    assert!(
+        d.status.is_converged(),
+        "distance: {d:?} (α* = {})",
+        prox.alpha
+    );
+    assert_eq!(d.distance, 0.0);
 }
