@@ -21,6 +21,7 @@ int main(void) {
   dcol_proximity_result result;
   double gradient[14];
   dcol_status status;
+  int32_t intersecting = 0;
   int i;
 
   printf("dcol %s\n", dcol_version());
@@ -64,6 +65,10 @@ int main(void) {
   } else {
     printf("  (no gradient: %s)\n", dcol_last_error_message());
   }
+
+  /* A yes/no question is cheaper: dcol_intersect stops as soon as bounds on alpha decide. */
+  if (dcol_intersect(box, &box_pose, capsule, &capsule_pose, NULL, &intersecting) == DCOL_OK)
+    printf("dcol_intersect: %s\n", intersecting ? "interpenetrating" : "not interpenetrating");
 
   dcol_shape_free(box);
   dcol_shape_free(capsule);

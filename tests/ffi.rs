@@ -552,3 +552,211 @@ fn c_extensions_match_rust_api_on_reference_cases() {
     // SAFETY: made by dcol_scene_new, freed once.
     unsafe { dcol_scene_free(scene) };
 }
+
+/// Counts heap operations per thread, for the no-allocation checks below.
+struct Counting;
+
+thread_local! {
+    static HEAP_OPS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+fn heap_ops() -> u64 {
+    HEAP_OPS.with(|c| c.get())
+}
+
+fn bump() {
+    // `try_with`: the allocator may run while this thread's locals are being destroyed.
+    let _ = HEAP_OPS.try_with(|c| c.set(c.get() + 1));
+}
+
+// SAFETY: forwards every call to the system allocator unchanged; only counts.
+unsafe impl std::alloc::GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        bump();
+        // SAFETY: forwarded from the caller.
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: std::alloc::Layout) -> *mut u8 {
+        bump();
+        // SAFETY: forwarded from the caller.
+        unsafe { std::alloc::System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, layout: std::alloc::Layout, size: usize) -> *mut u8 {
+        bump();
+        // SAFETY: forwarded from the caller.
+        unsafe { std::alloc::System.realloc(p, layout, size) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, layout: std::alloc::Layout) {
+        bump();
+        // SAFETY: forwarded from the caller.
+        unsafe { std::alloc::System.dealloc(p, layout) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// The new queries do not touch the heap, on success or on error: the early-exit questions,
+/// the distance gradient, the derivatives, the MRP variants, a batch on the calling thread, and
+/// a scene step once the scene has seen as many pairs before.
+#[test]
+fn c_extensions_do_not_allocate() {
+    let mut shapes = [ptr::null_mut(); 3];
+    // SAFETY: valid out pointers.
+    unsafe {
+        assert_eq!(
+            dcol_shape_new_box(0.5, 0.4, 0.3, &mut shapes[0]),
+            dcol_status::DCOL_OK
+        );
+        assert_eq!(
+            dcol_shape_new_capsule(0.2, 0.8, &mut shapes[1]),
+            dcol_status::DCOL_OK
+        );
+        assert_eq!(
+            dcol_shape_new_cone(1.0, 0.5, &mut shapes[2]),
+            dcol_status::DCOL_OK
+        );
+    }
+    let shapes = shapes.map(CShape);
+    let (a, b) = (shapes[0].ptr(), shapes[1].ptr());
+    let p1 = dcol_pose {
+        position: [0.0; 3],
+        quaternion: [1.0, 0.0, 0.0, 0.0],
+    };
+    let p2 = dcol_pose {
+        position: [0.9, 0.3, 0.1],
+        quaternion: [0.9, 0.1, 0.0, 0.4],
+    };
+    let mut bad = p2;
+    bad.position[1] = f64::NAN;
+    let (r1, m1, r2, m2) = ([0.0; 3], [0.1, 0.2, 0.3], [0.9, 0.3, 0.1], [0.0, 0.1, 0.0]);
+    let bad_opts = dcol_options {
+        tolerance: -1.0,
+        max_iterations: 10,
+    };
+    let mut scene = ptr::null_mut();
+    // SAFETY: valid out pointer; live shapes and valid poses.
+    unsafe {
+        assert_eq!(dcol_scene_new(&mut scene), dcol_status::DCOL_OK);
+        for (i, s) in shapes.iter().enumerate() {
+            let mut pose = p2;
+            pose.position[0] = 0.5 * i as f64;
+            let mut id = 0;
+            assert_eq!(
+                dcol_scene_add(scene, s.ptr(), &pose, &mut id),
+                dcol_status::DCOL_OK
+            );
+        }
+    }
+    let template = dcol_scene_pair {
+        body1: 0,
+        body2: 0,
+        proximity: dcol_proximity_result::default(),
+        status: dcol_status::DCOL_OK,
+    };
+    let (s1s, s2s) = ([a, a, b], [b, ptr::null(), a]);
+    let (p1s, p2s) = ([p1, p1, p1], [p2, p2, bad]);
+
+    let run_all = || {
+        let mut res = dcol_proximity_result::default();
+        let mut dres = dcol_distance_result::default();
+        let mut der = dcol_derivatives_result::default();
+        let (mut g, mut gm, mut jm, mut flag) = ([0.0; 14], [0.0; 12], [0.0; 48], 0);
+        let mut pairs = [template; 3];
+        let mut results = [dcol_proximity_result::default(); 3];
+        let mut statuses = [dcol_status::DCOL_OK; 3];
+        let (mut count, mut stats) = (0, dcol_scene_stats::default());
+        let o = ptr::null();
+        // SAFETY: live shapes and scene, valid locals of the documented sizes.
+        unsafe {
+            for opts in [o, &bad_opts as *const dcol_options] {
+                for pose2 in [&p2 as *const dcol_pose, &bad] {
+                    dcol_alpha_below(a, &p1, b, pose2, 1.3, opts, &mut flag);
+                    dcol_alpha_below(a, &p1, b, pose2, f64::NAN, opts, &mut flag);
+                    dcol_intersect(a, &p1, b, pose2, opts, &mut flag);
+                    dcol_distance_gradient(a, &p1, b, pose2, opts, &mut dres, g.as_mut_ptr());
+                    dcol_derivatives(a, &p1, b, pose2, opts, &mut der);
+                }
+                let (m, pm) = (m1.as_ptr(), m2.as_ptr());
+                dcol_gradient_mrp(
+                    a,
+                    r1.as_ptr(),
+                    m,
+                    b,
+                    r2.as_ptr(),
+                    pm,
+                    opts,
+                    &mut res,
+                    gm.as_mut_ptr(),
+                );
+                dcol_jacobian_mrp(
+                    a,
+                    r1.as_ptr(),
+                    m,
+                    b,
+                    r2.as_ptr(),
+                    pm,
+                    opts,
+                    &mut res,
+                    jm.as_mut_ptr(),
+                );
+                let st = dcol_proximity_batch(
+                    s1s.as_ptr(),
+                    p1s.as_ptr(),
+                    s2s.as_ptr(),
+                    p2s.as_ptr(),
+                    3,
+                    opts,
+                    1,
+                    results.as_mut_ptr(),
+                    statuses.as_mut_ptr(),
+                );
+                assert_eq!(st == dcol_status::DCOL_OK, opts.is_null());
+                if opts.is_null() {
+                    use dcol_status::*;
+                    let want = [DCOL_OK, DCOL_ERROR_NULL_POINTER, DCOL_ERROR_INVALID_POSE];
+                    assert_eq!(statuses, want);
+                }
+                dcol_scene_set_pose(scene, 1, &p2);
+                dcol_scene_set_pose(scene, 7, &p2);
+                let st = dcol_scene_pairs_within(
+                    scene,
+                    2.0,
+                    opts,
+                    pairs.as_mut_ptr(),
+                    3,
+                    &mut count,
+                    &mut stats,
+                );
+                assert_eq!(st == dcol_status::DCOL_OK && count > 0, opts.is_null());
+                dcol_scene_pairs_within(
+                    scene,
+                    2.0,
+                    opts,
+                    pairs.as_mut_ptr(),
+                    0,
+                    &mut count,
+                    &mut stats,
+                );
+            }
+        }
+        std::hint::black_box((
+            res, dres, der, g, gm, jm, flag, pairs, results, statuses, count,
+        ));
+    };
+    // The counter works: building a shape allocates.
+    let before = heap_ops();
+    drop(c_shape(&serde_json::json!({"kind": "sphere", "R": 1.0})));
+    assert!(heap_ops() > before);
+
+    run_all(); // warm-up: the scene's reusable buffers grow to their size here
+    let before = heap_ops();
+    run_all();
+    assert_eq!(
+        heap_ops() - before,
+        0,
+        "heap operations in the C extensions"
+    );
+    // SAFETY: made by dcol_scene_new, freed once.
+    unsafe { dcol_scene_free(scene) };
+}
