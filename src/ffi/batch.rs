@@ -172,7 +172,7 @@ pub unsafe extern "C" fn dcol_proximity_batch(
         std::thread::scope(|scope| {
             let mut start = chunk;
             while start < count {
-                let range = start..(start + chunk).min(count);
+                let range = start..start.saturating_add(chunk).min(count);
                 let spawned = std::thread::Builder::new().spawn_scoped(scope, {
                     let range = range.clone();
                     // SAFETY: `range` is within `0..count` and disjoint from every other
@@ -183,7 +183,7 @@ pub unsafe extern "C" fn dcol_proximity_batch(
                     // SAFETY: as above; the closure that was not spawned never ran.
                     unsafe { arrays.run_range(range) };
                 }
-                start += chunk;
+                start = start.saturating_add(chunk);
             }
             // SAFETY: the first chunk, disjoint from the spawned ones.
             unsafe { arrays.run_range(0..chunk.min(count)) };
