@@ -184,7 +184,7 @@ impl Scene {
                 }
             }
         }
-        out.sort_unstable_by(|a, b| (a.body1, a.body2).cmp(&(b.body1, b.body2)));
+        out.sort_unstable_by_key(|a| (a.body1, a.body2));
         stats.reported = out.len();
         Ok(stats)
     }

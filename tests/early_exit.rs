@@ -32,7 +32,7 @@ fn threshold_answers_match_reference() {
                 failures.push(format!("{id}: bracket [{lo}, {hi}] misses {a_ref}"));
             }
             for t in [a_ref * (1.0 - 1e-6), a_ref * (1.0 + 1e-6), 0.5, 1.0, 2.0] {
-                if !(t > 0.0) || ((t - a_ref) / a_ref.max(1e-300)).abs() < 1e-6 * 0.99 {
+                if t <= 0.0 || ((t - a_ref) / a_ref.max(1e-300)).abs() < 1e-6 * 0.99 {
                     continue;
                 }
                 let d = alpha_below(&s1, &p1, &s2, &p2, t, &opts).unwrap();

@@ -104,9 +104,41 @@ pub(crate) fn compute<const N: usize>(
     if want < Want::Jacobian {
         return;
     }
-    if !exact_jacobian(ctx, problem, outcome, &ranges, &gens, &e, &v, t, full) {
+    if !exact_jacobian(ctx, problem, outcome, &ranges, &gens, &e, &v, t, full)
+        || !consistent(&full.jacobian, &full.gradient, ell)
+    {
         smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
     }
+}
+
+/// Identities every correct Jacobian satisfies, checked before the active-set one is trusted (a
+/// misidentified active set, e.g. a facet whose multiplier and slack are both ~1e-5 at the
+/// default tolerance, can leave a nearly singular system that still factors): a common
+/// translation moves x* with it and leaves α* alone (`J[:, r₁] + J[:, r₂] = [I₃; 0]`), and the
+/// α row equals the Lagrangian gradient. Tolerances are in non-dimensional units (r columns
+/// times ℓ, x rows over ℓ), far looser than either computation's error and far tighter than
+/// any failure seen.
+fn consistent(j: &[[Real; 14]; 4], grad: &[Real; 14], ell: Real) -> bool {
+    const TOL: Real = 1e-5;
+    for c in 0..3 {
+        for r in 0..3 {
+            let want = if r == c { 1.0 } else { 0.0 };
+            if !((j[r][c] + j[r][7 + c] - want).abs() <= TOL) {
+                return false;
+            }
+        }
+        if !((j[3][c] + j[3][7 + c]).abs() * ell <= TOL) {
+            return false;
+        }
+    }
+    for c in 0..14 {
+        let k = if c % 7 < 3 { ell } else { 1.0 };
+        let (a, b) = (j[3][c] * k, grad[c] * k);
+        if !((a - b).abs() <= TOL * b.abs().max(1.0)) {
+            return false;
+        }
+    }
+    true
 }
 
 /// ρ = ∂(gᵀz − h)/∂θ for one row of shape `i` and pose parameter `p` (0..3 position, 3..7

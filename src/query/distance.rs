@@ -101,10 +101,20 @@ impl Task for DistanceTask<'_> {
             result.closest2 = mid;
             return (result, grad);
         }
-        let diff = y2 - y1;
-        let nd = diff.norm();
-        if nd > 0.0 {
-            result.normal = diff / nd;
+        // The normal from the distance cone's multiplier (polished): at the optimum λ₁ =
+        // −λ₀ (y₁ − y₂)/‖y₁ − y₂‖, which stays accurate when the gap is tiny and y₂ − y₁ is
+        // mostly rounding; the witness difference is the fallback.
+        let lam = problem.soc[k].lam_polished;
+        let from_dual = Vec3::new(lam[1], lam[2], lam[3]);
+        let nd = from_dual.norm();
+        if lam[0] > 0.0 && nd > 0.0 && nd.is_finite() {
+            result.normal = from_dual / nd;
+        } else {
+            let diff = y2 - y1;
+            let n2 = diff.norm();
+            if n2 > 0.0 {
+                result.normal = diff / n2;
+            }
         }
         if self.gradient {
             let ranges = row_ranges(self.shape1, self.shape2);

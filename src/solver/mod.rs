@@ -31,6 +31,11 @@ const REFINE_BELOW_GAP: Real = 1e-5;
 /// may make (an interior iterate's multipliers are O(√μ) off on curved contacts).
 const POLISH_DUAL_CHANGE: Real = 1e-3;
 
+/// Largest step (relative to `1 + max|z|`) the final polish may take.
+const POLISH_MAX_STEP: Real = 1e-2;
+/// How far outside a cone (relative to the problem's size) the polished point may lie.
+const POLISH_CONE_SLACK: Real = 1e-8;
+
 /// The most variables a problem may have (the largest `N` the crate instantiates).
 pub const MAX_VARS: usize = 12;
 /// The most second-order cone blocks a problem may have.
@@ -440,7 +445,48 @@ impl<'a, const N: usize> Problem<'a, N> {
             return;
         }
         // The optimal value lies in [dual objective, primal objective] (up to the residuals), so
-        // a step that leaves that bracket by more than the tolerance is not trusted.
+        // a step that leaves that bracket by more than the tolerance is not trusted; nor is one
+        // that is large or leaves the cones: at a degenerate solution (non-unique optimal point)
+        // the Newton system is singular and its step can move along the optimal face by any
+        // amount, or off it.
+        let zmax = outcome.z.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+        let step = dz.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+        if !(step <= POLISH_MAX_STEP * (1.0 + zmax)) {
+            return;
+        }
+        let mut znew = outcome.z;
+        for i in 0..N {
+            znew[i] += dz[i];
+        }
+        let hmax = self
+            .lp
+            .iter()
+            .map(|r| r.h.abs())
+            .chain(
+                self.soc[..self.n_soc]
+                    .iter()
+                    .flat_map(|b| b.h.iter().map(|v| v.abs())),
+            )
+            .fold(0.0, Real::max);
+        let slack = POLISH_CONE_SLACK * (1.0 + hmax + zmax);
+        for row in self.lp.iter() {
+            if !(row.h - dotn(&row.g, &znew) >= -slack) {
+                return;
+            }
+        }
+        for b in self.soc[..self.n_soc].iter() {
+            let gz = gmul(&b.g, &znew);
+            let sv = [
+                b.h[0] - gz[0],
+                b.h[1] - gz[1],
+                b.h[2] - gz[2],
+                b.h[3] - gz[3],
+            ];
+            let nrm = (sv[1] * sv[1] + sv[2] * sv[2] + sv[3] * sv[3]).sqrt();
+            if !(sv[0] - nrm >= -slack) {
+                return;
+            }
+        }
         let dobj = dotn(&self.c, &dz);
         let polished = outcome.primal_objective + dobj;
         let lo = outcome.dual_objective.min(outcome.primal_objective) - objective_tolerance;
@@ -589,6 +635,18 @@ impl<'a, const N: usize> Problem<'a, N> {
             )
             .fold(0.0, Real::max);
         let cmax = self.c.iter().map(|v| v.abs()).fold(0.0, Real::max);
+        // Largest |G| entry: with the largest |λ| (|z|) it sets the size of the terms whose
+        // rounding the dual (primal) residual cannot beat, so the residual tests are relative.
+        let gmax = self
+            .lp
+            .iter()
+            .flat_map(|r| r.g.iter())
+            .chain(
+                self.soc[..self.n_soc]
+                    .iter()
+                    .flat_map(|b| b.g.iter().flatten()),
+            )
+            .fold(0.0, |m: Real, v| m.max(v.abs()));
         let nu = self.degree();
         let tol = settings.tolerance;
         let mut outcome = Outcome {
@@ -606,7 +664,9 @@ impl<'a, const N: usize> Problem<'a, N> {
             let mut pres: Real = 0.0;
             let mut gap = 0.0;
             let mut dobj = 0.0;
+            let mut lam_max: Real = 0.0;
             for row in self.lp.iter_mut() {
+                lam_max = lam_max.max(row.lam.abs());
                 for i in 0..N {
                     rd[i] += row.g[i] * row.lam;
                 }
@@ -616,6 +676,7 @@ impl<'a, const N: usize> Problem<'a, N> {
                 dobj -= row.h * row.lam;
             }
             for b in self.soc[..self.n_soc].iter_mut() {
+                lam_max = lam_max.max(b.lam[0].abs());
                 gtmul_add(&mut rd, &b.g, &b.lam, 1.0);
                 let gz = gmul(&b.g, &z);
                 for r in 0..D {
@@ -632,8 +693,11 @@ impl<'a, const N: usize> Problem<'a, N> {
             outcome.primal_objective = pobj;
             outcome.dual_objective = dobj;
             let scale = pobj.abs().max(1.0);
+            let zmax = z.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+            let pres_limit = tol * (1.0 + hmax + gmax * zmax);
+            let dres_limit = tol * (1.0 + cmax + gmax * lam_max);
             if let Some((t, b, stop_below)) = threshold {
-                let primal_feasible = pres <= tol * (1.0 + hmax);
+                let primal_feasible = pres <= pres_limit;
                 if stop_below && primal_feasible && pobj < t {
                     outcome.decided = Some(true);
                     return outcome;
@@ -645,8 +709,8 @@ impl<'a, const N: usize> Problem<'a, N> {
             }
             if gap <= tol * scale
                 && (pobj - dobj).abs() <= tol * scale
-                && pres <= tol * (1.0 + hmax)
-                && dres <= tol * (1.0 + cmax)
+                && pres <= pres_limit
+                && dres <= dres_limit
             {
                 outcome.status = SolveStatus::Converged;
                 // Leave the scalings current for derivatives.
