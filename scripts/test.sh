@@ -29,3 +29,10 @@ for config in normal sanitize; do
   cmake --build "$dir" -j "$jobs"
   (cd "$dir" && ctest --output-on-failure -j "$jobs")
 done
+
+echo "== comparison suite against FCL 0.7 and libccd 2.1 (c_tests/compare), against installed dcol"
+prefix=$PWD/build/compare-prefix
+cmake --install build/cmake-normal --prefix "$prefix"
+cmake -S c_tests/compare -B build/compare -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix"
+cmake --build build/compare -j "$jobs"
+(cd build/compare && ctest -V -j "$jobs")
