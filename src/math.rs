@@ -147,6 +147,20 @@ pub fn rotation_from_quaternion(q: [Real; 4]) -> Mat3 {
 /// Derivatives `∂Q/∂q_k` (k = 0..3) of the rotation matrix of `q/|q|` with respect to the raw
 /// (not necessarily unit) quaternion components, taken through the normalisation.
 pub fn rotation_derivatives(q: [Real; 4]) -> [Mat3; 4] {
+    // Q is homogeneous of degree 0 in q, so ∂Q/∂q at q is (1/c)·∂Q/∂q at q/c: evaluate at
+    // q/c with c the largest |q_k|, so that no square overflows or underflows.
+    let c = q.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+    if c != 1.0 && c > 0.0 && c.is_finite() {
+        let mut d = rotation_derivatives_scaled(q.map(|v| v / c));
+        for m in d.iter_mut() {
+            *m /= c;
+        }
+        return d;
+    }
+    rotation_derivatives_scaled(q)
+}
+
+fn rotation_derivatives_scaled(q: [Real; 4]) -> [Mat3; 4] {
     let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
     let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
     // Unnormalised M(q) = 2·(outer terms) with Q = I + M(q)/n2 where M is quadratic in q:

@@ -43,7 +43,6 @@ fn rejected_or_usable(shape: Result<Shape, Error>, what: &str) {
 /// `min(R, L/2)` rounds to 0; proximity of two of them 3 apart returns α* = inf and x* = NaN
 /// (status NumericalFailure), and the gradient has NaN entries.
 #[test]
-#[ignore = "reason: see issue (constructors accept shapes whose inscribed radius underflows to 0)"]
 fn degenerate_radii_cylinder_length_subnormal() {
     rejected_or_usable(Shape::cylinder(1.0, 5e-324), "cylinder(1, 5e-324)");
 }
@@ -51,7 +50,6 @@ fn degenerate_radii_cylinder_length_subnormal() {
 /// A cone of half angle 1e-320 is accepted with inscribed radius 7.5e-321 (subnormal);
 /// proximity of two of them 3 apart returns α* = inf (NumericalFailure).
 #[test]
-#[ignore = "reason: see issue (constructors accept shapes whose inscribed radius underflows)"]
 fn degenerate_radii_cone_angle_subnormal() {
     rejected_or_usable(Shape::cone(1.0, 1e-320), "cone(1, 1e-320)");
 }
@@ -59,7 +57,6 @@ fn degenerate_radii_cone_angle_subnormal() {
 /// A cone of height f64::MAX is accepted with bounding radius inf (`hypot` overflows);
 /// proximity with a unit sphere returns α* = NaN and x* = NaN.
 #[test]
-#[ignore = "reason: see issue (constructors accept shapes whose bounding radius overflows)"]
 fn degenerate_radii_cone_height_max() {
     rejected_or_usable(Shape::cone(f64::MAX, 1.0), "cone(f64::MAX, 1)");
 }
@@ -67,7 +64,6 @@ fn degenerate_radii_cone_height_max() {
 /// A box written as a polytope with one right-hand side 5e-324 is accepted with inscribed
 /// radius 5e-324; proximity of two of them returns α* = inf (NumericalFailure).
 #[test]
-#[ignore = "reason: see issue (constructors accept shapes whose inscribed radius underflows)"]
 fn degenerate_radii_polytope_subnormal_offset() {
     let a = [
         [1.0, 0.0, 0.0],
@@ -88,7 +84,6 @@ fn degenerate_radii_polytope_subnormal_offset() {
 /// accepted. The error variant is right (InvalidShape) but the reason is wrong; the cube is a
 /// valid bounded polytope with a representable bounding radius (1.7e154).
 #[test]
-#[ignore = "reason: see issue (polytope bounding radius overflows for vertices beyond 1.3e154)"]
 fn large_box_rejected_as_unbounded() {
     for h in [1e154, 1e200, 1e300] {
         let b = Shape::cuboid(h, h, h);

@@ -11,4 +11,4 @@ pub use derivatives::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mr
 pub use distance::{distance, distance_gradient, Distance};
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::{proximity, Options, Proximity};
-pub(crate) use proximity::{query_until, Want};
+pub(crate) use proximity::{query_until, robust_norm, Want};

@@ -29,6 +29,9 @@ use crate::math::Real;
 /// The most facets a polytope or polygon may have (construction is O(m³) in the facet count).
 pub const MAX_FACETS: usize = 256;
 
+/// The largest ratio of bounding to inscribed radius a shape may have.
+pub const MAX_ASPECT_RATIO: Real = 1e12;
+
 /// One scaled constraint row in body coordinates: `s = f_u·u + f_α α + f_w·w`, lengths
 /// already divided by the problem's length scale.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -113,32 +116,60 @@ pub struct Shape {
 }
 
 impl Shape {
-    fn wrap(geometry: Geometry, bounding_radius: Real, inscribed_radius: Real) -> Shape {
-        Shape {
+    /// Checks the derived radii every query relies on: finite, not subnormal, and an aspect
+    /// ratio (bounding over inscribed radius) the normalised problem can represent.
+    fn wrap(
+        geometry: Geometry,
+        bounding_radius: Real,
+        inscribed_radius: Real,
+    ) -> Result<Shape, Error> {
+        if !(bounding_radius.is_finite() && bounding_radius >= Real::MIN_POSITIVE) {
+            return Err(Error::InvalidShape(ErrorDetail::new(
+                "size",
+                bounding_radius,
+                "gives a bounding radius that is not a finite normal number",
+            )));
+        }
+        if !(inscribed_radius >= Real::MIN_POSITIVE) {
+            return Err(Error::InvalidShape(ErrorDetail::new(
+                "size",
+                inscribed_radius,
+                "gives an inscribed radius that underflows (not a normal positive number)",
+            )));
+        }
+        let ratio = bounding_radius / inscribed_radius;
+        if !(ratio <= MAX_ASPECT_RATIO) {
+            return Err(Error::InvalidShape(ErrorDetail::new(
+                "size",
+                ratio,
+                "gives an aspect ratio (bounding over inscribed radius) above 1e12",
+            )));
+        }
+        Ok(Shape {
             geometry,
             bounding_radius,
             inscribed_radius,
-        }
+        })
     }
 
     /// A sphere of radius `radius > 0`.
     pub fn sphere(radius: Real) -> Result<Shape, Error> {
         let s = Sphere::new(radius)?;
-        Ok(Shape::wrap(Geometry::Sphere(s), radius, radius))
+        Shape::wrap(Geometry::Sphere(s), radius, radius)
     }
 
     /// An ellipsoid `bᵀ P b ≤ 1`, `P` symmetric positive definite (rows of `p`).
     pub fn ellipsoid(p: [[Real; 3]; 3]) -> Result<Shape, Error> {
         let e = Ellipsoid::new(p)?;
         let (rho, iota) = (e.bounding_radius(), e.inscribed_radius());
-        Ok(Shape::wrap(Geometry::Ellipsoid(e), rho, iota))
+        Shape::wrap(Geometry::Ellipsoid(e), rho, iota)
     }
 
     /// A bounded polytope `A b ≤ b` with `m = a.len()` facets, every `b_i > 0`.
     pub fn polytope(a: &[[Real; 3]], b: &[Real]) -> Result<Shape, Error> {
         let p = Polytope::new(a, b)?;
         let (rho, iota) = (p.bounding_radius(), p.inscribed_radius());
-        Ok(Shape::wrap(Geometry::Polytope(p), rho, iota))
+        Shape::wrap(Geometry::Polytope(p), rho, iota)
     }
 
     /// A box with half-extents `(hx, hy, hz)`: the polytope with rows `±e_i`.
@@ -160,36 +191,28 @@ impl Shape {
     /// A capsule: points within `radius` of the segment `±length/2 · e_x`.
     pub fn capsule(radius: Real, length: Real) -> Result<Shape, Error> {
         let c = Capsule::new(radius, length)?;
-        Ok(Shape::wrap(
-            Geometry::Capsule(c),
-            radius + 0.5 * length,
-            radius,
-        ))
+        Shape::wrap(Geometry::Capsule(c), radius + 0.5 * length, radius)
     }
 
     /// A cylinder of `radius` and `length` along `e_x`, centred at the origin.
     pub fn cylinder(radius: Real, length: Real) -> Result<Shape, Error> {
         let c = Cylinder::new(radius, length)?;
         let rho = radius.hypot(0.5 * length);
-        Ok(Shape::wrap(
-            Geometry::Cylinder(c),
-            rho,
-            radius.min(0.5 * length),
-        ))
+        Shape::wrap(Geometry::Cylinder(c), rho, radius.min(0.5 * length))
     }
 
     /// A cone of `height` and `half_angle` β ∈ (0, π/2), apex at `-3H/4 e_x`, base at `+H/4 e_x`.
     pub fn cone(height: Real, half_angle: Real) -> Result<Shape, Error> {
         let c = Cone::new(height, half_angle)?;
         let (rho, iota) = (c.bounding_radius(), c.inscribed_radius());
-        Ok(Shape::wrap(Geometry::Cone(c), rho, iota))
+        Shape::wrap(Geometry::Cone(c), rho, iota)
     }
 
     /// A padded polygon: points within `radius` of `{ (y, 0) : C y ≤ d }` (rows of `c`).
     pub fn polygon(c: &[[Real; 2]], d: &[Real], radius: Real) -> Result<Shape, Error> {
         let p = Polygon::new(c, d, radius)?;
         let (rho, iota) = (p.bounding_radius(), p.inscribed_radius());
-        Ok(Shape::wrap(Geometry::Polygon(p), rho, iota))
+        Shape::wrap(Geometry::Polygon(p), rho, iota)
     }
 
     /// Which primitive this is (a box reports [`ShapeKind::Polytope`]).

@@ -68,7 +68,7 @@ impl Polytope {
             }
         }
         // Vertices: intersections of three planes that satisfy all constraints.
-        let mut rho2: Real = 0.0;
+        let mut rho: Real = 0.0;
         for i in 0..m {
             for j in (i + 1)..m {
                 let cij = n[i].cross(&n[j]);
@@ -84,18 +84,18 @@ impl Polytope {
                     let v =
                         (n[j].cross(&n[k]) * off[i] + n[k].cross(&n[i]) * off[j] + cij * off[k])
                             / det;
+                    let vn = crate::query::robust_norm(&v);
                     let feasible = n
                         .iter()
                         .zip(&off)
-                        .all(|(nl, ol)| nl.dot(&v) <= ol + 1e-9 * ol.max(v.norm()));
+                        .all(|(nl, ol)| nl.dot(&v) <= ol + 1e-9 * ol.max(vn));
                     if feasible {
-                        rho2 = rho2.max(v.norm_squared());
+                        rho = rho.max(vn);
                     }
                 }
             }
         }
         let iota = off.iter().cloned().fold(Real::INFINITY, Real::min);
-        let rho = rho2.sqrt();
         if !(rho.is_finite() && rho > 0.0) {
             return Err(unbounded());
         }
