@@ -118,6 +118,15 @@ fn distance_far_apart_is_finite() {
     }
 }
 
+/// The derived-radius rule every constructor applies after its own argument checks: bounding
+/// and inscribed radii finite normal numbers, aspect ratio (bounding over inscribed) ≤ 1e12.
+fn radii_ok(rho: f64, iota: f64) -> bool {
+    rho.is_finite()
+        && rho >= f64::MIN_POSITIVE
+        && iota >= f64::MIN_POSITIVE
+        && rho / iota <= dcol::shapes::MAX_ASPECT_RATIO
+}
+
 /// What the fuzzers checked and found to hold, kept as a fast deterministic test: the
 /// constructors' exact validity rules at the boundary values the fuzzer favours.
 #[test]
@@ -138,11 +147,17 @@ fn constructor_rules_at_special_values() {
         let ok = r.is_finite() && r > 0.0;
         assert_eq!(Shape::sphere(r).is_ok(), ok, "sphere({r:e})");
         for &l in &specials {
-            let ok2 = ok && l.is_finite() && l > 0.0;
-            for (name, s) in [
-                ("capsule", Shape::capsule(r, l)),
-                ("cylinder", Shape::cylinder(r, l)),
+            let args_ok = ok && l.is_finite() && l > 0.0;
+            for (name, s, rho, iota) in [
+                ("capsule", Shape::capsule(r, l), r + 0.5 * l, r),
+                (
+                    "cylinder",
+                    Shape::cylinder(r, l),
+                    r.hypot(0.5 * l),
+                    r.min(0.5 * l),
+                ),
             ] {
+                let ok2 = args_ok && radii_ok(rho, iota);
                 assert_eq!(s.is_ok(), ok2, "{name}({r:e}, {l:e})");
                 if let Err(e) = s {
                     assert!(matches!(e, Error::InvalidShape(_)), "{name}: {e:?}");
@@ -159,7 +174,11 @@ fn constructor_rules_at_special_values() {
             2.0,
             f64::INFINITY,
         ] {
-            let ok2 = ok && beta > 0.0 && beta < std::f64::consts::FRAC_PI_2;
+            let args_ok = ok && beta > 0.0 && beta < std::f64::consts::FRAC_PI_2;
+            let ok2 = args_ok && {
+                let rho = (0.75 * r).max((0.25 * r).hypot(r * beta.tan()));
+                radii_ok(rho, (0.25 * r).min(0.75 * r * beta.sin()))
+            };
             assert_eq!(Shape::cone(r, beta).is_ok(), ok2, "cone({r:e}, {beta:e})");
         }
     }
