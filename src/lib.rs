@@ -39,9 +39,9 @@ pub mod solver;
 pub use error::{Error, ErrorDetail};
 pub use math::{Pose, Real, Vec3};
 pub use query::{
-    alpha_below, alpha_bounds, derivatives, distance, distance_gradient, gradient, gradient_mrp,
-    intersect, jacobian, jacobian_mrp, proximity, DecidedBy, Decision, Derivatives, Distance,
-    Options, Proximity,
+    alpha_below, alpha_bounds, derivatives, distance, distance_gradient, distance_within, gradient,
+    gradient_mrp, intersect, jacobian, jacobian_mrp, proximity, DecidedBy, Decision, Derivatives,
+    Distance, Options, Proximity,
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::SolveStatus;

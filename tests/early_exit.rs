@@ -86,3 +86,57 @@ fn threshold_rejects_bad_values() {
         ));
     }
 }
+
+#[test]
+fn distance_cutoff_matches_reference() {
+    let Some(dir) = reference_dir() else { return };
+    let opts = Options::default();
+    let mut failures = Vec::new();
+    let mut checked = 0usize;
+    for file in all_files(&dir) {
+        for case in load(&file) {
+            let id = case["id"].as_str().unwrap().to_string();
+            let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
+            let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
+            let ell = length_scale(&case);
+            let d_ref = f(&case["distance"]);
+            for cut in [
+                0.5 * d_ref,
+                d_ref - 1e-6 * ell,
+                d_ref + 1e-6 * ell,
+                2.0 * d_ref + ell,
+            ] {
+                if cut < 0.0 {
+                    continue;
+                }
+                match dcol::distance_within(&s1, &p1, &s2, &p2, cut, &opts).unwrap() {
+                    None if d_ref > cut => {}
+                    Some(d) if d_ref <= cut && (d.distance - d_ref).abs() <= 1e-8 * ell => {}
+                    other => failures.push(format!("{id}: cutoff {cut}: {other:?} vs {d_ref}")),
+                }
+            }
+            checked += 1;
+        }
+    }
+    println!("distance_within checked on {checked} cases, 4 cut-offs each");
+    for f in failures.iter().take(20) {
+        println!("FAIL {f}");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} cut-off answers wrong",
+        failures.len()
+    );
+}
+
+#[test]
+fn distance_cutoff_rejects_bad_values() {
+    let s = dcol::Shape::sphere(1.0).unwrap();
+    let p = dcol::Pose::from_position([0.0; 3]).unwrap();
+    for c in [-1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            dcol::distance_within(&s, &p, &s, &p, c, &Options::default()),
+            Err(dcol::Error::InvalidOptions(_))
+        ));
+    }
+}

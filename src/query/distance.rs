@@ -19,7 +19,7 @@ use super::proximity::{robust_norm, Options};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{LpRow, Problem, SolveStatus};
+use crate::solver::{LpRow, Problem, SolveStatus, Threshold};
 
 /// The result of a distance query.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,10 +48,12 @@ struct DistanceTask<'q> {
     place1: Placement,
     place2: Placement,
     gradient: bool,
+    /// Stop as soon as the distance is proven above this (world units).
+    cutoff: Option<Real>,
 }
 
 impl Task for DistanceTask<'_> {
-    type Output = (Distance, [Real; 14]);
+    type Output = (Distance, [Real; 14], bool);
 
     fn run<const N: usize>(self, rows: &mut [LpRow<N>]) -> Self::Output {
         let inv = 1.0 / self.ell;
@@ -78,7 +80,29 @@ impl Task for DistanceTask<'_> {
         }
         z0[t_col] = 1.1 * c2.norm() + 0.5;
         let mu0 = z0[t_col] / (problem.lp.len() + problem.n_soc) as Real;
-        let outcome = problem.solve(&z0, mu0, self.options);
+        // ‖z*‖₁ ≤ 3(ρ₁' + |c₂| + ρ₂') + t* + slacks (each slack at most its shape's radius).
+        let cutoff = self.cutoff.map(|d| {
+            let r1 = self.shape1.bounding_radius() * inv;
+            let r2 = self.shape2.bounding_radius() * inv;
+            Threshold {
+                value: d * inv,
+                z_bound_abs: 3.0 * (r1 + c2.norm() + r2) + 2.0 * (r1 + r2),
+                z_bound_rel: 1.0,
+                stop_below: false,
+            }
+        });
+        let outcome = problem.solve_until(&z0, mu0, self.options, cutoff);
+        if outcome.decided == Some(false) {
+            let nothing = Distance {
+                distance: Real::INFINITY,
+                closest1: Vec3::zeros(),
+                closest2: Vec3::zeros(),
+                normal: Vec3::zeros(),
+                iterations: outcome.iterations,
+                status: SolveStatus::Converged,
+            };
+            return (nothing, [0.0; 14], true);
+        }
         let z = &outcome.z;
         let r1 = *self.pose1.position();
         let y1 = Vec3::new(z[0], z[1], z[2]);
@@ -99,7 +123,7 @@ impl Task for DistanceTask<'_> {
             result.distance = 0.0;
             result.closest1 = mid;
             result.closest2 = mid;
-            return (result, grad);
+            return (result, grad, false);
         }
         // The normal from the distance cone's multiplier (polished): at the optimum λ₁ =
         // −λ₀ (y₁ − y₂)/‖y₁ − y₂‖, which stays accurate when the gap is tiny and y₂ − y₁ is
@@ -146,7 +170,7 @@ impl Task for DistanceTask<'_> {
                 }
             }
         }
-        (result, grad)
+        (result, grad, false)
     }
 }
 
@@ -158,6 +182,20 @@ pub(crate) fn distance_query(
     options: &Options,
     gradient: bool,
 ) -> Result<(Distance, [Real; 14]), Error> {
+    distance_query_until(shape1, pose1, shape2, pose2, options, gradient, None)
+        .map(|(d, g, _)| (d, g))
+}
+
+/// [`distance_query`], stopping once the distance is proven above `cutoff`; the flag says so.
+fn distance_query_until(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    gradient: bool,
+    cutoff: Option<Real>,
+) -> Result<(Distance, [Real; 14], bool), Error> {
     options.validate()?;
     let r1 = *pose1.position();
     let offset = pose2.position() - r1;
@@ -195,6 +233,7 @@ pub(crate) fn distance_query(
             slacks: k2,
         },
         gradient,
+        cutoff,
     };
     let m = shape1.lp_count() + shape2.lp_count();
     dispatch(7 + k1 + k2, m, task).ok_or(Error::Internal("distance: variable count out of range"))
@@ -234,4 +273,50 @@ pub fn distance_gradient(
     options: &Options,
 ) -> Result<(Distance, [Real; 14]), Error> {
     distance_query(shape1, pose1, shape2, pose2, options, true)
+}
+
+/// The distance if it is at most `cutoff`, `None` when it is proven larger ("beyond d_max I only
+/// need to know that"). Decided without a solve when `‖r₂ − r₁‖ − ρ₁ − ρ₂ > cutoff` (bounding
+/// spheres), otherwise the solve stops as soon as a certified lower bound on the distance (the
+/// dual objective corrected by the dual residual) exceeds `cutoff`. `cutoff` must be ≥ 0 and
+/// finite.
+///
+/// ```
+/// use dcol::{distance_within, Options, Pose, Shape};
+/// let s = Shape::sphere(1.0).unwrap();
+/// let a = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+/// let far = Pose::from_position([10.0, 0.0, 0.0]).unwrap();
+/// assert!(distance_within(&s, &a, &s, &far, 5.0, &Options::default()).unwrap().is_none());
+/// let d = distance_within(&s, &a, &s, &far, 9.0, &Options::default()).unwrap().unwrap();
+/// assert!((d.distance - 8.0).abs() < 1e-8);
+/// ```
+pub fn distance_within(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    cutoff: Real,
+    options: &Options,
+) -> Result<Option<Distance>, Error> {
+    if !(cutoff >= 0.0 && cutoff.is_finite()) {
+        return Err(Error::InvalidOptions(ErrorDetail::new(
+            "cutoff",
+            cutoff,
+            "must be non-negative and finite",
+        )));
+    }
+    options.validate()?;
+    let gap = robust_norm(&(pose2.position() - pose1.position()))
+        - shape1.bounding_radius()
+        - shape2.bounding_radius();
+    if gap > cutoff {
+        return Ok(None);
+    }
+    let (d, _, beyond) =
+        distance_query_until(shape1, pose1, shape2, pose2, options, false, Some(cutoff))?;
+    Ok(if beyond || d.distance > cutoff {
+        None
+    } else {
+        Some(d)
+    })
 }

@@ -8,7 +8,7 @@ mod early_exit;
 mod proximity;
 
 pub use derivatives::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
-pub use distance::{distance, distance_gradient, Distance};
+pub use distance::{distance, distance_gradient, distance_within, Distance};
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::{proximity, Options, Proximity};
 pub(crate) use proximity::{query_until, robust_norm, Want};

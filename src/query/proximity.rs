@@ -13,7 +13,7 @@ use super::derivatives;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{LpRow, Problem, Settings, SolveStatus};
+use crate::solver::{LpRow, Problem, Settings, SolveStatus, Threshold};
 
 /// Query options: the solver's stopping tolerance and iteration limit.
 pub type Options = Settings;
@@ -123,9 +123,12 @@ impl Task for ProximityTask<'_> {
         let mu0 = 10.0 * (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
         // Threshold in solver units; ‖z*‖₁ ≤ N α' bounds the dual-residual term (every
         // component of z* is at most α' in magnitude in these coordinates).
-        let threshold = self
-            .threshold
-            .map(|(t, stop_below)| (t / frame.alpha_factor(), N as Real, stop_below));
+        let threshold = self.threshold.map(|(t, stop_below)| Threshold {
+            value: t / frame.alpha_factor(),
+            z_bound_abs: 0.0,
+            z_bound_rel: N as Real,
+            stop_below,
+        });
         let outcome = problem.solve_until(&z0, mu0, ctx.options, threshold);
         let z = &outcome.z;
         let alpha_n = z[3];

@@ -145,6 +145,19 @@ pub struct Problem<'a, const N: usize> {
     pub aho: Option<Lu<N>>,
 }
 
+/// A question "is the optimal value below `value`?" for [`Problem::solve_until`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Threshold {
+    /// The threshold on the optimal value.
+    pub value: Real,
+    /// `‖z*‖₁ ≤ z_bound_abs + z_bound_rel · (optimal value)`, for the certified lower bound.
+    pub z_bound_abs: Real,
+    /// See `z_bound_abs`.
+    pub z_bound_rel: Real,
+    /// Stop also when the value is proven below the threshold.
+    pub stop_below: bool,
+}
+
 /// What a solve returns besides the iterate left in the problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Outcome<const N: usize> {
@@ -555,17 +568,16 @@ impl<'a, const N: usize> Problem<'a, N> {
     }
 
     /// [`Problem::solve`], stopping as soon as certified bounds decide whether the optimal value
-    /// is below `threshold`. The upper bound is the primal objective of a primal-feasible
-    /// iterate; the lower bound is `−hᵀλ − B‖r_d‖∞` where `B` bounds `‖z*‖₁`, which the caller
-    /// supplies through `threshold = Some((t, B_per_unit, stop_below))` as
-    /// `B = B_per_unit · cᵀz`. With `stop_below == false` only a proof that the value is above
-    /// the threshold stops the solve (a caller that needs the full answer for values below).
+    /// is below `threshold.value`. The upper bound is the primal objective of a primal-feasible
+    /// iterate; the lower bound is `−hᵀλ − B‖r_d‖∞` where `B` bounds `‖z*‖₁` (the caller's
+    /// `z_bound_abs + z_bound_rel · cᵀz`). Without `stop_below` only a proof that the value is
+    /// above the threshold stops the solve (for a caller that needs the full answer below it).
     pub fn solve_until(
         &mut self,
         z0: &[Real; N],
         mu0: Real,
         settings: &Settings,
-        threshold: Option<(Real, Real, bool)>,
+        threshold: Option<Threshold>,
     ) -> Outcome<N> {
         let mut z = *z0;
         // Initial slacks; the largest violation of strict interiority (negative when z0 is
@@ -696,13 +708,14 @@ impl<'a, const N: usize> Problem<'a, N> {
             let zmax = z.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
             let pres_limit = tol * (1.0 + hmax + gmax * zmax);
             let dres_limit = tol * (1.0 + cmax + gmax * lam_max);
-            if let Some((t, b, stop_below)) = threshold {
+            if let Some(th) = threshold {
                 let primal_feasible = pres <= pres_limit;
-                if stop_below && primal_feasible && pobj < t {
+                if th.stop_below && primal_feasible && pobj < th.value {
                     outcome.decided = Some(true);
                     return outcome;
                 }
-                if primal_feasible && dobj - b * pobj.abs() * dres > t {
+                let zb = th.z_bound_abs + th.z_bound_rel * pobj.abs();
+                if primal_feasible && dobj - zb * dres > th.value {
                     outcome.decided = Some(false);
                     return outcome;
                 }
