@@ -206,6 +206,13 @@ fn distance_query_until(
             "the distance between the two origins overflows a double",
         )));
     }
+    // Overlap certified without a solve: if the inscribed balls overlap, the point dividing
+    // the offset in the ratio of the inscribed radii lies in both shapes.
+    let (i1, i2) = (shape1.inscribed_radius(), shape2.inscribed_radius());
+    if robust_norm(&offset) < i1 + i2 {
+        let w = r1 + offset * (i1 / (i1 + i2));
+        return Ok((overlap(w, 0), [0.0; 14], false));
+    }
     let ell = shape1.bounding_radius().max(shape2.bounding_radius());
     let k1 = shape1.slack_count();
     let k2 = shape2.slack_count();
@@ -236,7 +243,34 @@ fn distance_query_until(
         cutoff,
     };
     let m = shape1.lp_count() + shape2.lp_count();
-    dispatch(7 + k1 + k2, m, task).ok_or(Error::Internal("distance: variable count out of range"))
+    let out = dispatch(7 + k1 + k2, m, task)
+        .ok_or(Error::Internal("distance: variable count out of range"))?;
+    if out.0.status.is_converged() || out.2 {
+        return Ok(out);
+    }
+    // The distance program is degenerate at overlap (its optimum sits at the cone's apex); when
+    // it did not converge, proximity certifies overlap: α* < 1 puts x* inside both shapes.
+    let prox = super::proximity(shape1, pose1, shape2, pose2, options)?;
+    if prox.status.is_converged() && prox.alpha < 1.0 {
+        return Ok((
+            overlap(prox.point, out.0.iterations + prox.iterations),
+            [0.0; 14],
+            false,
+        ));
+    }
+    Ok(out)
+}
+
+/// Distance 0 with `w` (a point in both shapes) as both witnesses.
+fn overlap(w: Vec3, iterations: u32) -> Distance {
+    Distance {
+        distance: 0.0,
+        closest1: w,
+        closest2: w,
+        normal: Vec3::zeros(),
+        iterations,
+        status: SolveStatus::Converged,
+    }
 }
 
 /// Exact distance between the unscaled shapes, witness points and the unit normal from shape 1
