@@ -431,6 +431,32 @@ int main() {
           "functions from compare_common.c.\n\n",
           dcol_version(), cases, seed, repeat, made, failures, seconds, ref_fallbacks);
 
+  {
+    // headline ratios on the 28 FCL pair types, same cases, same run
+    auto find = [&](const std::string& name, double tol) -> const Method* {
+      for (const Method& m : methods)
+        if (m.name == name && m.tol == tol) return &m;
+      return nullptr;
+    };
+    auto fcl_med = [&](const Method* m) {
+      return stats(*m, [](const Sample& x) { return x.fcl_pair; }).med_ns;
+    };
+    const double fd = fcl_med(fcl_ref);
+    const double fc = fcl_med(find("fcl::collide (default)", 0));
+    fprintf(md, "## Headline (28 FCL pair types, medians in the same run)\n\n");
+    fprintf(md, "| comparison | dcol ns | FCL ns | ratio dcol / FCL |\n|---|--:|--:|--:|\n");
+    const Method* pd = find("dcol_proximity (default tol)", 0);
+    fprintf(md, "| dcol_proximity (default tol) / fcl::distance @1e-06 | %.0f | %.0f | %.2f |\n",
+            fcl_med(pd), fd, fcl_med(pd) / fd);
+    for (double t : {1e-4, 1e-6}) {
+      const Method* p = find("dcol_proximity", t);
+      fprintf(md, "| dcol_proximity @%.0e / fcl::distance @1e-06 | %.0f | %.0f | %.2f |\n", t,
+              fcl_med(p), fd, fcl_med(p) / fd);
+    }
+    const Method* di = find("dcol_intersect (default tol)", 0);
+    fprintf(md, "| dcol_intersect / fcl::collide | %.0f | %.0f | %.2f |\n\n", fcl_med(di), fc,
+            fcl_med(di) / fc);
+  }
   fprintf(md, "## All pairs\n\n");
   fprintf(md,
           "`all 36`: every case the method ran on; `28 FCL pairs`: the pair types FCL supports, "
