@@ -39,3 +39,6 @@ cmake --install build/cmake-normal --prefix "$prefix"
 cmake -S c_tests/compare -B build/compare -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix"
 cmake --build build/compare -j "$jobs"
 (cd build/compare && ctest -V -j "$jobs")
+
+echo "== time-vs-error benchmark against FCL and libccd: smoke run (benches/compare)"
+./benches/compare/run.sh --smoke
