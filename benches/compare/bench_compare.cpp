@@ -1,7 +1,7 @@
 // bench_compare.cpp: time and accuracy of dcol against FCL 0.7 and libccd 2.1 on the same
 // fixed-seed cases (36 unordered pair types of the eight dcol shapes; FCL has no padded polygon,
-// so its 8 polygon pairs are skipped for FCL). Cases come from compare_common.c (a copy of
-// c_tests/compare's): a third separated, a third near touching, a third overlapping.
+// so its 8 polygon pairs are skipped for FCL). Cases come from c_tests/compare/compare_common.c,
+// shared with the agreement suite: a third separated, a third near touching, a third overlapping.
 //
 // Per case, every method is run `repeat` times in a row and timed with std::chrono::steady_clock
 // (ns per call = total / repeat); methods are interleaved per case, starting at a rotating
