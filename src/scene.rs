@@ -118,13 +118,7 @@ impl Scene {
         options: &Options,
         out: &mut Vec<ScenePair>,
     ) -> Result<StepStats, Error> {
-        if !threshold.is_finite() || threshold <= 0.0 {
-            return Err(Error::InvalidOptions(ErrorDetail::new(
-                "threshold",
-                threshold,
-                "must be positive and finite",
-            )));
-        }
+        crate::query::check_threshold(threshold)?;
         options.validate()?;
         out.clear();
         let n = self.shapes.len();

@@ -37,6 +37,18 @@ pub struct Decision {
     pub status: SolveStatus,
 }
 
+/// A threshold on α* must be positive and finite.
+pub(crate) fn check_threshold(threshold: Real) -> Result<(), Error> {
+    if !threshold.is_finite() || threshold <= 0.0 {
+        return Err(Error::InvalidOptions(ErrorDetail::new(
+            "threshold",
+            threshold,
+            "must be positive and finite",
+        )));
+    }
+    Ok(())
+}
+
 /// The closed-form bracket `[‖Δr‖/(ρ₁ + ρ₂), ‖Δr‖/(ι₁ + ι₂)]` on α*.
 pub fn alpha_bounds(shape1: &Shape, pose1: &Pose, shape2: &Shape, pose2: &Pose) -> (Real, Real) {
     let d = robust_norm(&(pose2.position() - pose1.position()));
@@ -66,13 +78,7 @@ pub fn alpha_below(
     threshold: Real,
     options: &Options,
 ) -> Result<Decision, Error> {
-    if !threshold.is_finite() || threshold <= 0.0 {
-        return Err(Error::InvalidOptions(ErrorDetail::new(
-            "threshold",
-            threshold,
-            "must be positive and finite",
-        )));
-    }
+    check_threshold(threshold)?;
     options.validate()?;
     let (lo, hi) = alpha_bounds(shape1, pose1, shape2, pose2);
     if hi < threshold || lo > threshold {

@@ -9,6 +9,7 @@ mod proximity;
 
 pub use derivatives::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
 pub use distance::{distance, distance_gradient, distance_within, Distance};
+pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::{proximity, Options, Proximity};
 pub(crate) use proximity::{query_until, robust_norm, Want};

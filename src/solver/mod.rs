@@ -219,6 +219,19 @@ impl<'a, const N: usize> Problem<'a, N> {
         }
     }
 
+    /// Largest |h| entry over all blocks.
+    fn h_max(&self) -> Real {
+        self.lp
+            .iter()
+            .map(|r| r.h.abs())
+            .chain(
+                self.soc[..self.n_soc]
+                    .iter()
+                    .flat_map(|b| b.h.iter().map(|v| v.abs())),
+            )
+            .fold(0.0, Real::max)
+    }
+
     fn degree(&self) -> Real {
         (self.lp.len() + self.n_soc) as Real
     }
@@ -471,16 +484,7 @@ impl<'a, const N: usize> Problem<'a, N> {
         for i in 0..N {
             znew[i] += dz[i];
         }
-        let hmax = self
-            .lp
-            .iter()
-            .map(|r| r.h.abs())
-            .chain(
-                self.soc[..self.n_soc]
-                    .iter()
-                    .flat_map(|b| b.h.iter().map(|v| v.abs())),
-            )
-            .fold(0.0, Real::max);
+        let hmax = self.h_max();
         let slack = POLISH_CONE_SLACK * (1.0 + hmax + zmax);
         for row in self.lp.iter() {
             if !(row.h - dotn(&row.g, &znew) >= -slack) {
@@ -636,16 +640,7 @@ impl<'a, const N: usize> Problem<'a, N> {
                 -mu0 * b.s[3] / sn2,
             ];
         }
-        let hmax = self
-            .lp
-            .iter()
-            .map(|r| r.h.abs())
-            .chain(
-                self.soc[..self.n_soc]
-                    .iter()
-                    .flat_map(|b| b.h.iter().map(|v| v.abs())),
-            )
-            .fold(0.0, Real::max);
+        let hmax = self.h_max();
         let cmax = self.c.iter().map(|v| v.abs()).fold(0.0, Real::max);
         // Largest |G| entry: with the largest |λ| (|z|) it sets the size of the terms whose
         // rounding the dual (primal) residual cannot beat, so the residual tests are relative.
