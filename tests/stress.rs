@@ -2073,7 +2073,6 @@ fn stress_suite() {
 /// sphere at (3, 0.4, 0.2): `gradient(...)` returns status Converged, α* = 1.9775 (correct),
 /// and gradient[3] = NaN. Expected: ∂α/∂q(λq) = ∂α/∂q(q)/λ for every λ > 0.
 #[test]
-#[ignore = "reason: see issue (rotation_derivatives overflows for quaternion norms beyond 1e±100)"]
 fn regression_gradient_extreme_quaternion_norm() {
     let opts = Options::default();
     let bx = Shape::cuboid(1.0, 0.5, 0.25).unwrap();
@@ -2123,7 +2122,6 @@ fn regression_gradient_extreme_quaternion_norm() {
 /// aspect ratios up to 1e3 (`aspect`) converge, so it is the combination of a 1e6 aspect ratio
 /// and the small partner that stalls the stopping test.
 #[test]
-#[ignore = "reason: see issue (large thin slab and unit sphere: correct α* but NumericalFailure)"]
 fn regression_ground_slab_converges() {
     let opts = Options::default();
     let slab = Shape::cuboid(1e6, 1e6, 1.0).unwrap();
@@ -2239,7 +2237,6 @@ fn regression_distance_thin_polytopes() {
 /// for shapes that overlap (exact answer 0). Reproduction: the generator of this file with
 /// seed 79 (a 256-facet `random_polytope` and a cone, origins 0.18·(size₁ + size₂) apart).
 #[test]
-#[ignore = "reason: see issue (distance: MaxIterations for deeply overlapping 256-facet polytopes)"]
 fn regression_distance_many_facets_overlap() {
     let mut rng = Rng::new(79);
     let s1 = random_polytope(&mut rng, 256);

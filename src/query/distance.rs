@@ -21,6 +21,10 @@ use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
 use crate::solver::{LpRow, Problem, SolveStatus, Threshold};
 
+/// The largest distance between the origins, relative to the larger bounding radius, that the
+/// distance program accepts (its squared terms must stay finite).
+pub const MAX_OFFSET_RATIO: Real = 1e100;
+
 /// The result of a distance query.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Distance {
@@ -214,6 +218,15 @@ fn distance_query_until(
         return Ok((overlap(w, 0), [0.0; 14], false));
     }
     let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+    let ratio = robust_norm(&offset) / ell;
+    if !(ratio <= MAX_OFFSET_RATIO) {
+        return Err(Error::InvalidPose(ErrorDetail::new(
+            "position",
+            ratio,
+            "puts the shapes more than 1e100 times their size apart, beyond what the distance \
+             program can represent in double precision",
+        )));
+    }
     let k1 = shape1.slack_count();
     let k2 = shape2.slack_count();
     let task = DistanceTask {
