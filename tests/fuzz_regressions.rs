@@ -121,15 +121,6 @@ fn distance_far_apart_is_finite() {
     }
 }
 
-/// The derived-radius rule every constructor applies after its own argument checks: bounding
-/// and inscribed radii finite normal numbers, aspect ratio (bounding over inscribed) ≤ 1e12.
-fn radii_ok(rho: f64, iota: f64) -> bool {
-    rho.is_finite()
-        && rho >= f64::MIN_POSITIVE
-        && iota >= f64::MIN_POSITIVE
-        && rho / iota <= dcol::shapes::MAX_ASPECT_RATIO
-}
-
 /// What the fuzzers checked and found to hold, kept as a fast deterministic test: the
 /// constructors' validity rules at the boundary values the fuzzer favours. Invalid input
 /// (non-finite, non-positive, half angle outside (0, π/2)) is rejected with `InvalidShape`;
