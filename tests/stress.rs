@@ -1106,7 +1106,7 @@ type Table = BTreeMap<&'static str, Stats>;
 
 /// `distance` solves per class known not to converge (a dcol bug, see
 /// `regression_distance_thin_polytopes`); the suite fails if a class has more.
-const KNOWN_DISTANCE_NOT_CONVERGED: [(&str, usize); 2] = [("flat", 1), ("many_facets", 1)];
+const KNOWN_DISTANCE_NOT_CONVERGED: [(&str, usize); 1] = [("flat", 1)];
 
 fn class_random(t: &mut Table, rng: &mut Rng) {
     let st = t.entry("random").or_default();
@@ -2022,9 +2022,8 @@ fn stress_suite() {
         failures.extend(s.failures.iter().cloned());
         // Every class here is solvable in double precision: a non-converged status is a
         // failure (its outputs were still checked to be finite above).
-        // Known dcol bug (`regression_distance_thin_polytopes`,
-        // `regression_distance_many_facets_overlap`): `distance` does not converge for some
-        // thin or 256-facet polytope pairs. The exact current counts are allowed, so that any
+        // Known dcol bug (`regression_distance_thin_polytopes`): `distance` does not converge
+        // for some thin polytope pairs. The exact current counts are allowed, so that any
         // further non-convergence fails, and a fix shows as a count below the budget.
         let budget = KNOWN_DISTANCE_NOT_CONVERGED
             .iter()
@@ -2063,7 +2062,7 @@ fn stress_suite() {
     }
 }
 
-/// dcol bug found by this suite (reported with issue 6): `Pose::new` accepts any finite,
+/// dcol bug found by this suite (issue 6), fixed in 70c3a92: `Pose::new` accepts any finite,
 /// non-zero quaternion (and `proximity` is exact for all of them), but the quaternion columns
 /// of `gradient` and `jacobian` are NaN for ‖q‖ below ~3e-103 or above ~1.3e154, and wrong
 /// (the normalisation term is lost) for ‖q‖ above ~1e102. `math::rotation_derivatives` works on
@@ -2113,7 +2112,7 @@ fn regression_gradient_extreme_quaternion_norm() {
     assert!(g.iter().all(|v| v.is_finite()), "gradient {g:?}");
 }
 
-/// dcol bug found by this suite (reported with issue 6): a unit sphere resting in a large thin
+/// dcol bug found by this suite (issue 6), fixed in feee3ae: a unit sphere resting in a large thin
 /// slab — a box of half extents (1e6, 1e6, 1), as used for a ground plane — at (0.3, 0.2, 1.5):
 /// α* = 0.75 exactly, and dcol's iterate is right to 5e-15, but the status is
 /// NumericalFailure (so the C ABI returns DCOL_ERROR_NOT_CONVERGED), in both argument orders.
@@ -2231,7 +2230,7 @@ fn regression_distance_thin_polytopes() {
     );
 }
 
-/// dcol bug found by this suite (reported with issue 6): `distance` between a 256-facet
+/// dcol bug found by this suite (issue 6), fixed in 1cd3bc7: `distance` between a 256-facet
 /// polytope and a partner that overlaps it deeply (α* ≈ 0.2) hits the iteration limit (50) in
 /// about 1 of 20 random cases, and the last iterate it returns is far off: distance 1.65e14
 /// for shapes that overlap (exact answer 0). Reproduction: the generator of this file with
