@@ -24,6 +24,38 @@ use crate::math::{rotation_derivatives, Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
 use crate::solver::{Outcome, Problem};
 
+/// Below this largest quaternion component (below 1e-150), derivatives with respect to q (which scale like
+/// 1/‖q‖) may overflow a double.
+const TINY_QUATERNION: Real = 1e-150;
+
+/// When derivatives came out non-finite because a quaternion is so small that they overflow
+/// (they scale like 1/‖q‖), the answer is a clear InvalidPose naming that quaternion instead
+/// of a NaN or an infinity.
+pub(crate) fn check_representable(
+    derivatives_finite: bool,
+    pose1: &Pose,
+    pose2: &Pose,
+) -> Result<(), Error> {
+    if derivatives_finite {
+        return Ok(());
+    }
+    for pose in [pose1, pose2] {
+        let m = pose
+            .quaternion()
+            .iter()
+            .fold(0.0, |a: Real, v| a.max(v.abs()));
+        if m < TINY_QUATERNION {
+            return Err(Error::InvalidPose(crate::error::ErrorDetail::new(
+                "quaternion",
+                m,
+                "is so small that derivatives with respect to it (which scale like 1/|q|) \
+                 overflow a double",
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Row ranges of one shape inside the stacked problem.
 pub(crate) struct Rows {
     pub lp: std::ops::Range<usize>,

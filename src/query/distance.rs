@@ -258,6 +258,7 @@ fn distance_query_until(
     let m = shape1.lp_count() + shape2.lp_count();
     let out = dispatch(7 + k1 + k2, m, task)
         .ok_or(Error::Internal("distance: variable count out of range"))?;
+    super::derivatives::check_representable(out.1.iter().all(|v| v.is_finite()), pose1, pose2)?;
     if out.0.status.is_converged() || out.2 {
         return Ok(out);
     }

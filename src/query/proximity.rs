@@ -262,7 +262,7 @@ pub(crate) fn query_until(
         inv_scale: inv,
     };
     let m = shape1.lp_count() + shape2.lp_count();
-    dispatch(
+    let full = dispatch(
         4 + k1 + k2,
         m,
         ProximityTask {
@@ -271,7 +271,13 @@ pub(crate) fn query_until(
             threshold,
         },
     )
-    .ok_or(Error::Internal("proximity: variable count out of range"))
+    .ok_or(Error::Internal("proximity: variable count out of range"))?;
+    if want >= Want::Gradient {
+        let finite = full.gradient.iter().all(|v| v.is_finite())
+            && full.jacobian.iter().flatten().all(|v| v.is_finite());
+        derivatives::check_representable(finite, pose1, pose2)?;
+    }
+    Ok(full)
 }
 
 /// α*, x* and the contact points of two posed shapes.
