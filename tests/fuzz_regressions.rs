@@ -263,9 +263,9 @@ fn jacobian_quaternion_near_min_positive() {
 /// unit quaternion of the same rotation reports `NumericalFailure` (finite), and with a
 /// tolerance ≤ 1e-2 it is `NumericalFailure` (finite) as well — so the status depends on the
 /// quaternion's scale. Inputs as the fuzzer reduced them: a padded polygon that is essentially
-/// a ball of radius 9137 and a capsule of aspect 5e7.
+/// a ball of radius 9137 and a capsule of aspect 5e7. Fixed: derivatives that come out
+/// non-finite are reported as `NumericalFailure` with zeros, so every output is finite.
 #[test]
-#[ignore = "reason: see issue (NaN Jacobian with status Converged at tolerance >= 1 and |q| = 2.5e255)"]
 fn jacobian_finite_at_huge_tolerance_and_quaternion() {
     let poly = Shape::polygon(
         &[
@@ -313,7 +313,7 @@ fn jacobian_finite_at_huge_tolerance_and_quaternion() {
         };
         let (p, j) = dcol::jacobian(&poly, &p1, &cap, &p2, &opts).unwrap();
         assert!(
-            !p.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()),
+            j.iter().flatten().all(|v| v.is_finite()) && p.alpha.is_finite(),
             "tolerance {tol:e}: status {:?}, jacobian {j:?}",
             p.status
         );

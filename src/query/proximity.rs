@@ -262,7 +262,7 @@ pub(crate) fn query_until(
         inv_scale: inv,
     };
     let m = shape1.lp_count() + shape2.lp_count();
-    let full = dispatch(
+    let mut full = dispatch(
         4 + k1 + k2,
         m,
         ProximityTask {
@@ -276,6 +276,13 @@ pub(crate) fn query_until(
         let finite = full.gradient.iter().all(|v| v.is_finite())
             && full.jacobian.iter().flatten().all(|v| v.is_finite());
         derivatives::check_representable(finite, pose1, pose2)?;
+        if !finite {
+            // No NaN or infinity leaves a query: derivatives that could not be computed are
+            // reported as a numerical failure, with zeros in their place.
+            full.prox.status = crate::solver::SolveStatus::NumericalFailure;
+            full.gradient = [0.0; 14];
+            full.jacobian = [[0.0; 14]; 4];
+        }
     }
     Ok(full)
 }
