@@ -159,20 +159,20 @@ static void test_constructor_errors(void) {
   }
 
   /* Non-positive or non-finite sizes. */
-  BAD_CTOR(dcol_shape_new_sphere(-1.0, &out), SHAPE, "`radius`", "-1e0");
-  BAD_CTOR(dcol_shape_new_sphere(0.0, &out), SHAPE, "`radius`", "0e0");
+  BAD_CTOR(dcol_shape_new_sphere(-1.0, &out), SHAPE, "`radius`", "= -1:");
+  BAD_CTOR(dcol_shape_new_sphere(0.0, &out), SHAPE, "`radius`", "= 0:");
   BAD_CTOR(dcol_shape_new_sphere(NAN, &out), SHAPE, "`radius`", "NaN");
   BAD_CTOR(dcol_shape_new_sphere(INFINITY, &out), SHAPE, "`radius`", "inf");
-  BAD_CTOR(dcol_shape_new_box(1.0, 0.0, 1.0, &out), SHAPE, "`half_y`", "0e0");
-  BAD_CTOR(dcol_shape_new_box(1.0, 1.0, -2.5, &out), SHAPE, "`half_z`", "-2.5e0");
-  BAD_CTOR(dcol_shape_new_capsule(0.5, -1.0, &out), SHAPE, "`length`", "-1e0");
+  BAD_CTOR(dcol_shape_new_box(1.0, 0.0, 1.0, &out), SHAPE, "`half_y`", "= 0:");
+  BAD_CTOR(dcol_shape_new_box(1.0, 1.0, -2.5, &out), SHAPE, "`half_z`", "= -2.5:");
+  BAD_CTOR(dcol_shape_new_capsule(0.5, -1.0, &out), SHAPE, "`length`", "= -1:");
   BAD_CTOR(dcol_shape_new_capsule(NAN, 1.0, &out), SHAPE, "`radius`", "NaN");
   BAD_CTOR(dcol_shape_new_cylinder(0.5, INFINITY, &out), SHAPE, "`length`", "inf");
-  BAD_CTOR(dcol_shape_new_cylinder(0.0, 1.0, &out), SHAPE, "`radius`", "0e0");
-  BAD_CTOR(dcol_shape_new_cone(0.0, 0.5, &out), SHAPE, "`height`", "0e0");
-  BAD_CTOR(dcol_shape_new_cone(1.0, 2.0, &out), SHAPE, "`half_angle`", "2e0");
-  BAD_CTOR(dcol_shape_new_cone(1.0, 0.0, &out), SHAPE, "`half_angle`", "0e0");
-  BAD_CTOR(dcol_shape_new_polygon(C, d, 4, 0.0, &out), SHAPE, "`radius`", "0e0");
+  BAD_CTOR(dcol_shape_new_cylinder(0.0, 1.0, &out), SHAPE, "`radius`", "= 0:");
+  BAD_CTOR(dcol_shape_new_cone(0.0, 0.5, &out), SHAPE, "`height`", "= 0:");
+  BAD_CTOR(dcol_shape_new_cone(1.0, 2.0, &out), SHAPE, "`half_angle`", "= 2:");
+  BAD_CTOR(dcol_shape_new_cone(1.0, 0.0, &out), SHAPE, "`half_angle`", "= 0:");
+  BAD_CTOR(dcol_shape_new_polygon(C, d, 4, 0.0, &out), SHAPE, "`radius`", "= 0:");
 
   /* Matrices: non-finite, not positive definite, unbounded, origin not strictly inside. */
   P[4] = NAN;
@@ -181,19 +181,19 @@ static void test_constructor_errors(void) {
   BAD_CTOR(dcol_shape_new_ellipsoid(P, &out), SHAPE, "`P", "positive definite");
   P[4] = 1.0;
   b[3] = 0.0;
-  BAD_CTOR(dcol_shape_new_polytope(A, b, 6, &out), SHAPE, "`b[3]`", "0e0");
+  BAD_CTOR(dcol_shape_new_polytope(A, b, 6, &out), SHAPE, "`b[3]`", "= 0:");
   b[3] = 1.0;
   A[7] = INFINITY;
   BAD_CTOR(dcol_shape_new_polytope(A, b, 6, &out), SHAPE, "`A[7]`", "inf");
   A[7] = 0.0;
   BAD_CTOR(dcol_shape_new_polytope(A, b, 3, &out), SHAPE, "`A", "bounded");
-  BAD_CTOR(dcol_shape_new_polytope(A, b, 0, &out), SHAPE, "`m`", "0e0");
-  BAD_CTOR(dcol_shape_new_polytope(big_A, big_b, 257, &out), SHAPE, "`m`", "2.57e2");
+  BAD_CTOR(dcol_shape_new_polytope(A, b, 0, &out), SHAPE, "`m`", "= 0:");
+  BAD_CTOR(dcol_shape_new_polytope(big_A, big_b, 257, &out), SHAPE, "`m`", "= 257:");
   d[1] = -1.0;
-  BAD_CTOR(dcol_shape_new_polygon(C, d, 4, 0.1, &out), SHAPE, "`d[1]`", "-1e0");
+  BAD_CTOR(dcol_shape_new_polygon(C, d, 4, 0.1, &out), SHAPE, "`d[1]`", "= -1:");
   d[1] = 1.0;
   BAD_CTOR(dcol_shape_new_polygon(C, d, 2, 0.1, &out), SHAPE, "`C", "bounded");
-  BAD_CTOR(dcol_shape_new_polygon(C, d, 0, 0.1, &out), SHAPE, "`m`", "0e0");
+  BAD_CTOR(dcol_shape_new_polygon(C, d, 0, 0.1, &out), SHAPE, "`m`", "= 0:");
 
   /* NULL arrays: *out is still reset. */
   BAD_CTOR(dcol_shape_new_ellipsoid(NULL, &out), NUL, "`P`", "NULL");
@@ -420,7 +420,7 @@ static void test_query_errors(void) {
     /* Bad options: tolerance not positive and finite, zero iteration limit. */
     bad_o = o;
     bad_o.tolerance = 0.0;
-    BAD_QUERY(q, s, &good, c, &far, &bad_o, 0, 0, OPT, "`options->tolerance`", "0e0");
+    BAD_QUERY(q, s, &good, c, &far, &bad_o, 0, 0, OPT, "`options->tolerance`", "= 0:");
     bad_o.tolerance = -1e-8;
     BAD_QUERY(q, s, &good, c, &far, &bad_o, 0, 0, OPT, "`options->tolerance`", "-1e-8");
     bad_o.tolerance = NAN;
@@ -429,7 +429,7 @@ static void test_query_errors(void) {
     BAD_QUERY(q, s, &good, c, &far, &bad_o, 0, 0, OPT, "`options->tolerance`", "inf");
     bad_o = o;
     bad_o.max_iterations = 0;
-    BAD_QUERY(q, s, &good, c, &far, &bad_o, 0, 0, OPT, "`options->max_iterations`", "0e0");
+    BAD_QUERY(q, s, &good, c, &far, &bad_o, 0, 0, OPT, "`options->max_iterations`", "= 0:");
   }
 
   dcol_shape_free(s);

@@ -53,7 +53,7 @@ static void *worker(void *arg) {
   for (i = 0; i < 50; i++) query(i, &r); /* successes leave the message alone */
   {
     char want[64];
-    sprintf(want, "`radius` = -%de0", job->id + 1);
+    sprintf(want, "`radius` = -%d:", job->id + 1);
     job->message_ok = strstr(dcol_last_error_message(), want) != NULL;
   }
   return NULL;

@@ -45,18 +45,34 @@ impl ErrorDetail {
     }
 }
 
+/// A value as a person would write it: plain decimal for moderate magnitudes (`-1`, `0.25`,
+/// `1024`), scientific notation for tiny or huge ones (`1e-20`, `2.5e255`), `NaN`, `inf`.
+pub(crate) struct Value(pub(crate) f64);
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 impl fmt::Display for ErrorDetail {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = Value(self.value);
         match self.index {
             Some(i) => write!(
                 f,
-                "argument `{}[{}]` = {:e}: {}",
-                self.argument, i, self.value, self.requirement
+                "argument `{}[{}]` = {}: {}",
+                self.argument, i, v, self.requirement
             ),
             None => write!(
                 f,
-                "argument `{}` = {:e}: {}",
-                self.argument, self.value, self.requirement
+                "argument `{}` = {}: {}",
+                self.argument, v, self.requirement
             ),
         }
     }
@@ -97,12 +113,30 @@ mod tests {
         let e = Error::InvalidShape(ErrorDetail::new("radius", -1.0, "must be positive"));
         assert_eq!(
             e.to_string(),
-            "invalid shape: argument `radius` = -1e0: must be positive"
+            "invalid shape: argument `radius` = -1: must be positive"
         );
         let e = Error::InvalidPose(ErrorDetail::at("position", 2, f64::NAN, "must be finite"));
         assert_eq!(
             e.to_string(),
             "invalid pose: argument `position[2]` = NaN: must be finite"
         );
+    }
+
+    #[test]
+    fn values_are_written_plainly_unless_tiny_or_huge() {
+        for (v, text) in [
+            (-1.0, "-1"),
+            (0.0, "0"),
+            (0.25, "0.25"),
+            (300.0, "300"),
+            (1e-20, "1e-20"),
+            (2.5e255, "2.5e255"),
+            (-1e15, "-1e15"),
+            (5e-324, "5e-324"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(Value(v).to_string(), text);
+        }
     }
 }

@@ -9,7 +9,7 @@ use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::status::dcol_status;
-use crate::error::{Error, ErrorDetail};
+use crate::error::{Error, ErrorDetail, Value};
 use crate::solver::SolveStatus;
 
 /// Size of the per-thread message buffer, NUL included. Longer messages are truncated.
@@ -84,7 +84,7 @@ fn write_detail(w: &mut impl fmt::Write, context: &str, d: &ErrorDetail) -> fmt:
     if let Some(i) = d.index {
         write!(w, "[{i}]")?;
     }
-    write!(w, "` = {:e}: {}", d.value, d.requirement)
+    write!(w, "` = {}: {}", Value(d.value), d.requirement)
 }
 
 /// Writes the sentence for `failure` in function `func`.
@@ -133,7 +133,8 @@ fn describe(w: &mut impl fmt::Write, func: &str, failure: &Failure) -> fmt::Resu
                 w,
                 "the solver {why} after {iterations} iterations without converging \
                  (argument `options->max_iterations` = {max_iterations}, \
-                 `options->tolerance` = {tolerance:e}); the result holds the last iterate"
+                 `options->tolerance` = {}); the result holds the last iterate",
+                Value(*tolerance)
             )
         }
     }

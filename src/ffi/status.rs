@@ -64,7 +64,7 @@ mod raw {
 pub use raw::dcol_status_string;
 
 /// This thread's last error message: one sentence naming the function, the argument and its
-/// value (e.g. "dcol_shape_new_sphere: invalid shape: argument `radius` = -1e0: must be
+/// value (e.g. "dcol_shape_new_sphere: invalid shape: argument `radius` = -1: must be
 /// positive"), or "" if no call on this thread has failed yet.
 ///
 /// Every call that returns a status other than DCOL_OK replaces the message; successful calls
