@@ -18,6 +18,13 @@ int main() {
     }
     print_gradient(scene);
 
+    // Every pair of bodies with alpha <= 1.5 at once, with a scene (it copies the shapes).
+    dcol::Scene world;
+    world.add(scene.robot, scene.robot_pose);
+    for (std::size_t i = 0; i < scene.obstacles.size(); ++i) world.add(scene.obstacles[i], scene.poses[i]);
+    for (const dcol_scene_pair &p : world.pairs_within(1.5))
+      std::printf("bodies %zu and %zu: alpha = %.6f\n", p.body1, p.body2, p.proximity.alpha);
+
     // Errors become exceptions that carry the status and the message.
     try {
       dcol::Shape::sphere(-1.0);

@@ -5,16 +5,26 @@
 //   dcol_proximity_result r = dcol::proximity(box, dcol::pose({0, 0, 0}),
 //                                             ball, dcol::pose({2, 0, 0}));   // r.alpha == 2
 //
-// Every function throws dcol::Error when the C call does not return DCOL_OK (including
-// DCOL_ERROR_NOT_CONVERGED: use the C functions directly to get the last iterate). The plain C
-// structs (dcol_pose, dcol_options, dcol_proximity_result, dcol_distance_result) are used as is.
+// It wraps every function of dcol.h. Each wrapper takes the C arguments in the C order (outputs
+// become the return value; `options` defaults to nullptr, the defaults) and throws dcol::Error
+// when the C call does not return DCOL_OK, including DCOL_ERROR_NOT_CONVERGED: to get the last
+// iterate, call the C function directly. The exceptions are per-item statuses, which are
+// returned, not thrown: dcol::proximity_batch (one status per pair) and
+// dcol::Scene::pairs_within (a pair whose solve did not converge). The plain C structs
+// (dcol_pose, dcol_options, dcol_proximity_result, dcol_distance_result, dcol_derivatives_result,
+// dcol_scene_pair, dcol_scene_stats) are used as is.
+//
 // Shapes are move-only and free themselves; like the C shapes they are immutable and may be
-// shared between threads.
+// shared between threads. A dcol::Scene is move-only, frees itself, keeps its own copies of the
+// shapes added to it (a Shape may be destroyed right after Scene::add) and, like the C scene, must
+// be used by one thread at a time. A moved-from Shape or Scene holds nothing: passing or using it
+// throws dcol::Error with DCOL_ERROR_NULL_POINTER (in a batch: that pair's status).
 #ifndef DCOL_HPP
 #define DCOL_HPP
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -165,6 +175,198 @@ inline dcol_distance_result distance(const Shape &shape1, const dcol_pose &pose1
   check(dcol_distance(shape1.get(), &pose1, shape2.get(), &pose2, options, &d));
   return d;
 }
+
+/// The distance (as dcol::distance) and its gradient with respect to (r1, q1, r2, q2); all zeros
+/// when the shapes touch or overlap.
+struct DistanceGradient {
+  dcol_distance_result result;
+  std::array<double, 14> gradient;
+};
+
+inline DistanceGradient distance_gradient(const Shape &shape1, const dcol_pose &pose1,
+                                          const Shape &shape2, const dcol_pose &pose2,
+                                          const dcol_options *options = nullptr) {
+  DistanceGradient g;
+  check(dcol_distance_gradient(shape1.get(), &pose1, shape2.get(), &pose2, options, &g.result,
+                               g.gradient.data()));
+  return g;
+}
+
+/// Is alpha* < `threshold` (positive, finite)? Answered from bounds or an early-exit solve; equal
+/// to `proximity(...).alpha < threshold` except within about the solver tolerance of the
+/// threshold. A bad threshold throws dcol::Error with DCOL_ERROR_INVALID_OPTIONS.
+inline bool alpha_below(const Shape &shape1, const dcol_pose &pose1, const Shape &shape2,
+                        const dcol_pose &pose2, double threshold,
+                        const dcol_options *options = nullptr) {
+  std::int32_t below = 0;
+  check(dcol_alpha_below(shape1.get(), &pose1, shape2.get(), &pose2, threshold, options, &below));
+  return below != 0;
+}
+
+/// Do the shapes interpenetrate (alpha* < 1)? Exactly alpha_below with threshold 1.
+inline bool intersect(const Shape &shape1, const dcol_pose &pose1, const Shape &shape2,
+                      const dcol_pose &pose2, const dcol_options *options = nullptr) {
+  std::int32_t intersecting = 0;
+  check(dcol_intersect(shape1.get(), &pose1, shape2.get(), &pose2, options, &intersecting));
+  return intersecting != 0;
+}
+
+/// Everything from one solve: the proximity, the gradient and Jacobian (bit for bit those of
+/// dcol::gradient and dcol::jacobian) and the contact-point Jacobians (see dcol_derivatives_result).
+inline dcol_derivatives_result derivatives(const Shape &shape1, const dcol_pose &pose1,
+                                           const Shape &shape2, const dcol_pose &pose2,
+                                           const dcol_options *options = nullptr) {
+  dcol_derivatives_result d;
+  check(dcol_derivatives(shape1.get(), &pose1, shape2.get(), &pose2, options, &d));
+  return d;
+}
+
+/// The proximity result and d alpha* / d(r1, p1, r2, p2) for attitudes given as modified
+/// Rodrigues parameters p (q = [1 - p.p, 2 p] / (1 + p.p)): 12 numbers.
+struct GradientMrp {
+  dcol_proximity_result result;
+  std::array<double, 12> gradient;
+};
+
+inline GradientMrp gradient_mrp(const Shape &shape1, const std::array<double, 3> &position1,
+                                const std::array<double, 3> &mrp1, const Shape &shape2,
+                                const std::array<double, 3> &position2,
+                                const std::array<double, 3> &mrp2,
+                                const dcol_options *options = nullptr) {
+  GradientMrp g;
+  check(dcol_gradient_mrp(shape1.get(), position1.data(), mrp1.data(), shape2.get(),
+                          position2.data(), mrp2.data(), options, &g.result, g.gradient.data()));
+  return g;
+}
+
+/// The proximity result and d(x*, alpha*) / d(r1, p1, r2, p2) for MRP attitudes (see
+/// gradient_mrp), 4 x 12 row-major.
+struct JacobianMrp {
+  dcol_proximity_result result;
+  std::array<double, 48> jacobian;
+  double operator()(std::size_t row, std::size_t col) const { return jacobian[row * 12 + col]; }
+};
+
+inline JacobianMrp jacobian_mrp(const Shape &shape1, const std::array<double, 3> &position1,
+                                const std::array<double, 3> &mrp1, const Shape &shape2,
+                                const std::array<double, 3> &position2,
+                                const std::array<double, 3> &mrp2,
+                                const dcol_options *options = nullptr) {
+  JacobianMrp j;
+  check(dcol_jacobian_mrp(shape1.get(), position1.data(), mrp1.data(), shape2.get(),
+                          position2.data(), mrp2.data(), options, &j.result, j.jacobian.data()));
+  return j;
+}
+
+/// The results of proximity_batch: results[i] and statuses[i] for pair i.
+struct BatchResult {
+  std::vector<dcol_proximity_result> results;
+  std::vector<dcol_status> statuses;
+};
+
+/// Proximity of pair i = (*shapes1[i], poses1[i], *shapes2[i], poses2[i]) for every i (all four
+/// vectors of equal length, else std::invalid_argument). Each pair has its own status, which is
+/// returned, not thrown: DCOL_OK (results[i] equal bit for bit to dcol::proximity on the pair),
+/// DCOL_ERROR_NOT_CONVERGED (results[i] holds the last iterate), DCOL_ERROR_NULL_POINTER (a null
+/// or moved-from shape), DCOL_ERROR_INVALID_POSE or DCOL_ERROR_INTERNAL (results[i] all zeros).
+/// Per-pair failures do not set the last error message. Throws dcol::Error only when the whole
+/// call fails (invalid options). `threads` as in dcol_proximity_batch (<= 1: the calling thread).
+inline BatchResult proximity_batch(const std::vector<const Shape *> &shapes1,
+                                   const std::vector<dcol_pose> &poses1,
+                                   const std::vector<const Shape *> &shapes2,
+                                   const std::vector<dcol_pose> &poses2,
+                                   const dcol_options *options = nullptr,
+                                   std::uint32_t threads = 1) {
+  const std::size_t count = shapes1.size();
+  if (poses1.size() != count || shapes2.size() != count || poses2.size() != count)
+    throw std::invalid_argument("dcol::proximity_batch: the four inputs differ in length");
+  std::vector<const dcol_shape *> c1(count), c2(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    c1[i] = shapes1[i] ? shapes1[i]->get() : nullptr;
+    c2[i] = shapes2[i] ? shapes2[i]->get() : nullptr;
+  }
+  BatchResult b;
+  b.results.resize(count);  // value-initialised: zeros where the C call writes nothing
+  b.statuses.resize(count, DCOL_OK);
+  check(dcol_proximity_batch(c1.data(), poses1.data(), c2.data(), poses2.data(), count, options,
+                             threads, b.results.data(), b.statuses.data()));
+  return b;
+}
+
+/// An owned set of bodies for repeated all-pairs threshold queries (see dcol_scene in dcol.h).
+/// Move-only; not thread-safe (one thread at a time, as the C scene).
+class Scene {
+ public:
+  /// A new, empty scene.
+  Scene() {
+    dcol_scene *out = nullptr;
+    check(dcol_scene_new(&out));
+    handle_.reset(out);
+  }
+
+  /// Adds a body with a copy of `shape` at `pose` and returns its id (0, 1, 2, ... in the order
+  /// of addition). The scene keeps its own copy: `shape` may be destroyed at once.
+  std::size_t add(const Shape &shape, const dcol_pose &pose) {
+    std::size_t id = 0;
+    check(dcol_scene_add(handle_.get(), shape.get(), &pose, &id));
+    return id;
+  }
+
+  /// Moves body `id`; an id >= size() throws dcol::Error with DCOL_ERROR_INVALID_OPTIONS.
+  void set_pose(std::size_t id, const dcol_pose &pose) {
+    check(dcol_scene_set_pose(handle_.get(), id, &pose));
+  }
+
+  /// The number of bodies.
+  std::size_t size() const {
+    std::size_t n = 0;
+    check(dcol_scene_size(handle_.get(), &n));
+    return n;
+  }
+
+  /// Every pair with alpha* <= `threshold` (positive, finite), sorted by (body1 < body2), each
+  /// with its full proximity (bit for bit dcol::proximity on the two bodies, lower id first) and
+  /// its status: DCOL_OK, or DCOL_ERROR_NOT_CONVERGED (returned, not thrown) for a pair whose
+  /// last iterate is <= threshold. Pairs within about the solver tolerance of the threshold may
+  /// be reported or not. `stats`, if not null, receives the work done by each level.
+  ///
+  /// The vector always holds all the pairs: when the C call reports more pairs than the buffer
+  /// holds, the step is run again with a buffer of the reported size (the step is deterministic).
+  /// The buffer starts at the largest count seen by this Scene, so that happens only when a step
+  /// reports more pairs than every earlier one. Errors (bad threshold or options) throw.
+  std::vector<dcol_scene_pair> pairs_within(double threshold,
+                                            const dcol_options *options = nullptr,
+                                            dcol_scene_stats *stats = nullptr) {
+    std::vector<dcol_scene_pair> pairs(capacity_hint_);
+    for (;;) {
+      std::size_t count = 0;
+      const dcol_status status = dcol_scene_pairs_within(
+          handle_.get(), threshold, options, pairs.empty() ? nullptr : pairs.data(), pairs.size(),
+          &count, stats);
+      if (status == DCOL_ERROR_INVALID_OPTIONS && count > pairs.size()) {
+        // Not an error: the buffer was too small and `count` is the number needed.
+        pairs.resize(count);
+        continue;
+      }
+      check(status);
+      pairs.resize(count);
+      if (count > capacity_hint_) capacity_hint_ = count;
+      return pairs;
+    }
+  }
+
+  /// The C handle (still owned by this object); null after a move.
+  dcol_scene *get() noexcept { return handle_.get(); }
+  const dcol_scene *get() const noexcept { return handle_.get(); }
+
+ private:
+  struct Deleter {
+    void operator()(dcol_scene *s) const noexcept { dcol_scene_free(s); }
+  };
+
+  std::unique_ptr<dcol_scene, Deleter> handle_;
+  std::size_t capacity_hint_ = 16;
+};
 
 }  // namespace dcol
 
