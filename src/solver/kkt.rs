@@ -8,12 +8,17 @@ use crate::math::Real;
 pub struct Normal<const N: usize> {
     /// Lower triangle holds H before `factor` and L (H = L Lᵀ) after.
     a: [[Real; N]; N],
+    /// `1/L[i][i]` after `factor`, so that solves multiply instead of dividing.
+    inv_diag: [Real; N],
 }
 
 impl<const N: usize> Normal<N> {
     /// A zero matrix.
     pub fn zeros() -> Self {
-        Normal { a: [[0.0; N]; N] }
+        Normal {
+            a: [[0.0; N]; N],
+            inv_diag: [0.0; N],
+        }
     }
 
     /// `H += k g gᵀ` (lower triangle).
@@ -70,6 +75,7 @@ impl<const N: usize> Normal<N> {
             let l = d.sqrt();
             self.a[j][j] = l;
             let inv = 1.0 / l;
+            self.inv_diag[j] = inv;
             for i in (j + 1)..n {
                 let mut v = self.a[i][j];
                 for k in 0..j {
@@ -89,14 +95,14 @@ impl<const N: usize> Normal<N> {
             for k in 0..i {
                 v -= self.a[i][k] * b[k];
             }
-            b[i] = v / self.a[i][i];
+            b[i] = v * self.inv_diag[i];
         }
         for i in (0..n).rev() {
             let mut v = b[i];
             for k in (i + 1)..n {
                 v -= self.a[k][i] * b[k];
             }
-            b[i] = v / self.a[i][i];
+            b[i] = v * self.inv_diag[i];
         }
     }
 }

@@ -434,8 +434,9 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// solution (an interior-point iterate on a curved contact is only O(√μ) accurate). The step
     /// is kept only if it is finite and keeps the objective inside the duality bracket.
     /// The multipliers of the same step, `λ + dλ`, go to `lam_polished`, and the factor of
-    /// `GᵀDG` to `aho` for the implicit-function derivatives.
-    fn polish(&mut self, outcome: &mut Outcome<N>, objective_tolerance: Real) {
+    /// `GᵀDG` to `aho` for the implicit-function derivatives. Returns whether the step was
+    /// kept.
+    fn polish(&mut self, outcome: &mut Outcome<N>, objective_tolerance: Real) -> bool {
         for row in self.lp.iter_mut() {
             row.lam_polished = row.lam;
         }
@@ -444,7 +445,7 @@ impl<'a, const N: usize> Problem<'a, N> {
         }
         let m = match self.aho_matrix() {
             Some(m) => m,
-            None => return,
+            None => return false,
         };
         // rhs = −c − Gᵀ D r_p
         let mut rhs = [0.0; N];
@@ -463,12 +464,12 @@ impl<'a, const N: usize> Problem<'a, N> {
         }
         let lu = match Lu::factor(m) {
             Some(lu) => lu,
-            None => return,
+            None => return false,
         };
         self.aho = Some(lu);
         let dz = lu.solve(&rhs);
         if !dz.iter().all(|v| v.is_finite()) {
-            return;
+            return false;
         }
         // The optimal value lies in [dual objective, primal objective] (up to the residuals), so
         // a step that leaves that bracket by more than the tolerance is not trusted; nor is one
@@ -478,7 +479,7 @@ impl<'a, const N: usize> Problem<'a, N> {
         let zmax = outcome.z.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
         let step = dz.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
         if !(step <= POLISH_MAX_STEP * (1.0 + zmax)) {
-            return;
+            return false;
         }
         let mut znew = outcome.z;
         for i in 0..N {
@@ -488,7 +489,7 @@ impl<'a, const N: usize> Problem<'a, N> {
         let slack = POLISH_CONE_SLACK * (1.0 + hmax + zmax);
         for row in self.lp.iter() {
             if !(row.h - dotn(&row.g, &znew) >= -slack) {
-                return;
+                return false;
             }
         }
         for b in self.soc[..self.n_soc].iter() {
@@ -501,7 +502,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             ];
             let nrm = (sv[1] * sv[1] + sv[2] * sv[2] + sv[3] * sv[3]).sqrt();
             if !(sv[0] - nrm >= -slack) {
-                return;
+                return false;
             }
         }
         let dobj = dotn(&self.c, &dz);
@@ -509,7 +510,7 @@ impl<'a, const N: usize> Problem<'a, N> {
         let lo = outcome.dual_objective.min(outcome.primal_objective) - objective_tolerance;
         let hi = outcome.primal_objective + objective_tolerance;
         if !(polished >= lo && polished <= hi) {
-            return;
+            return false;
         }
         // λ + dλ = D(r_p + G dz), checked finite before anything is written.
         let mut ok = true;
@@ -551,7 +552,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             }
         }
         if !ok {
-            return;
+            return false;
         }
         for row in self.lp.iter_mut() {
             row.lam_polished = row.lam / row.s * (row.rp + dotn(&row.g, &dz));
@@ -563,6 +564,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             outcome.z[i] += dz[i];
         }
         outcome.primal_objective += dobj;
+        true
     }
 
     /// Runs the interior-point method from the primal point `z0`, with the dual started at
@@ -665,6 +667,11 @@ impl<'a, const N: usize> Problem<'a, N> {
             decided: None,
         };
         let mut iter = 0u32;
+        // When the polish is refused (a degenerate optimum: parallel faces, a non-unique x*),
+        // the objective is only as accurate as the duality gap, so one more interior-point
+        // iteration is taken (it shrinks the gap about a hundredfold); `saved` keeps the
+        // converged answer in case that iteration cannot be completed.
+        let mut saved: Option<Outcome<N>> = None;
         loop {
             // Residuals and convergence.
             let mut rd = self.c;
@@ -715,32 +722,41 @@ impl<'a, const N: usize> Problem<'a, N> {
                     return outcome;
                 }
             }
-            if gap <= tol * scale
+            let converged = gap <= tol * scale
                 && (pobj - dobj).abs() <= tol * scale
                 && pres <= pres_limit
-                && dres <= dres_limit
-            {
+                && dres <= dres_limit;
+            if converged || saved.is_some() {
                 outcome.status = SolveStatus::Converged;
                 // Leave the scalings current for derivatives.
                 if !self.update_scalings() {
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
-                self.polish(&mut outcome, tol * scale);
-                return outcome;
-            }
-            if iter >= settings.max_iterations {
-                outcome.status = SolveStatus::MaxIterations;
-                self.update_scalings();
-                return outcome;
-            }
-            if !self.update_scalings() {
-                outcome.status = SolveStatus::NumericalFailure;
-                return outcome;
+                if self.polish(&mut outcome, tol * scale)
+                    || saved.is_some()
+                    || iter >= settings.max_iterations
+                {
+                    return outcome;
+                }
+                saved = Some(outcome);
+            } else {
+                if iter >= settings.max_iterations {
+                    outcome.status = SolveStatus::MaxIterations;
+                    self.update_scalings();
+                    return outcome;
+                }
+                if !self.update_scalings() {
+                    outcome.status = SolveStatus::NumericalFailure;
+                    return outcome;
+                }
             }
             let kkt = match self.normal_matrix() {
                 Some(k) => k,
                 None => {
+                    if let Some(done) = saved {
+                        return done;
+                    }
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
@@ -787,6 +803,9 @@ impl<'a, const N: usize> Problem<'a, N> {
             let dz = self.direction(&kkt, &rd, refine);
             let t = (0.99 * self.max_step()).min(1.0);
             if !(t > 0.0) || !dz.iter().all(|v| v.is_finite()) {
+                if let Some(done) = saved {
+                    return done;
+                }
                 outcome.status = SolveStatus::NumericalFailure;
                 return outcome;
             }

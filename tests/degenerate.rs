@@ -1,0 +1,116 @@
+//! Degenerate optima: parallel faces and a segment or flat cap lying on a face, where x* is not
+//! unique and the final Newton polish is refused (its system is singular along the optimal
+//! face). α* must still be accurate far beyond the solver tolerance: the solver takes one more
+//! interior-point iteration in that case. Exact values from symmetry: for shapes symmetric under
+//! the reflections of the axes, with the offset Δ along axis k, α* = |Δ_k| / (h₁(e_k) + h₂(e_k))
+//! (the support values along that axis); for aligned boxes, α* = max_k |Δ_k| / (a_k + b_k).
+
+use dcol::{proximity, Options, Pose, Shape};
+
+fn at(r: [f64; 3]) -> Pose {
+    Pose::from_position(r).unwrap()
+}
+
+fn check(what: &str, s1: &Shape, r1: [f64; 3], s2: &Shape, r2: [f64; 3], exact: f64) {
+    for (a, pa, b, pb) in [(s1, r1, s2, r2), (s2, r2, s1, r1)] {
+        let p = proximity(a, &at(pa), b, &at(pb), &Options::default()).unwrap();
+        assert!(p.status.is_converged(), "{what}: {:?}", p.status);
+        let err = (p.alpha - exact).abs() / exact.max(1.0);
+        assert!(
+            err <= 1e-12,
+            "{what}: alpha {} vs exact {exact} (relative error {err:e}, {} iterations)",
+            p.alpha,
+            p.iterations
+        );
+    }
+}
+
+#[test]
+fn parallel_box_faces() {
+    let a = Shape::cuboid(1.0, 0.8, 0.6).unwrap();
+    let b = Shape::cuboid(0.5, 0.7, 0.4).unwrap();
+    for (d, k) in [
+        ([3.0f64, 0.2, 0.1], 0usize),
+        ([0.1, -2.5, 0.3], 1),
+        ([0.05, 0.1, 0.7], 2),
+        ([1.2, 0.1, 0.0], 0),
+        ([-0.6, 0.05, -0.02], 0),
+    ] {
+        let sums = [1.5, 1.5, 1.0];
+        let exact = d[k].abs() / sums[k];
+        check(&format!("boxes at {d:?}"), &a, [0.0; 3], &b, d, exact);
+    }
+}
+
+#[test]
+fn segment_and_cap_on_a_face() {
+    let slab = Shape::cuboid(2.0, 2.0, 0.3).unwrap();
+    // A capsule (axis x) lying flat above the slab: line contact.
+    let capsule = Shape::capsule(0.2, 1.0).unwrap();
+    for dz in [0.4, 0.5, 1.3, 4.0] {
+        check(
+            &format!("capsule above slab, dz = {dz}"),
+            &slab,
+            [0.0; 3],
+            &capsule,
+            [0.0, 0.0, dz],
+            dz / (0.3 + 0.2),
+        );
+    }
+    // A cylinder (axis x) with its flat cap against the slab's x face: face contact.
+    let post = Shape::cuboid(0.3, 2.0, 2.0).unwrap();
+    let cylinder = Shape::cylinder(0.25, 0.8).unwrap();
+    for dx in [0.5, 0.7, 2.0] {
+        check(
+            &format!("cylinder cap on a face, dx = {dx}"),
+            &post,
+            [0.0; 3],
+            &cylinder,
+            [dx, 0.0, 0.0],
+            dx / (0.3 + 0.4),
+        );
+    }
+}
+
+/// `ref-stress-198` of ../shared/reference (category `parallel`): a rotated box whose face is
+/// parallel to a cylinder's flat cap. The plain interior-point answer was 8.7e-11 off (1.1e-10
+/// after an unrelated change of rounding); with the extra iteration it is within 1e-12. The
+/// reference value is Clarabel's at 1e-12, polished (the reference README puts it within about
+/// 1e-13 relative).
+#[test]
+fn rotated_box_face_on_cylinder_cap() {
+    let h = [0.8388286294009029, 0.2834795243105931, 0.6929509234862241];
+    let a = Shape::cuboid(h[0], h[1], h[2]).unwrap();
+    let b = Shape::cylinder(0.9985876329328135, 1.6836421427101158).unwrap();
+    let pa = Pose::new(
+        [-1.3017082437329197, 0.5226323503235335, -0.8886983112709208],
+        [
+            0.7875376453116705,
+            0.5882518228777555,
+            -0.18352854789686102,
+            -0.00784360917033952,
+        ],
+    )
+    .unwrap();
+    let pb = Pose::new(
+        [
+            -2.105246718633756,
+            -2.7004068451741063,
+            -0.14925688441166707,
+        ],
+        [
+            0.5821406843224542,
+            0.5570115631718444,
+            0.5041415901226849,
+            0.31095272833344595,
+        ],
+    )
+    .unwrap();
+    let exact = 2.211774159923271;
+    for (s1, p1, s2, p2) in [(&a, &pa, &b, &pb), (&b, &pb, &a, &pa)] {
+        let p = proximity(s1, p1, s2, p2, &Options::default()).unwrap();
+        assert!(p.status.is_converged());
+        let err = (p.alpha - exact).abs() / exact;
+        assert!(err <= 1e-11, "alpha {} vs {exact} (error {err:e})", p.alpha);
+    }
+}
