@@ -90,17 +90,19 @@ impl SocScaling {
         }
         let sn = sn2.sqrt();
         let ln = ln2.sqrt();
+        let (isn, iln) = (1.0 / sn, 1.0 / ln);
         let mut sb = [0.0; SOC_MAX_DIM];
         let mut lb = [0.0; SOC_MAX_DIM];
         for i in 0..D {
-            sb[i] = s[i] / sn;
-            lb[i] = lam[i] / ln;
+            sb[i] = s[i] * isn;
+            lb[i] = lam[i] * iln;
         }
         let gamma = ((1.0 + dot(&sb, &lb)) * 0.5).sqrt();
+        let i2g = 0.5 / gamma;
         let mut w = [0.0; SOC_MAX_DIM];
-        w[0] = (sb[0] + lb[0]) / (2.0 * gamma);
+        w[0] = (sb[0] + lb[0]) * i2g;
         for i in 1..D {
-            w[i] = (sb[i] - lb[i]) / (2.0 * gamma);
+            w[i] = (sb[i] - lb[i]) * i2g;
         }
         let eta = (sn / ln).sqrt();
         let mut sc = SocScaling {
@@ -176,19 +178,20 @@ impl SocScaling {
 pub fn soc_step(u: &SocVec, du: &SocVec) -> Real {
     let n2 = jdot(u, u);
     let n = n2.sqrt();
+    let inv_n = 1.0 / n;
     let mut ub = [0.0; SOC_MAX_DIM];
     for i in 0..D {
-        ub[i] = u[i] / n;
+        ub[i] = u[i] * inv_n;
     }
     let ub_du = jdot(&ub, du);
-    let rho0 = ub_du / n;
+    let rho0 = ub_du * inv_n;
     let factor = (ub_du + du[0]) / (ub[0] + 1.0);
     let mut r1 = 0.0;
     for i in 1..D {
-        let v = (du[i] - factor * ub[i]) / n;
+        let v = du[i] - factor * ub[i];
         r1 += v * v;
     }
-    let sigma = r1.sqrt() - rho0;
+    let sigma = r1.sqrt() * inv_n - rho0;
     if sigma > 0.0 {
         1.0 / sigma
     } else {
