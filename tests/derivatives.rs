@@ -79,20 +79,13 @@ fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
 
 const SEED: u64 = 0x5EED_DE12_1A7E_0001;
 
-/// Cases where dcol is known to miss the 1e-6 requirement (see the `known_issue_*` tests, which
-/// are ignored until fixed, and the report in `docs/derivatives.md`). They are still run and
-/// printed, but excluded from the assertions; every other case must pass.
-const KNOWN_ISSUES: &[(&str, &str)] = &[
-    (
-        "cone-polytope12#1112",
-        "known_issue_jacobian_weakly_active_facet",
-    ),
-    ("polytope12-capsule#24", "known_issue_gradient_near_kink"),
-    (
-        "sphere-capsule#720",
-        "known_issue_derivatives_weakly_active_row",
-    ),
-];
+/// Cases where dcol is known to miss the 1e-6 requirement (each with an ignored `known_issue_*`
+/// test until fixed, and a report in `docs/derivatives.md`). They are still run and printed,
+/// but excluded from the assertions; every other case must pass. Empty: the three near-kink
+/// cases listed here before (cone-polytope12#1112, polytope12-capsule#24, sphere-capsule#720)
+/// were fixed by the active-set refinement in `src/query/derivatives.rs`, and their
+/// `known_issue_*` tests now run as regression tests.
+const KNOWN_ISSUES: &[(&str, &str)] = &[];
 
 fn known_issue(id: &str) -> Option<&'static str> {
     KNOWN_ISSUES.iter().find(|k| k.0 == id).map(|k| k.1)
@@ -1379,7 +1372,7 @@ fn distance_gradient_matches_finite_differences() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Known issues: minimal reproductions, ignored until dcol is fixed (see KNOWN_ISSUES).
+// Former known issues (near-kink cases), now regression tests: minimal reproductions.
 
 /// ∂α*/∂θ_c by a central difference at a tight solver tolerance (step 1e-6, ×ℓ for a
 /// position); well conditioned at the points below (it agrees with steps 1e-7..1e-5 and with
@@ -1419,15 +1412,12 @@ fn assert_alpha_derivatives(s: [Shape; 2], theta: [f64; 14]) {
 
 /// cone–polytope12#1112 (α* = 0.365): the cone's lateral surface touches a polytope edge whose
 /// second facet is only weakly active (multiplier 6.4e-6). At the default tolerance that
-/// facet's slack is still 1.3e-5 > its multiplier, so the exact Jacobian treats it as
-/// inactive; the remaining system (a facet plane tangent to the cone along a generator) is
-/// singular in exact arithmetic, but its LU pivot ratio (1.4e-10) passes the 1e-14 test, and
-/// `jacobian()` returns q-columns of order 1e9 (x rows 1e14) instead of falling back to the
-/// smoothed derivative. `gradient()` is right; at tolerance 1e-10 both are right.
+/// facet's interior-iterate slack is still 1.3e-5 > its multiplier, so the active set used to
+/// be read off the interior iterate with that facet inactive; the remaining system (a facet
+/// plane tangent to the cone along a generator) is singular, its Jacobian (~1e9) was rejected
+/// by the identity checks and the barrier-smoothed fallback was 6.4e-6 off. Fixed: the active
+/// set is read off the polished point, where the facet's slack is 3e-10.
 #[test]
-#[ignore = "dcol accuracy: the active-set Jacobian is now rejected by the identity checks (it \
-           was ~1e9 here) and the barrier-smoothed fallback is used, 6.4e-6 off at the default \
-           tolerance; tolerance 1e-10 gives the exact value"]
 fn known_issue_jacobian_weakly_active_facet() {
     let s = [
         Shape::cone(1.040323879081226, 0.7656787297155261).unwrap(),
@@ -1506,12 +1496,10 @@ fn known_issue_jacobian_weakly_active_facet() {
 
 /// polytope12–capsule#24 (α* = 2.73): a polytope edge against the capsule's side, with a third
 /// facet 1.5e-4 from active (an active-set change ~1e-5 away in q₂). At the default tolerance
-/// J[3,:] (implicit function on the identified active set) is exact to 1e-11, but ∇α from the
-/// Lagrangian with the polished multipliers is off by 1.3e-6 (∂α/∂q₂,w: 0.97352624 vs
-/// 0.97352752): the one-step polish leaves the multipliers ~1e-6 off. Tolerance 1e-10 fixes it.
+/// the polish left that inactive facet a multiplier of 8e-8, which pulled the polished point
+/// and the cone's multiplier ~1e-6 off, so ∇α from the Lagrangian was off by 1.3e-6
+/// (∂α/∂q₂,w: 0.97352624 vs 0.97352752). Fixed by refining the point on the active set.
 #[test]
-#[ignore = "dcol accuracy: Lagrangian gradient off by 1.3e-6 near a kink at the default \
-            tolerance while J[3,:] is exact; see docs/derivatives.md"]
 fn known_issue_gradient_near_kink() {
     let s = [
         Shape::polytope(
@@ -1602,12 +1590,11 @@ fn known_issue_gradient_near_kink() {
 
 /// sphere–capsule#720 (α* = 2.97): the contact sits on the capsule's end cap next to the
 /// cylinder junction; the segment-end row is active with a tiny multiplier (2.3e-5). At the
-/// default tolerance its slack is still 1e-5, so the solution point is off along the surface
-/// and ∇α and J[3,:] agree with each other but are both off by up to 5e-7 per entry (1.6e-6
-/// along a random direction, where the directional sweep found it). Tolerance 1e-10 fixes it.
+/// default tolerance its slack is 1e-5 at the last iterate and still 6e-7 after the polish, so
+/// the point was off along the surface and ∇α and J[3,:] were both off by up to 5e-7 per entry
+/// (1.6e-6 along a random direction, where the directional sweep found it). Fixed by refining
+/// the point on the active set.
 #[test]
-#[ignore = "dcol accuracy: default-tolerance solution not converged in a weakly active row; \
-            derivatives off by ~1e-6; see docs/derivatives.md"]
 fn known_issue_derivatives_weakly_active_row() {
     let s = [
         Shape::sphere(0.4138696767731502).unwrap(),

@@ -22,6 +22,7 @@ use super::proximity::{query, Context, Full, Options, Proximity, Want};
 use crate::error::Error;
 use crate::math::{rotation_derivatives, Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
+use crate::solver::cones::jprod;
 use crate::solver::{Outcome, Problem};
 
 /// Below this largest quaternion component (below 1e-150), derivatives with respect to q (which scale like
@@ -91,6 +92,13 @@ pub(crate) fn rotation_generators(pose: &Pose) -> [Mat3; 4] {
 }
 
 /// Fills `full.gradient` (and `full.jacobian` when asked) from a solved problem.
+///
+/// Both are taken on the active set identified at the polished point ([`identify`]). When that
+/// point does not satisfy the KKT conditions of its active set to [`AMBIGUOUS`] (near an
+/// active-set change: a weakly active row whose slack the polish has not closed, or an
+/// inactive one whose multiplier it has not zeroed), it is first refined by Newton's method on
+/// the active-set KKT system ([`refine`]), and both derivatives are taken at the refined point.
+/// Otherwise (almost always) nothing beyond the polish is done.
 pub(crate) fn compute<const N: usize>(
     ctx: &Context<'_>,
     problem: &Problem<'_, N>,
@@ -101,15 +109,23 @@ pub(crate) fn compute<const N: usize>(
     let frame = &ctx.frame;
     let ell = frame.ell;
     let t = 1.0 / frame.point_factor() * ell; // κℓ/dist: solver = t · physical (ξ, α, w)
-    let z = &outcome.z;
-    let xi = Vec3::new(z[0], z[1], z[2]) / t;
-    let e = [xi, xi - frame.delta / t];
     let gens = [
         rotation_generators(ctx.pose1),
         rotation_generators(ctx.pose2),
     ];
     let ranges = row_ranges(ctx.shape1, ctx.shape2);
-    // vᵢ = Σ λ̄ a over shape i's rows, with the polished multipliers λ̄.
+    // The polish was accepted (else there is no reliable solution point, only the
+    // barrier-smoothed Jacobian); near an active-set change, the refined point.
+    let polished = problem.aho.is_some();
+    let refined = if polished && !(ambiguity(problem, &outcome.z) <= AMBIGUOUS) {
+        refine(problem, &ranges, &outcome.z, t)
+    } else {
+        None
+    };
+    // eᵢ and vᵢ = Σ λ̄ a over shape i's rows, with the polished multipliers λ̄ (all rows).
+    let z = &outcome.z;
+    let xi = Vec3::new(z[0], z[1], z[2]) / t;
+    let e = [xi, xi - frame.delta / t];
     let mut v = [Vec3::zeros(); 2];
     for (i, r) in ranges.iter().enumerate() {
         for row in &problem.lp[r.lp.clone()] {
@@ -122,23 +138,45 @@ pub(crate) fn compute<const N: usize>(
             }
         }
     }
+    // At a refined point: its own eᵢ, and vᵢ over the active set only (the other multipliers
+    // are zero there).
+    let (er, vr) = match &refined {
+        Some((set, p)) => {
+            let xi = Vec3::new(p.z[0], p.z[1], p.z[2]) / t;
+            let mut vr = [Vec3::zeros(); 2];
+            for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+                vr[set.shape[qi]] += gx(eq_g(problem, *eq)) * p.lam[qi];
+            }
+            ([xi, xi - frame.delta / t], vr)
+        }
+        _ => (e, v),
+    };
     let mut grad = [0.0; 14];
     for i in 0..2 {
         let base = 7 * i;
         for j in 0..3 {
-            grad[base + j] = v[i][j] / ell;
+            grad[base + j] = vr[i][j] / ell;
         }
         for k in 0..4 {
-            grad[base + 3 + k] = -e[i].dot(&(gens[i][k] * v[i]));
+            grad[base + 3 + k] = -er[i].dot(&(gens[i][k] * vr[i]));
         }
     }
     full.gradient = grad;
     if want < Want::Jacobian {
         return;
     }
-    if !exact_jacobian(ctx, problem, outcome, &ranges, &gens, &e, &v, t, full)
-        || !consistent(&full.jacobian, &full.gradient, ell)
-    {
+    let exact = match &refined {
+        Some((set, p)) => exact_jacobian(ctx, problem, set, p, &gens, &er, &vr, t, full),
+        None if polished => {
+            let mut set = ActiveSet::EMPTY;
+            identify(problem, &ranges, &outcome.z, &[], &mut set) && {
+                let p = Point::polished(problem, &set, &outcome.z);
+                exact_jacobian(ctx, problem, &set, &p, &gens, &er, &vr, t, full)
+            }
+        }
+        None => false,
+    };
+    if !exact || !consistent(&full.jacobian, &full.gradient, ell) {
         smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
     }
 }
@@ -194,133 +232,278 @@ const MAX_ACTIVE: usize = 24;
 /// unique; the regularisation picks small multipliers and moves `dz` by O(δ).
 const DUAL_REGULARISATION: Real = 1e-12;
 
-/// The exact (non-smoothed) Jacobian on the identified active set at the polished solution:
-/// unknowns `[dz, dλ of active orthant rows, dλ of active cones]`, equations `Gᵀdλ = −dGᵀλ̄`,
-/// `gᵀdz = −ρ` for active rows (and cones whose slack is at the apex), and
-/// `−L(λ̄)G dz + L(s̄)dλ = L(λ̄)ρ` for cones active on their boundary. Returns false (leaving
-/// `full` alone) when the active set is degenerate: a singular or oversized system.
-#[allow(clippy::too_many_arguments)]
-fn exact_jacobian<const N: usize>(
-    ctx: &Context<'_>,
+/// How far (relative, see [`identify`]) the polished point may be from satisfying the KKT
+/// conditions of its active set before it is refined. After a regular polish the residual is
+/// at rounding level (≤ 1e-13); next to an active-set change it is 1e-7..1e-5 at the default
+/// tolerance, and a residual r moves the derivatives by a few r.
+const AMBIGUOUS: Real = 1e-9;
+
+/// KKT residual (relative, see [`residual`]) at which the refinement stops.
+const CONVERGED: Real = 1e-12;
+
+/// Newton steps the refinement may take per active set (it converges quadratically: 1e-6 →
+/// 1e-12 → rounding).
+const MAX_NEWTON_STEPS: usize = 4;
+
+/// Rows whose classification the refinement may flip when the refined point violates their
+/// sign condition (λ ≥ 0 when active, s ≥ 0 when inactive).
+const MAX_FLIPS: usize = 2;
+
+/// Sign violations (relative to the scale of s or λ) below this are rounding.
+const SIGN_TOLERANCE: Real = 1e-10;
+
+/// Largest move of z (relative to 1 + max|z|) or of a multiplier (relative to the largest)
+/// the refinement may make: it corrects an O(√μ) error, it does not find another solution.
+const REFINE_MAX_STEP: Real = 1e-3;
+
+/// One equation of the active-set system; its own multiplier is the unknown of the same index.
+#[derive(Clone, Copy, Debug)]
+enum Eq {
+    /// Active orthant row j: `g_j dz = …`.
+    Lp(usize),
+    /// Cone k with its slack at the apex, component r: `g_r dz = …`.
+    SocApex(usize, usize),
+    /// The padded (identically zero) component of cone k at the apex: `dλ₃ = …`.
+    SocPad(usize),
+    /// Cone k active on its boundary, component r of the linearised complementarity
+    /// `−L(λ)G dz + L(s)dλ = …`.
+    SocBound(usize, usize),
+}
+
+/// An identified active set: its equations in unknown order, and the shape of each.
+#[derive(Clone, Copy, Debug)]
+struct ActiveSet {
+    eqs: [Eq; MAX_ACTIVE],
+    shape: [usize; MAX_ACTIVE],
+    n: usize,
+}
+
+impl ActiveSet {
+    const EMPTY: Self = ActiveSet {
+        eqs: [Eq::Lp(0); MAX_ACTIVE],
+        shape: [0; MAX_ACTIVE],
+        n: 0,
+    };
+
+    fn push(&mut self, eq: Eq, shape: usize) {
+        self.eqs[self.n] = eq;
+        self.shape[self.n] = shape;
+        self.n += 1;
+    }
+}
+
+/// A primal-dual point on an active set: `z` in solver coordinates and the multiplier of each
+/// equation of the set (all others zero).
+#[derive(Clone, Copy, Debug)]
+struct Point<const N: usize> {
+    z: [Real; N],
+    lam: [Real; MAX_ACTIVE],
+}
+
+impl<const N: usize> Point<N> {
+    /// The polished point: the solver's `z` and polished multipliers.
+    fn polished(problem: &Problem<'_, N>, set: &ActiveSet, z: &[Real; N]) -> Self {
+        let mut lam = [0.0; MAX_ACTIVE];
+        for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+            lam[qi] = match *eq {
+                Eq::Lp(j) => problem.lp[j].lam_polished,
+                Eq::SocApex(k, c) | Eq::SocBound(k, c) => problem.soc[k].lam_polished[c],
+                Eq::SocPad(k) => problem.soc[k].lam_polished[3],
+            };
+        }
+        Point { z: *z, lam }
+    }
+}
+
+/// The scales residuals are measured against: `1 + max|z|` for slacks (solver coordinates) and
+/// the largest polished multiplier.
+#[derive(Clone, Copy, Debug)]
+struct Scales {
+    s: Real,
+    lam: Real,
+}
+
+#[inline]
+fn dotn<const N: usize>(a: &[Real; N], b: &[Real; N]) -> Real {
+    let mut r = 0.0;
+    for i in 0..N {
+        r += a[i] * b[i];
+    }
+    r
+}
+
+#[inline]
+fn max_abs(u: &[Real; 4]) -> Real {
+    u.iter().fold(0.0, |m: Real, v| m.max(v.abs()))
+}
+
+/// `worst` raised to `x`, with a NaN `x` winning (so that it is never taken for small).
+#[inline]
+fn worse(worst: Real, x: Real) -> Real {
+    if x <= worst {
+        worst
+    } else {
+        x
+    }
+}
+
+/// The slack `h − G z` of cone block `k` (solver coordinates).
+#[inline]
+fn soc_slack<const N: usize>(problem: &Problem<'_, N>, k: usize, z: &[Real; N]) -> [Real; 4] {
+    let b = &problem.soc[k];
+    [0, 1, 2, 3].map(|r| b.h[r] - dotn(&b.g[r], z))
+}
+
+/// The row of `G` an equation's multiplier multiplies.
+#[inline]
+fn eq_g<'p, const N: usize>(problem: &'p Problem<'_, N>, eq: Eq) -> &'p [Real; N] {
+    match eq {
+        Eq::Lp(j) => &problem.lp[j].g,
+        Eq::SocApex(k, c) | Eq::SocBound(k, c) => &problem.soc[k].g[c],
+        Eq::SocPad(k) => &problem.soc[k].g[3],
+    }
+}
+
+/// Whether orthant row `j` is active at `z`: its polished multiplier exceeds its slack (both
+/// vanish only at a degenerate row, where either choice is right), unless listed in `flips`.
+#[inline]
+fn lp_active<const N: usize>(
     problem: &Problem<'_, N>,
-    outcome: &Outcome<N>,
-    ranges: &[Rows; 2],
-    gens: &[[Mat3; 4]; 2],
-    e: &[Vec3; 2],
-    v: &[Vec3; 2],
-    t: Real,
-    full: &mut Full,
+    j: usize,
+    z: &[Real; N],
+    flips: &[usize],
 ) -> bool {
-    if problem.aho.is_none() {
-        return false; // the polish was not accepted: no reliable solution point
-    }
-    let ell = ctx.frame.ell;
-    let z = &outcome.z;
-    // Physical z̄ = z/t; slacks s̄ = h − G z̄ scale the same way, multipliers do not.
-    let mut a = [[0.0; MAX_ACTIVE]; MAX_ACTIVE];
-    let mut order = N;
-    // Columns for multipliers: (shape index, row kind) recorded to build right-hand sides.
-    #[derive(Clone, Copy)]
-    enum Eq {
-        Lp(usize),              // active orthant row: g dz = −ρ
-        SocApex(usize, usize),  // cone k, component r: g_r dz = −ρ_r
-        SocPad(usize),          // padded component of cone k at the apex: dλ₃ = 0
-        SocBound(usize, usize), // cone k, component r of −L(λ̄)G dz + L(s̄)dλ = L(λ̄)ρ
-    }
-    let mut eqs = [Eq::Lp(0); MAX_ACTIVE];
-    let mut n_eq = 0usize;
-    let mut shape_of_eq = [0usize; MAX_ACTIVE];
+    let row = &problem.lp[j];
+    (row.lam_polished > row.h - dotn(&row.g, z)) != flips.contains(&j)
+}
+
+/// Writes into `set` the active set at the point `z` (solver coordinates) with the polished
+/// multipliers λ̄. An orthant row is active when λ̄ > s (see [`lp_active`]); a cone is inactive
+/// when λ̄₀ < 1e-6·s₀, and at its apex when s₀ < 1e-6·λ̄₀. False when the system would exceed
+/// [`MAX_ACTIVE`].
+fn identify<const N: usize>(
+    problem: &Problem<'_, N>,
+    ranges: &[Rows; 2],
+    z: &[Real; N],
+    flips: &[usize],
+    set: &mut ActiveSet,
+) -> bool {
+    set.n = 0;
     for (i, r) in ranges.iter().enumerate() {
         for j in r.lp.clone() {
-            let row = &problem.lp[j];
-            if row.lam > row.s {
-                if order >= MAX_ACTIVE {
+            if lp_active(problem, j, z, flips) {
+                if N + set.n >= MAX_ACTIVE {
                     return false;
                 }
-                // column `order` = dλ_j; stationarity gets g_j in that column
-                for q in 0..N {
-                    a[q][order] = row.g[q];
-                }
-                eqs[n_eq] = Eq::Lp(j);
-                shape_of_eq[n_eq] = i;
-                n_eq += 1;
-                order += 1;
+                set.push(Eq::Lp(j), i);
             }
         }
         if let Some(k) = r.soc {
             let b = &problem.soc[k];
-            if b.lam[0] < 1e-6 * b.s[0] {
-                continue; // inactive cone: dλ = 0
+            let (s, l) = (soc_slack(problem, k, z), b.lam_polished);
+            if soc_inactive(&s, &l) {
+                continue; // dλ = 0
             }
-            if order + 4 > MAX_ACTIVE {
+            if N + set.n + 4 > MAX_ACTIVE {
                 return false;
             }
-            let apex = b.s[0] < 1e-6 * b.lam[0];
+            let apex = soc_apex(&s, &l);
             let padded = b.g[3].iter().all(|v| *v == 0.0) && b.h[3] == 0.0;
             for c in 0..4 {
-                for q in 0..N {
-                    a[q][order + c] = b.g[c][q];
-                }
-                eqs[n_eq] = if apex {
-                    if c == 3 && padded {
-                        Eq::SocPad(k)
+                set.push(
+                    if apex {
+                        if c == 3 && padded {
+                            Eq::SocPad(k)
+                        } else {
+                            Eq::SocApex(k, c)
+                        }
                     } else {
-                        Eq::SocApex(k, c)
-                    }
-                } else {
-                    Eq::SocBound(k, c)
-                };
-                shape_of_eq[n_eq] = i;
-                n_eq += 1;
+                        Eq::SocBound(k, c)
+                    },
+                    i,
+                );
             }
-            order += 4;
         }
     }
-    debug_assert_eq!(order, N + n_eq);
-    // Rows N.. of the matrix: one per equation in `eqs`. Multiplier columns start at N in the
-    // same order as the equations.
-    let mut lam_col = N;
-    let mut soc_first_col = [0usize; crate::solver::MAX_SOC];
-    for (qi, eq) in eqs[..n_eq].iter().enumerate() {
-        let row_idx = N + qi;
+    true
+}
+
+/// How far the polished point `z` is from satisfying the KKT conditions of the active set
+/// [`identify`] would choose there, the largest of (relative): the slack of an active row over
+/// `1 + max|z|`, the multiplier of an inactive one over the largest multiplier, and for a cone
+/// on its boundary `‖s∘λ̄‖∞/(s₀λ̄₀)` (the relative distance of s and λ̄ from complementary
+/// boundary rays). The polish makes the multipliers exactly stationary, so that is the whole
+/// residual. Cheap: one pass over the rows, no system.
+fn ambiguity<const N: usize>(problem: &Problem<'_, N>, z: &[Real; N]) -> Real {
+    let (mut ds, mut dl, mut rel, mut lam_max): (Real, Real, Real, Real) = (0.0, 0.0, 0.0, 0.0);
+    for j in 0..problem.lp.len() {
+        let row = &problem.lp[j];
+        let (s, l) = (row.h - dotn(&row.g, z), row.lam_polished);
+        lam_max = lam_max.max(l.abs());
+        if l > s {
+            ds = worse(ds, s.abs());
+        } else {
+            dl = worse(dl, l.abs());
+        }
+    }
+    for k in 0..problem.n_soc {
+        let (s, l) = (soc_slack(problem, k, z), problem.soc[k].lam_polished);
+        lam_max = lam_max.max(l[0].abs());
+        if soc_inactive(&s, &l) {
+            dl = worse(dl, max_abs(&l));
+        } else if soc_apex(&s, &l) {
+            ds = worse(ds, max_abs(&s));
+        } else {
+            rel = worse(rel, max_abs(&jprod(&s, &l)) / (s[0] * l[0]));
+        }
+    }
+    let s_scale = 1.0 + z.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+    worse(worse(ds / s_scale, dl / lam_max), rel)
+}
+
+/// A cone whose polished multiplier is negligible against its slack: inactive.
+#[inline]
+fn soc_inactive(s: &[Real; 4], l: &[Real; 4]) -> bool {
+    l[0] < 1e-6 * s[0]
+}
+
+/// An active cone whose slack is negligible against its multiplier: at its apex.
+#[inline]
+fn soc_apex(s: &[Real; 4], l: &[Real; 4]) -> bool {
+    s[0] < 1e-6 * l[0]
+}
+
+/// The matrix of the active-set KKT system at `p`, on the physical scale (`dz` physical, so
+/// slacks `s̄ = (h − G z)/t`): rows `0..N` stationarity `Gᵀdλ`, then one row per equation of
+/// `set` (see [`Eq`]); unknowns `[dz, dλ of each equation]`. It is the Jacobian of the KKT
+/// residual, used both for Newton's method ([`refine`]) and the implicit function theorem.
+fn kkt_matrix<const N: usize>(
+    problem: &Problem<'_, N>,
+    set: &ActiveSet,
+    p: &Point<N>,
+    t: Real,
+    a: &mut [[Real; MAX_ACTIVE]; MAX_ACTIVE],
+) {
+    for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+        let col = N + qi;
+        let g = eq_g(problem, *eq);
+        for q in 0..N {
+            a[q][col] = g[q];
+        }
+        let row = &mut a[col];
         match *eq {
-            Eq::Lp(j) => {
-                for q in 0..N {
-                    a[row_idx][q] = problem.lp[j].g[q];
-                }
-                a[row_idx][lam_col] = -DUAL_REGULARISATION;
-                lam_col += 1;
+            Eq::Lp(_) | Eq::SocApex(..) => {
+                row[..N].copy_from_slice(g);
+                row[col] = -DUAL_REGULARISATION;
             }
-            Eq::SocApex(k, c) => {
-                if c == 0 {
-                    soc_first_col[k] = lam_col;
-                }
-                for q in 0..N {
-                    a[row_idx][q] = problem.soc[k].g[c][q];
-                }
-                a[row_idx][lam_col] = -DUAL_REGULARISATION;
-                lam_col += 1;
-            }
-            Eq::SocPad(k) => {
-                a[row_idx][soc_first_col[k] + 3] = 1.0;
-                lam_col += 1;
-            }
+            Eq::SocPad(_) => row[col] = 1.0,
             Eq::SocBound(k, c) => {
-                if c == 0 {
-                    soc_first_col[k] = lam_col;
-                }
                 let b = &problem.soc[k];
-                // s̄ = (h − G z)/t on the physical scale (the polished point, on the boundary).
-                let gz = [0, 1, 2, 3].map(|r| {
-                    let mut acc = 0.0;
-                    for q in 0..N {
-                        acc += b.g[r][q] * z[q];
-                    }
-                    (b.h[r] - acc) / t
-                });
-                let l = b.lam_polished;
-                // L(λ̄) row c and L(s̄) row c.
-                let lrow = |u: &[Real; 4], c: usize| -> [Real; 4] {
+                let s = soc_slack(problem, k, &p.z).map(|v| v / t);
+                let first = col - c;
+                let l = [0, 1, 2, 3].map(|r| p.lam[qi - c + r]);
+                // L(λ) row c and L(s̄) row c.
+                let lrow = |u: &[Real; 4]| -> [Real; 4] {
                     if c == 0 {
                         *u
                     } else {
@@ -330,21 +513,230 @@ fn exact_jacobian<const N: usize>(
                         r
                     }
                 };
-                let ll = lrow(&l, c);
-                let ls = lrow(&gz, c);
+                let ll = lrow(&l);
+                let ls = lrow(&s);
                 for q in 0..N {
                     let mut acc = 0.0;
                     for r in 0..4 {
                         acc += ll[r] * b.g[r][q];
                     }
-                    a[row_idx][q] = -acc;
+                    row[q] = -acc;
                 }
-                let first = soc_first_col[k];
-                a[row_idx][first..first + 4].copy_from_slice(&ls);
-                lam_col += 1;
+                row[first..first + 4].copy_from_slice(&ls);
             }
         }
     }
+}
+
+/// The largest relative violation of the active set's KKT conditions at `p`: stationarity
+/// `‖c + Σ g λ‖∞` (c = e_α), active rows' and apex cones' slacks over the slack scale, padded
+/// multipliers over the multiplier scale, and `‖s∘λ‖∞/(s₀λ₀)` for cones on their boundary.
+fn residual<const N: usize>(
+    problem: &Problem<'_, N>,
+    set: &ActiveSet,
+    p: &Point<N>,
+    scales: &Scales,
+) -> Real {
+    let mut rd = problem.c;
+    let mut worst: Real = 0.0;
+    for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+        let g = eq_g(problem, *eq);
+        for q in 0..N {
+            rd[q] += g[q] * p.lam[qi];
+        }
+        let r = match *eq {
+            Eq::Lp(j) => (problem.lp[j].h - dotn(g, &p.z)).abs() / scales.s,
+            Eq::SocApex(k, c) => (problem.soc[k].h[c] - dotn(g, &p.z)).abs() / scales.s,
+            Eq::SocPad(_) => p.lam[qi].abs() / scales.lam,
+            Eq::SocBound(k, 0) => {
+                let s = soc_slack(problem, k, &p.z);
+                let l = [0, 1, 2, 3].map(|r| p.lam[qi + r]);
+                max_abs(&jprod(&s, &l)) / (s[0] * l[0])
+            }
+            Eq::SocBound(..) => 0.0,
+        };
+        worst = worse(worst, r);
+    }
+    for v in rd {
+        worst = worse(worst, v.abs());
+    }
+    worst
+}
+
+/// One Newton step on the KKT conditions of `set` from `p`; `None` when the system is singular
+/// or the step not finite.
+fn newton_step<const N: usize>(
+    problem: &Problem<'_, N>,
+    set: &ActiveSet,
+    p: &Point<N>,
+    t: Real,
+) -> Option<Point<N>> {
+    let mut a = [[0.0; MAX_ACTIVE]; MAX_ACTIVE];
+    kkt_matrix(problem, set, p, t, &mut a);
+    let order = N + set.n;
+    let mut rhs = [0.0; MAX_ACTIVE];
+    for q in 0..N {
+        rhs[q] = -problem.c[q];
+    }
+    let mut sl = [0.0; 4];
+    for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+        let g = eq_g(problem, *eq);
+        for q in 0..N {
+            rhs[q] -= g[q] * p.lam[qi];
+        }
+        rhs[N + qi] = match *eq {
+            Eq::Lp(j) => (problem.lp[j].h - dotn(g, &p.z)) / t,
+            Eq::SocApex(k, c) => (problem.soc[k].h[c] - dotn(g, &p.z)) / t,
+            Eq::SocPad(_) => -p.lam[qi],
+            Eq::SocBound(k, c) => {
+                if c == 0 {
+                    let s = soc_slack(problem, k, &p.z).map(|v| v / t);
+                    let l = [0, 1, 2, 3].map(|r| p.lam[qi + r]);
+                    sl = jprod(&s, &l);
+                }
+                -sl[c]
+            }
+        };
+    }
+    let perm = lu_factor_in_place(&mut a, order)?;
+    lu_solve_one(&a, &perm, order, &mut rhs);
+    if !rhs[..order].iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let mut next = *p;
+    for q in 0..N {
+        next.z[q] += t * rhs[q];
+    }
+    for qi in 0..set.n {
+        next.lam[qi] += rhs[N + qi];
+    }
+    Some(next)
+}
+
+/// Refines the polished point `z0` by Newton's method on the KKT conditions of its active set,
+/// for use when the polish left it short of them (see [`AMBIGUOUS`]). Near an active-set change
+/// the interior iterate's slack and multiplier of the row that changes are both O(√μ), and a
+/// single Newton step on the complementarity `s λ = 0` from there only halves them; on the
+/// right active set the KKT conditions are smooth equations and Newton's method converges
+/// quadratically. The result is accepted only if it converges to [`CONVERGED`], stays within
+/// [`REFINE_MAX_STEP`] of the polished point and satisfies the sign conditions (λ ≥ 0 on active
+/// rows, s ≥ 0 on inactive ones, both in their cones). When an orthant row's sign condition
+/// fails, its classification is flipped and the refinement restarted (at most [`MAX_FLIPS`]
+/// times). `None` when no active set passes: the caller then keeps the polished point.
+fn refine<const N: usize>(
+    problem: &Problem<'_, N>,
+    ranges: &[Rows; 2],
+    z0: &[Real; N],
+    t: Real,
+) -> Option<(ActiveSet, Point<N>)> {
+    let scales = Scales {
+        s: 1.0 + z0.iter().fold(0.0, |m: Real, v| m.max(v.abs())),
+        lam: problem
+            .lp
+            .iter()
+            .map(|r| r.lam_polished.abs())
+            .chain(
+                problem.soc[..problem.n_soc]
+                    .iter()
+                    .map(|b| b.lam_polished[0].abs()),
+            )
+            .fold(0.0, Real::max),
+    };
+    let mut flips = [0usize; MAX_FLIPS];
+    let mut n_flips = 0;
+    loop {
+        let mut set = ActiveSet::EMPTY;
+        if !identify(problem, ranges, z0, &flips[..n_flips], &mut set) {
+            return None;
+        }
+        let start = Point::polished(problem, &set, z0);
+        let mut p = start;
+        let mut steps = 0;
+        while !(residual(problem, &set, &p, &scales) <= CONVERGED) {
+            if steps == MAX_NEWTON_STEPS {
+                return None;
+            }
+            p = newton_step(problem, &set, &p, t)?;
+            steps += 1;
+        }
+        for q in 0..N {
+            if !((p.z[q] - z0[q]).abs() <= REFINE_MAX_STEP * scales.s) {
+                return None;
+            }
+        }
+        for qi in 0..set.n {
+            if !((p.lam[qi] - start.lam[qi]).abs() <= REFINE_MAX_STEP * scales.lam) {
+                return None;
+            }
+        }
+        // The worst violated sign condition of an orthant row, if any.
+        let mut flip = None;
+        let mut worst = SIGN_TOLERANCE;
+        for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+            if let Eq::Lp(j) = *eq {
+                let v = -p.lam[qi] / scales.lam;
+                if !(v <= worst) {
+                    worst = v;
+                    flip = Some(j);
+                }
+            }
+        }
+        for (j, row) in problem.lp.iter().enumerate() {
+            if !lp_active(problem, j, z0, &flips[..n_flips]) {
+                let v = -(row.h - dotn(&row.g, &p.z)) / scales.s;
+                if !(v <= worst) {
+                    worst = v;
+                    flip = Some(j);
+                }
+            }
+        }
+        // Cones: both s and λ in the cone (on the boundary, complementarity already holds).
+        for k in 0..problem.n_soc {
+            let s = soc_slack(problem, k, &p.z);
+            let first = set.eqs[..set.n]
+                .iter()
+                .position(|eq| matches!(eq, Eq::SocApex(kk, _) | Eq::SocBound(kk, _) if *kk == k));
+            let l = match first {
+                Some(f) => [0, 1, 2, 3].map(|r| p.lam[f + r]),
+                None => [0.0; 4],
+            };
+            let gap = |u: &[Real; 4]| u[0] - (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]).sqrt();
+            if !(gap(&s) >= -SIGN_TOLERANCE * scales.s && gap(&l) >= -SIGN_TOLERANCE * scales.lam) {
+                return None;
+            }
+        }
+        match flip {
+            None => return Some((set, p)),
+            Some(j) if n_flips < MAX_FLIPS => {
+                flips[n_flips] = j;
+                n_flips += 1;
+            }
+            Some(_) => return None,
+        }
+    }
+}
+
+/// The exact (non-smoothed) Jacobian on the active set `set` at the point `p`: the
+/// implicit-function system of [`kkt_matrix`] with right-hand sides `−dGᵀλ` (stationarity),
+/// `−ρ` (active rows and apex cones), `0` (padded components) and `L(λ)ρ` (cones on their
+/// boundary). Returns false (leaving `full` alone) when the active set is degenerate: a
+/// singular system.
+#[allow(clippy::too_many_arguments)]
+fn exact_jacobian<const N: usize>(
+    ctx: &Context<'_>,
+    problem: &Problem<'_, N>,
+    set: &ActiveSet,
+    p: &Point<N>,
+    gens: &[[Mat3; 4]; 2],
+    e: &[Vec3; 2],
+    v: &[Vec3; 2],
+    t: Real,
+    full: &mut Full,
+) -> bool {
+    let ell = ctx.frame.ell;
+    let order = N + set.n;
+    let mut a = [[0.0; MAX_ACTIVE]; MAX_ACTIVE];
+    kkt_matrix(problem, set, p, t, &mut a);
     let perm = match lu_factor_in_place(&mut a, order) {
         Some(p) => p,
         None => return false,
@@ -353,29 +745,29 @@ fn exact_jacobian<const N: usize>(
     let mut b = [[0.0; 14]; MAX_ACTIVE];
     for col in 0..14 {
         let i = col / 7;
-        let p = col % 7;
+        let pp = col % 7;
         let mut rv = [0.0; 4];
-        if p >= 3 {
-            let dgl = -(gens[i][p - 3] * v[i]);
+        if pp >= 3 {
+            let dgl = -(gens[i][pp - 3] * v[i]);
             for j in 0..3 {
                 b[j][col] = -dgl[j];
             }
         }
-        for (qi, eq) in eqs[..n_eq].iter().enumerate() {
-            if shape_of_eq[qi] != i {
+        for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+            if set.shape[qi] != i {
                 continue;
             }
             b[N + qi][col] = match *eq {
-                Eq::Lp(j) => -rho_of(&problem.lp[j].g, p, &gens[i], &e[i], ell),
-                Eq::SocApex(k, c) => -rho_of(&problem.soc[k].g[c], p, &gens[i], &e[i], ell),
+                Eq::Lp(j) => -rho_of(&problem.lp[j].g, pp, &gens[i], &e[i], ell),
+                Eq::SocApex(k, c) => -rho_of(&problem.soc[k].g[c], pp, &gens[i], &e[i], ell),
                 Eq::SocPad(_) => 0.0,
                 Eq::SocBound(k, c) => {
                     let bk = &problem.soc[k];
                     if c == 0 {
                         // ρ of the whole cone, computed once per column (components follow).
-                        rv = [0, 1, 2, 3].map(|r| rho_of(&bk.g[r], p, &gens[i], &e[i], ell));
+                        rv = [0, 1, 2, 3].map(|r| rho_of(&bk.g[r], pp, &gens[i], &e[i], ell));
                     }
-                    let l = bk.lam_polished;
+                    let l = [0, 1, 2, 3].map(|r| p.lam[qi - c + r]);
                     if c == 0 {
                         l[0] * rv[0] + l[1] * rv[1] + l[2] * rv[2] + l[3] * rv[3]
                     } else {
@@ -449,6 +841,32 @@ fn lu_factor_in_place(
         }
     }
     Some(ipiv)
+}
+
+/// Solves `A x = b` in place with the factor from [`lu_factor_in_place`].
+fn lu_solve_one(
+    a: &[[Real; MAX_ACTIVE]; MAX_ACTIVE],
+    ipiv: &[usize; MAX_ACTIVE],
+    n: usize,
+    b: &mut [Real; MAX_ACTIVE],
+) {
+    for k in 0..n {
+        b.swap(k, ipiv[k]);
+    }
+    for i in 0..n {
+        let mut acc = b[i];
+        for k in 0..i {
+            acc -= a[i][k] * b[k];
+        }
+        b[i] = acc;
+    }
+    for i in (0..n).rev() {
+        let mut acc = b[i];
+        for k in (i + 1)..n {
+            acc -= a[i][k] * b[k];
+        }
+        b[i] = acc / a[i][i];
+    }
 }
 
 /// Solves `A X = B` in place for all 14 columns of `b` with the factor from
