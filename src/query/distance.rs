@@ -3,21 +3,29 @@
 //!
 //! `minimise t  over y₁, y₂, t (and the shapes' slacks)  s.t.  ‖y₁ − y₂‖ ≤ t,  yᵢ ∈ Sᵢ(1)`.
 //!
-//! Coordinates are normalised as for proximity (origin at `r₁`, lengths over `ℓ`), and the
-//! start is strictly feasible: each `yᵢ` at its shape's origin (strictly inside), `t` above
-//! their distance. Overlapping or touching shapes drive `t*` to zero; a `t*` within the solver
+//! Coordinates are normalised as for proximity (origin at `r₁`, lengths over `ℓ`), and each
+//! point is a variable in its own shape's body axes, `yᵢ = cᵢ + Qᵢuᵢ`: the shape's rows keep
+//! their body-frame coefficients and the rotations appear only in the distance cone
+//! `(t, Q₁u₁ − Q₂u₂ − c₂)`. With the points in world axes, a thin shape's large coefficients
+//! (a polytope 1e-3 thin has rows like `(n_x, n_y, 1000 n_z)`) were rotated into all three
+//! columns of its point, and near the optimum the active rows' weights `λ/s ~ 1/μ` times those
+//! coefficients left the normal equations too ill-conditioned to resolve the distance's
+//! tangent directions (their pivots fell to the rounding level), so the dual residual grew
+//! instead of converging. The start is strictly feasible: each `uᵢ = 0` (its shape's origin,
+//! strictly inside), `t` above their distance. Overlapping or touching shapes drive `t*` to zero; a `t*` within the solver
 //! tolerance of zero is reported as exactly 0 with both witness points at the midpoint of the
 //! solver's `y₁*, y₂*` (a point in both shapes to that tolerance) and a zero normal.
 //!
 //! The gradient of `d*` for separated shapes comes from the Lagrangian exactly as for α*:
-//! `∂d/∂rᵢ = vᵢ` and `∂d/∂q_k = −ℓ eᵢᵀ M_k vᵢ` with `vᵢ = Σ λ̄ a` over shape i's rows and
-//! `eᵢ = (yᵢ* − rᵢ)/ℓ`.
+//! `∂d/∂rᵢ = vᵢ` and `∂d/∂q_k = −ℓ eᵢᵀ M_k vᵢ` with `vᵢ = Σ λ̄ a` over shape i's rows (`a`
+//! the row's normal in world axes, `Qᵢ` times its body-frame coefficients) and
+//! `eᵢ = Qᵢuᵢ* = (yᵢ* − rᵢ)/ℓ`.
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::derivatives::{rotation_generators, row_ranges};
 use super::proximity::{robust_norm, Options};
 use crate::error::{Error, ErrorDetail};
-use crate::math::{Pose, Real, Vec3};
+use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
 use crate::solver::{LpRow, Problem, SolveStatus, Threshold};
 
@@ -51,6 +59,8 @@ struct DistanceTask<'q> {
     ell: Real,
     place1: Placement,
     place2: Placement,
+    /// Origin of shape 2 in solver coordinates, `(r₂ − r₁)/ℓ`.
+    center2: Vec3,
     gradient: bool,
     /// Stop as soon as the distance is proven above this (world units).
     cutoff: Option<Real>,
@@ -66,31 +76,35 @@ impl Task for DistanceTask<'_> {
         problem.c[t_col] = 1.0;
         let next = add_shape(&mut problem, self.shape1, self.place1, inv, 0);
         add_shape(&mut problem, self.shape2, self.place2, inv, next);
-        // ‖y₁ − y₂‖ ≤ t as the last cone: s = (t, y₁ − y₂) = h − G z.
+        // ‖y₁ − y₂‖ ≤ t as the last cone, with yᵢ = cᵢ + Qᵢuᵢ:
+        // s = (t, Q₁u₁ − Q₂u₂ − c₂) = h − G z.
+        let (q1, q2) = (self.pose1.rotation(), self.pose2.rotation());
+        let c2 = self.center2;
         let k = problem.n_soc;
         let cone = &mut problem.soc[k];
         cone.g = [[0.0; N]; 4];
         cone.h = [0.0; 4];
         cone.g[0][t_col] = -1.0;
         for j in 0..3 {
-            cone.g[1 + j][j] = -1.0;
-            cone.g[1 + j][3 + j] = 1.0;
+            cone.h[1 + j] = -c2[j];
+            for col in 0..3 {
+                cone.g[1 + j][col] = -q1[(j, col)];
+                cone.g[1 + j][3 + col] = q2[(j, col)];
+            }
         }
         problem.n_soc += 1;
-        let c2 = self.place2.center;
+        // Each uᵢ at its shape's origin (strictly inside), t above their distance.
         let mut z0 = [0.0; N];
-        for j in 0..3 {
-            z0[3 + j] = c2[j];
-        }
         z0[t_col] = 1.1 * c2.norm() + 0.5;
         let mu0 = z0[t_col] / (problem.lp.len() + problem.n_soc) as Real;
-        // ‖z*‖₁ ≤ 3(ρ₁' + |c₂| + ρ₂') + t* + slacks (each slack at most its shape's radius).
+        // ‖z*‖₁ ≤ 3(ρ₁' + ρ₂') + t* + slacks (‖uᵢ‖ ≤ ρᵢ', each slack at most its shape's
+        // radius).
         let cutoff = self.cutoff.map(|d| {
             let r1 = self.shape1.bounding_radius() * inv;
             let r2 = self.shape2.bounding_radius() * inv;
             Threshold {
                 value: d * inv,
-                z_bound_abs: 3.0 * (r1 + c2.norm() + r2) + 2.0 * (r1 + r2),
+                z_bound_abs: 5.0 * (r1 + r2),
                 z_bound_rel: 1.0,
                 stop_below: false,
             }
@@ -109,13 +123,16 @@ impl Task for DistanceTask<'_> {
         }
         let z = &outcome.z;
         let r1 = *self.pose1.position();
-        let y1 = Vec3::new(z[0], z[1], z[2]);
-        let y2 = Vec3::new(z[3], z[4], z[5]);
+        // Offsets from each origin (solver units, world axes) and the points themselves.
+        let e1 = q1 * Vec3::new(z[0], z[1], z[2]);
+        let e2 = q2 * Vec3::new(z[3], z[4], z[5]);
+        let y1 = e1;
+        let y2 = c2 + e2;
         let t = z[t_col].max(0.0);
         let mut result = Distance {
             distance: t * self.ell,
-            closest1: r1 + y1 * self.ell,
-            closest2: r1 + y2 * self.ell,
+            closest1: r1 + e1 * self.ell,
+            closest2: self.pose2.position() + e2 * self.ell,
             normal: Vec3::zeros(),
             iterations: outcome.iterations,
             status: outcome.status,
@@ -151,10 +168,13 @@ impl Task for DistanceTask<'_> {
                 rotation_generators(self.pose2),
             ];
             let places = [&self.place1, &self.place2];
-            let ys = [y1, y2];
+            let rotations = [q1, q2];
+            let es = [e1, e2];
             for (i, r) in ranges.iter().enumerate() {
                 let pc = places[i].point_col;
-                let a = |g: &[Real; N]| Vec3::new(-g[pc], -g[pc + 1], -g[pc + 2]);
+                // A row's normal in world axes: the body-frame row rotated by Qᵢ.
+                let qi = rotations[i];
+                let a = |g: &[Real; N]| qi * Vec3::new(-g[pc], -g[pc + 1], -g[pc + 2]);
                 let mut v = Vec3::zeros();
                 for row in &problem.lp[r.lp.clone()] {
                     v += a(&row.g) * row.lam_polished;
@@ -165,7 +185,7 @@ impl Task for DistanceTask<'_> {
                         v += a(gr) * *l;
                     }
                 }
-                let e = ys[i] - places[i].center;
+                let e = es[i];
                 for j in 0..3 {
                     grad[7 * i + j] = v[j];
                 }
@@ -237,7 +257,7 @@ fn distance_query_until(
         options,
         ell,
         place1: Placement {
-            rotation: *pose1.rotation(),
+            rotation: Mat3::identity(),
             center: Vec3::zeros(),
             point_col: 0,
             alpha_col: None,
@@ -245,13 +265,14 @@ fn distance_query_until(
             slacks: k1,
         },
         place2: Placement {
-            rotation: *pose2.rotation(),
-            center: offset / ell,
+            rotation: Mat3::identity(),
+            center: Vec3::zeros(),
             point_col: 3,
             alpha_col: None,
             slack_col: 7 + k1,
             slacks: k2,
         },
+        center2: offset / ell,
         gradient,
         cutoff,
     };

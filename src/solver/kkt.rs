@@ -3,6 +3,19 @@
 
 use crate::math::Real;
 
+/// Rounding level of a Cholesky pivot, relative to the diagonal entry it is measured against.
+const PIVOT_FLOOR: Real = 1e-14;
+
+/// What a small Cholesky pivot is measured against (see [`Normal::factor`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PivotFloor {
+    /// `1e-14 · max_i H_ii`: every pivot of a nearly singular matrix is regularised.
+    Largest,
+    /// `1e-14 · H_jj` (its own diagonal entry): only pivots at the rounding level of their own
+    /// Schur complement are raised.
+    Own,
+}
+
 /// A symmetric positive definite matrix of order `N` and its Cholesky factor.
 #[derive(Clone, Copy, Debug)]
 pub struct Normal<const N: usize> {
@@ -10,6 +23,8 @@ pub struct Normal<const N: usize> {
     a: [[Real; N]; N],
     /// `1/L[i][i]` after `factor`, so that solves multiply instead of dividing.
     inv_diag: [Real; N],
+    /// See [`Normal::has_weak_pivot`].
+    weak: bool,
 }
 
 impl<const N: usize> Normal<N> {
@@ -18,6 +33,7 @@ impl<const N: usize> Normal<N> {
         Normal {
             a: [[0.0; N]; N],
             inv_diag: [0.0; N],
+            weak: false,
         }
     }
 
@@ -47,10 +63,17 @@ impl<const N: usize> Normal<N> {
         }
     }
 
-    /// Cholesky in place. Pivots smaller than `eps·max diag` are raised to it (a static
-    /// regularisation that keeps the direction a descent direction). Returns false when the
-    /// matrix has non-finite entries or no positive diagonal at all.
-    pub fn factor(&mut self) -> bool {
+    /// Cholesky in place. A pivot not above the floor is raised to it: a static regularisation
+    /// that keeps the direction a descent direction. With [`PivotFloor::Largest`] the floor is
+    /// `1e-14 · max_i H_ii`; with [`PivotFloor::Own`] it is `1e-14 · H_jj`, and
+    /// [`Normal::has_weak_pivot`] then tells whether a pivot was kept that the `Largest` floor
+    /// would have raised. Near convergence an active constraint's weight `λ/s` grows like
+    /// `1/μ`, so the `Largest` floor soon swamps the O(1) pivot of a weakly curved direction
+    /// (the tangent plane of a distance); the `Own` floor keeps it, but a pivot of a direction
+    /// that is singular at the solution (a parallel contact) is then left at the rounding level,
+    /// so a direction solved with it must be checked. Returns false when the matrix has
+    /// non-finite entries or no positive diagonal at all.
+    pub fn factor(&mut self, floor: PivotFloor) -> bool {
         let n = N;
         let mut dmax: Real = 0.0;
         for i in 0..n {
@@ -63,8 +86,15 @@ impl<const N: usize> Normal<N> {
         if dmax <= 0.0 {
             return false;
         }
-        let floor = dmax * 1e-14;
+        let largest = PIVOT_FLOOR * dmax;
+        self.weak = false;
         for j in 0..n {
+            // Column j's diagonal is still the original entry here (step k writes column k).
+            let own = self.a[j][j];
+            let floor = match floor {
+                PivotFloor::Own if own > 0.0 => PIVOT_FLOOR * own,
+                _ => largest,
+            };
             let mut d = self.a[j][j];
             for k in 0..j {
                 d -= self.a[j][k] * self.a[j][k];
@@ -72,6 +102,7 @@ impl<const N: usize> Normal<N> {
             if !(d > floor) {
                 d = floor;
             }
+            self.weak |= d <= largest;
             let l = d.sqrt();
             self.a[j][j] = l;
             let inv = 1.0 / l;
@@ -85,6 +116,12 @@ impl<const N: usize> Normal<N> {
             }
         }
         true
+    }
+
+    /// After [`Normal::factor`] with [`PivotFloor::Own`]: whether a pivot at or below
+    /// `1e-14 · max_i H_ii` was kept (the factor then differs from the `Largest` one).
+    pub fn has_weak_pivot(&self) -> bool {
+        self.weak
     }
 
     /// Solves `H x = b` in place with the factor from [`Normal::factor`].
@@ -193,7 +230,7 @@ mod tests {
                 }
             }
         }
-        assert!(h.factor());
+        assert!(h.factor(PivotFloor::Own));
         let x = [1.0, -2.0, 0.5];
         let mut b = [0.0; 3];
         for i in 0..3 {

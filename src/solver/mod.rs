@@ -18,7 +18,7 @@ pub use status::SolveStatus;
 
 use crate::math::Real;
 use cones::{jdot, jprod, jsolve, soc_step, SocScaling, SocVec, SOC_MAX_DIM};
-use kkt::{Lu, Normal};
+use kkt::{Lu, Normal, PivotFloor};
 
 const D: usize = SOC_MAX_DIM;
 
@@ -26,6 +26,10 @@ const D: usize = SOC_MAX_DIM;
 const REFINE_PASSES: usize = 1;
 /// Refinement runs once the duality gap (relative) is below this.
 const REFINE_BELOW_GAP: Real = 1e-5;
+
+/// A Newton direction solved with a factor that kept weak pivots is used only if it satisfies
+/// the dual equation `Gᵀdλ = −r_d` to this fraction of `max(‖r_d‖∞, dual residual limit)`.
+const WEAK_PIVOT_DUAL_ERROR: Real = 0.1;
 
 /// Largest change of a multiplier, relative to the largest multiplier, that the final polish
 /// may make (an interior iterate's multipliers are O(√μ) off on curved contacts).
@@ -244,9 +248,9 @@ impl<'a, const N: usize> Problem<'a, N> {
         (self.lp.len() + self.n_soc) as Real
     }
 
-    /// Builds the normal matrix `Gᵀ W⁻² G` at the current iterate (scalings must be current)
-    /// and factors it.
-    fn normal_matrix(&self) -> Option<Normal<N>> {
+    /// Builds the normal matrix `Gᵀ W⁻² G` at the current iterate (scalings must be current),
+    /// not yet factored.
+    fn normal_matrix(&self) -> Normal<N> {
         let mut h = Normal::zeros();
         for row in self.lp.iter() {
             h.add_rank1(row.d, &row.g);
@@ -260,11 +264,71 @@ impl<'a, const N: usize> Problem<'a, N> {
             h.add_rank1(2.0 * e2, &a);
             h.add_scaled(-e2, &b.gjg);
         }
-        if h.factor() {
-            Some(h)
-        } else {
-            None
+        h
+    }
+
+    /// `‖r_d + Gᵀdλ‖∞` for the direction held in the blocks: how far it misses the dual
+    /// equation.
+    fn dual_equation_error(&self, rd: &[Real; N]) -> Real {
+        let mut e = *rd;
+        for row in self.lp.iter() {
+            for i in 0..N {
+                e[i] += row.g[i] * row.dlam;
+            }
         }
+        for b in self.soc[..self.n_soc].iter() {
+            gtmul_add(&mut e, &b.g, &b.dlam, 1.0);
+        }
+        e.iter().map(|v| v.abs()).fold(0.0, Real::max)
+    }
+
+    /// The Mehrotra predictor-corrector direction with the factored normal matrix `kkt`:
+    /// leaves `ds`, `dλ` of the corrector in the blocks and returns `dz`.
+    fn predictor_corrector(
+        &mut self,
+        kkt: &Normal<N>,
+        rd: &[Real; N],
+        refine: bool,
+        gap: Real,
+    ) -> [Real; N] {
+        // Predictor: rc = −v∘v.
+        for row in self.lp.iter_mut() {
+            row.rc = -row.s * row.lam;
+        }
+        for b in self.soc[..self.n_soc].iter_mut() {
+            let vv = jprod(&b.sc.v, &b.sc.v);
+            b.rc = [-vv[0], -vv[1], -vv[2], -vv[3]];
+        }
+        self.direction(kkt, rd, refine);
+        let t_aff = self.max_step().min(1.0);
+        let mu = gap / self.degree();
+        // Gap after the affine step, for σ.
+        let mut gap_aff = 0.0;
+        for row in self.lp.iter() {
+            gap_aff += (row.s + t_aff * row.ds) * (row.lam + t_aff * row.dlam);
+        }
+        for b in self.soc[..self.n_soc].iter() {
+            for i in 0..D {
+                gap_aff += (b.s[i] + t_aff * b.ds[i]) * (b.lam[i] + t_aff * b.dlam[i]);
+            }
+        }
+        let ratio = (gap_aff / gap).clamp(0.0, 1.0);
+        let sigma = ratio * ratio * ratio;
+        // Corrector: rc = −v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe.
+        for row in self.lp.iter_mut() {
+            row.rc = -row.s * row.lam - row.ds * row.dlam + sigma * mu;
+        }
+        for b in self.soc[..self.n_soc].iter_mut() {
+            let a = b.sc.apply_inv(&b.ds);
+            let c = b.sc.apply(&b.dlam);
+            let corr = jprod(&a, &c);
+            let vv = jprod(&b.sc.v, &b.sc.v);
+            for i in 0..D {
+                b.rc[i] = -vv[i] - corr[i];
+            }
+            b.rc[0] += sigma * mu;
+        }
+        self.direction(kkt, rd, refine)
     }
 
     /// `GᵀDG` with `D = L(s)⁻¹L(λ)` at the current iterate (`None` if not finite).
@@ -664,7 +728,6 @@ impl<'a, const N: usize> Problem<'a, N> {
                     .flat_map(|b| b.g.iter().flatten()),
             )
             .fold(0.0, |m: Real, v| m.max(v.abs()));
-        let nu = self.degree();
         let tol = settings.tolerance;
         let mut outcome = Outcome {
             status: SolveStatus::MaxIterations,
@@ -759,56 +822,36 @@ impl<'a, const N: usize> Problem<'a, N> {
                     return outcome;
                 }
             }
-            let kkt = match self.normal_matrix() {
-                Some(k) => k,
-                None => {
+            // The normal matrix is factored keeping every pivot above its own rounding level
+            // (weakly curved directions stay resolved); if that kept a pivot the conservative
+            // floor would have raised and the direction then misses the dual equation (the
+            // pivot was rounding noise: a direction that is singular at the solution), the
+            // direction is recomputed with the conservative floor.
+            let h = self.normal_matrix();
+            let mut kkt = h;
+            if !kkt.factor(PivotFloor::Own) {
+                if let Some(done) = saved {
+                    return done;
+                }
+                outcome.status = SolveStatus::NumericalFailure;
+                return outcome;
+            }
+            // Rounding in the normal equations only matters once the scaling is extreme.
+            let refine = gap < REFINE_BELOW_GAP * scale;
+            let mut dz = self.predictor_corrector(&kkt, &rd, refine, gap);
+            if kkt.has_weak_pivot()
+                && !(self.dual_equation_error(&rd) <= WEAK_PIVOT_DUAL_ERROR * dres.max(dres_limit))
+            {
+                kkt = h;
+                if !kkt.factor(PivotFloor::Largest) {
                     if let Some(done) = saved {
                         return done;
                     }
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
-            };
-            // Predictor: rc = −v∘v.
-            for row in self.lp.iter_mut() {
-                row.rc = -row.s * row.lam;
+                dz = self.predictor_corrector(&kkt, &rd, refine, gap);
             }
-            for b in self.soc[..self.n_soc].iter_mut() {
-                let vv = jprod(&b.sc.v, &b.sc.v);
-                b.rc = [-vv[0], -vv[1], -vv[2], -vv[3]];
-            }
-            // Rounding in the normal equations only matters once the scaling is extreme.
-            let refine = gap < REFINE_BELOW_GAP * scale;
-            self.direction(&kkt, &rd, refine);
-            let t_aff = self.max_step().min(1.0);
-            let mu = gap / nu;
-            // Gap after the affine step, for σ.
-            let mut gap_aff = 0.0;
-            for row in self.lp.iter() {
-                gap_aff += (row.s + t_aff * row.ds) * (row.lam + t_aff * row.dlam);
-            }
-            for b in self.soc[..self.n_soc].iter() {
-                for i in 0..D {
-                    gap_aff += (b.s[i] + t_aff * b.ds[i]) * (b.lam[i] + t_aff * b.dlam[i]);
-                }
-            }
-            let ratio = (gap_aff / gap).clamp(0.0, 1.0);
-            let sigma = ratio * ratio * ratio;
-            // Corrector: rc = −v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe.
-            for row in self.lp.iter_mut() {
-                row.rc = -row.s * row.lam - row.ds * row.dlam + sigma * mu;
-            }
-            for b in self.soc[..self.n_soc].iter_mut() {
-                let a = b.sc.apply_inv(&b.ds);
-                let c = b.sc.apply(&b.dlam);
-                let corr = jprod(&a, &c);
-                let vv = jprod(&b.sc.v, &b.sc.v);
-                for i in 0..D {
-                    b.rc[i] = -vv[i] - corr[i];
-                }
-                b.rc[0] += sigma * mu;
-            }
-            let dz = self.direction(&kkt, &rd, refine);
             let t = (0.99 * self.max_step()).min(1.0);
             if !(t > 0.0) || !dz.iter().all(|v| v.is_finite()) {
                 if let Some(done) = saved {
