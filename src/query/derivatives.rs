@@ -741,33 +741,55 @@ fn exact_jacobian<const N: usize>(
         Some(p) => p,
         None => return false,
     };
-    // All 14 right-hand sides at once: b[row][col].
-    let mut b = [[0.0; 14]; MAX_ACTIVE];
+    // Only the (x, α) rows of A⁻¹B are wanted: with Y = A⁻ᵀ[e₀ e₁ e₂ e₃] (four solves with
+    // the transposed factor instead of fourteen), J = Yᵀ B, accumulated one row of B at a time.
+    let mut y = [[0.0; 4]; MAX_ACTIVE];
+    for (r, yr) in y.iter_mut().take(4).enumerate() {
+        yr[r] = 1.0;
+    }
+    lu_solve_transposed4(&a, &perm, order, &mut y);
+    // ρ of a quaternion column is −(M_k a)·eᵢ = −a·(M_kᵀ eᵢ): the vectors M_kᵀ eᵢ once.
+    let mut u = [[Vec3::zeros(); 4]; 2];
+    for i in 0..2 {
+        for k in 0..4 {
+            u[i][k] = gens[i][k].transpose() * e[i];
+        }
+    }
+    let rho = |g: &[Real; N], i: usize, pp: usize| -> Real {
+        if pp < 3 {
+            -g[pp] / ell
+        } else {
+            -gx(g).dot(&u[i][pp - 3])
+        }
+    };
+    let mut jac = [[0.0; 14]; 4];
     for col in 0..14 {
         let i = col / 7;
         let pp = col % 7;
         let mut rv = [0.0; 4];
+        let mut acc = [0.0; 4];
         if pp >= 3 {
-            let dgl = -(gens[i][pp - 3] * v[i]);
-            for j in 0..3 {
-                b[j][col] = -dgl[j];
+            // Stationarity rows: B[j] = (M_k vᵢ)[j] for the x-columns.
+            let dgl = gens[i][pp - 3] * v[i];
+            for r in 0..4 {
+                acc[r] += y[0][r] * dgl[0] + y[1][r] * dgl[1] + y[2][r] * dgl[2];
             }
         }
         for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
             if set.shape[qi] != i {
                 continue;
             }
-            b[N + qi][col] = match *eq {
-                Eq::Lp(j) => -rho_of(&problem.lp[j].g, pp, &gens[i], &e[i], ell),
-                Eq::SocApex(k, c) => -rho_of(&problem.soc[k].g[c], pp, &gens[i], &e[i], ell),
+            let bq = match *eq {
+                Eq::Lp(j) => -rho(&problem.lp[j].g, i, pp),
+                Eq::SocApex(k, c) => -rho(&problem.soc[k].g[c], i, pp),
                 Eq::SocPad(_) => 0.0,
                 Eq::SocBound(k, c) => {
                     let bk = &problem.soc[k];
                     if c == 0 {
                         // ρ of the whole cone, computed once per column (components follow).
-                        rv = [0, 1, 2, 3].map(|r| rho_of(&bk.g[r], pp, &gens[i], &e[i], ell));
+                        rv = [0, 1, 2, 3].map(|r| rho(&bk.g[r], i, pp));
                     }
-                    let l = [0, 1, 2, 3].map(|r| p.lam[qi - c + r]);
+                    let l = &p.lam[qi - c..qi - c + 4];
                     if c == 0 {
                         l[0] * rv[0] + l[1] * rv[1] + l[2] * rv[2] + l[3] * rv[3]
                     } else {
@@ -775,24 +797,20 @@ fn exact_jacobian<const N: usize>(
                     }
                 }
             };
+            if bq != 0.0 {
+                let yq = &y[N + qi];
+                for r in 0..4 {
+                    acc[r] += yq[r] * bq;
+                }
+            }
         }
-    }
-    lu_solve_multi(&a, &perm, order, &mut b);
-    let mut finite = true;
-    for row in &b[..order] {
-        for v in row {
-            finite &= v.is_finite();
-        }
-    }
-    if !finite {
-        return false;
-    }
-    let mut jac = [[0.0; 14]; 4];
-    for col in 0..14 {
         for j in 0..3 {
-            jac[j][col] = b[j][col] * ell;
+            jac[j][col] = acc[j] * ell;
         }
-        jac[3][col] = b[3][col];
+        jac[3][col] = acc[3];
+    }
+    if !jac.iter().flatten().all(|v| v.is_finite()) {
+        return false;
     }
     full.jacobian = jac;
     true
@@ -826,17 +844,22 @@ fn lu_factor_in_place(
         if !(piv.abs() > 1e-14 * big) {
             return None;
         }
-        a.swap(k, p);
+        if p != k {
+            let (lo, hi) = a.split_at_mut(p);
+            lo[k][..n].swap_with_slice(&mut hi[0][..n]);
+        }
         ipiv[k] = p;
-        let pivot_row = a[k];
-        for i in (k + 1)..n {
-            let f = a[i][k] / piv;
-            a[i][k] = f;
+        let inv = 1.0 / piv;
+        let (top, below) = a.split_at_mut(k + 1);
+        let pivot_row = &top[k][..n];
+        for row in below[..n - k - 1].iter_mut() {
+            let f = row[k] * inv;
+            row[k] = f;
             if f == 0.0 {
                 continue;
             }
-            for j in (k + 1)..n {
-                a[i][j] -= f * pivot_row[j];
+            for (x, pv) in row[k + 1..n].iter_mut().zip(&pivot_row[k + 1..]) {
+                *x -= f * pv;
             }
         }
     }
@@ -869,46 +892,38 @@ fn lu_solve_one(
     }
 }
 
-/// Solves `A X = B` in place for all 14 columns of `b` with the factor from
-/// [`lu_factor_in_place`] (row operations on 14-wide rows).
-fn lu_solve_multi(
+/// Solves `Aᵀ Y = B` in place for four right-hand sides (the columns of `b`, stored row by
+/// row) with the factor from [`lu_factor_in_place`]: `PA = LU`, so `Aᵀ = UᵀLᵀP`, a forward
+/// solve with `Uᵀ` and a backward one with the unit `Lᵀ` (both sweeping rows of the factor),
+/// then `Pᵀ`.
+fn lu_solve_transposed4(
     a: &[[Real; MAX_ACTIVE]; MAX_ACTIVE],
     ipiv: &[usize; MAX_ACTIVE],
     n: usize,
-    b: &mut [[Real; 14]; MAX_ACTIVE],
+    b: &mut [[Real; 4]; MAX_ACTIVE],
 ) {
     for k in 0..n {
+        let inv = 1.0 / a[k][k];
+        let wk = b[k].map(|v| v * inv);
+        b[k] = wk;
+        for i in (k + 1)..n {
+            let u = a[k][i];
+            for c in 0..4 {
+                b[i][c] -= u * wk[c];
+            }
+        }
+    }
+    for k in (0..n).rev() {
+        let vk = b[k];
+        for i in 0..k {
+            let l = a[k][i];
+            for c in 0..4 {
+                b[i][c] -= l * vk[c];
+            }
+        }
+    }
+    for k in (0..n).rev() {
         b.swap(k, ipiv[k]);
-    }
-    for i in 0..n {
-        let (done, rest) = b.split_at_mut(i);
-        let bi = &mut rest[0];
-        for (k, bk) in done.iter().enumerate() {
-            let l = a[i][k];
-            if l == 0.0 {
-                continue;
-            }
-            for c in 0..14 {
-                bi[c] -= l * bk[c];
-            }
-        }
-    }
-    for i in (0..n).rev() {
-        let (head, tail) = b.split_at_mut(i + 1);
-        let bi = &mut head[i];
-        for (k, bk) in tail.iter().enumerate().take(n - i - 1) {
-            let u = a[i][i + 1 + k];
-            if u == 0.0 {
-                continue;
-            }
-            for c in 0..14 {
-                bi[c] -= u * bk[c];
-            }
-        }
-        let inv = 1.0 / a[i][i];
-        for v in bi.iter_mut() {
-            *v *= inv;
-        }
     }
 }
 
