@@ -225,6 +225,8 @@ fn rho_of<const N: usize>(g: &[Real; N], p: usize, gen: &[Mat3; 4], e: &Vec3, el
 
 /// Largest order of the active-set system.
 const MAX_ACTIVE: usize = 24;
+/// The smaller storage size for the active-set system (see [`exact_jacobian`]).
+const SMALL_ACTIVE: usize = 12;
 
 /// `−δ` on the diagonal of each equality row's own multiplier: when more constraints are
 /// active than the dimension needs (a polytope vertex where four or more facets meet), the
@@ -477,12 +479,12 @@ fn soc_apex(s: &[Real; 4], l: &[Real; 4]) -> bool {
 /// slacks `s̄ = (h − G z)/t`): rows `0..N` stationarity `Gᵀdλ`, then one row per equation of
 /// `set` (see [`Eq`]); unknowns `[dz, dλ of each equation]`. It is the Jacobian of the KKT
 /// residual, used both for Newton's method ([`refine`]) and the implicit function theorem.
-fn kkt_matrix<const N: usize>(
+fn kkt_matrix<const N: usize, const M: usize>(
     problem: &Problem<'_, N>,
     set: &ActiveSet,
     p: &Point<N>,
     t: Real,
-    a: &mut [[Real; MAX_ACTIVE]; MAX_ACTIVE],
+    a: &mut [[Real; M]; M],
 ) {
     for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
         let col = N + qi;
@@ -733,9 +735,31 @@ fn exact_jacobian<const N: usize>(
     t: Real,
     full: &mut Full,
 ) -> bool {
+    // The system lives on the stack in the smallest of two sizes that holds it (most active
+    // sets have order ≤ 12; zeroing and sweeping a 24×24 array for them is wasted work).
+    if N + set.n <= SMALL_ACTIVE {
+        exact_jacobian_in::<N, SMALL_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+    } else {
+        exact_jacobian_in::<N, MAX_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+    }
+}
+
+/// [`exact_jacobian`] with storage for a system of order ≤ `M`.
+#[allow(clippy::too_many_arguments)]
+fn exact_jacobian_in<const N: usize, const M: usize>(
+    ctx: &Context<'_>,
+    problem: &Problem<'_, N>,
+    set: &ActiveSet,
+    p: &Point<N>,
+    gens: &[[Mat3; 4]; 2],
+    e: &[Vec3; 2],
+    v: &[Vec3; 2],
+    t: Real,
+    full: &mut Full,
+) -> bool {
     let ell = ctx.frame.ell;
     let order = N + set.n;
-    let mut a = [[0.0; MAX_ACTIVE]; MAX_ACTIVE];
+    let mut a = [[0.0; M]; M];
     kkt_matrix(problem, set, p, t, &mut a);
     let perm = match lu_factor_in_place(&mut a, order) {
         Some(p) => p,
@@ -743,7 +767,7 @@ fn exact_jacobian<const N: usize>(
     };
     // Only the (x, α) rows of A⁻¹B are wanted: with Y = A⁻ᵀ[e₀ e₁ e₂ e₃] (four solves with
     // the transposed factor instead of fourteen), J = Yᵀ B, accumulated one row of B at a time.
-    let mut y = [[0.0; 4]; MAX_ACTIVE];
+    let mut y = [[0.0; 4]; M];
     for (r, yr) in y.iter_mut().take(4).enumerate() {
         yr[r] = 1.0;
     }
@@ -819,11 +843,8 @@ fn exact_jacobian<const N: usize>(
 /// LU with partial pivoting, in place, of the leading `n×n` block of `a`; returns the pivot
 /// row chosen at each step (LAPACK's `ipiv`), or `None` when a pivot is below 1e-14 of the
 /// largest entry (a degenerate active set).
-fn lu_factor_in_place(
-    a: &mut [[Real; MAX_ACTIVE]; MAX_ACTIVE],
-    n: usize,
-) -> Option<[usize; MAX_ACTIVE]> {
-    let mut ipiv = [0usize; MAX_ACTIVE];
+fn lu_factor_in_place<const M: usize>(a: &mut [[Real; M]; M], n: usize) -> Option<[usize; M]> {
+    let mut ipiv = [0usize; M];
     let mut big: Real = 0.0;
     for i in 0..n {
         for j in 0..n {
@@ -867,11 +888,11 @@ fn lu_factor_in_place(
 }
 
 /// Solves `A x = b` in place with the factor from [`lu_factor_in_place`].
-fn lu_solve_one(
-    a: &[[Real; MAX_ACTIVE]; MAX_ACTIVE],
-    ipiv: &[usize; MAX_ACTIVE],
+fn lu_solve_one<const M: usize>(
+    a: &[[Real; M]; M],
+    ipiv: &[usize; M],
     n: usize,
-    b: &mut [Real; MAX_ACTIVE],
+    b: &mut [Real; M],
 ) {
     for k in 0..n {
         b.swap(k, ipiv[k]);
@@ -896,11 +917,11 @@ fn lu_solve_one(
 /// row) with the factor from [`lu_factor_in_place`]: `PA = LU`, so `Aᵀ = UᵀLᵀP`, a forward
 /// solve with `Uᵀ` and a backward one with the unit `Lᵀ` (both sweeping rows of the factor),
 /// then `Pᵀ`.
-fn lu_solve_transposed4(
-    a: &[[Real; MAX_ACTIVE]; MAX_ACTIVE],
-    ipiv: &[usize; MAX_ACTIVE],
+fn lu_solve_transposed4<const M: usize>(
+    a: &[[Real; M]; M],
+    ipiv: &[usize; M],
     n: usize,
-    b: &mut [[Real; 4]; MAX_ACTIVE],
+    b: &mut [[Real; 4]; M],
 ) {
     for k in 0..n {
         let inv = 1.0 / a[k][k];
