@@ -21,7 +21,7 @@
 use super::proximity::{query, Context, Full, Options, Proximity, Want};
 use crate::error::Error;
 use crate::math::{rotation_derivatives, Mat3, Pose, Real, Vec3};
-use crate::shapes::{ConicShape, Shape};
+use crate::shapes::{ConicShape, Shape, ShapeKind};
 use crate::solver::cones::jprod;
 use crate::solver::{Outcome, Problem};
 
@@ -109,10 +109,16 @@ pub(crate) fn compute<const N: usize>(
     let frame = &ctx.frame;
     let ell = frame.ell;
     let t = 1.0 / frame.point_factor() * ell; // κℓ/dist: solver = t · physical (ξ, α, w)
-    let gens = [
-        rotation_generators(ctx.pose1),
-        rotation_generators(ctx.pose2),
-    ];
+                                              // A sphere's set does not depend on its attitude, so every derivative with respect to its
+                                              // quaternion is exactly zero: zero generators make every route give exact zeros, and the
+                                              // Jacobian skips those columns.
+    let gens = [(ctx.shape1, ctx.pose1), (ctx.shape2, ctx.pose2)].map(|(shape, pose)| {
+        if attitude_free(shape) {
+            [Mat3::zeros(); 4]
+        } else {
+            rotation_generators(pose)
+        }
+    });
     let ranges = row_ranges(ctx.shape1, ctx.shape2);
     // The polish was accepted (else there is no reliable solution point, only the
     // barrier-smoothed Jacobian); near an active-set change, the refined point.
@@ -179,6 +185,13 @@ pub(crate) fn compute<const N: usize>(
     if !exact || !consistent(&full.jacobian, &full.gradient, ell) {
         smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
     }
+}
+
+/// Whether a shape is unchanged by every rotation about its origin (a sphere), so that nothing
+/// depends on its quaternion.
+#[inline]
+fn attitude_free(shape: &Shape) -> bool {
+    shape.kind() == ShapeKind::Sphere
 }
 
 /// Identities every correct Jacobian satisfies, checked before the active-set one is trusted (a
@@ -869,9 +882,13 @@ fn reduced_jacobian<const N: usize, const M: usize>(
         }
     };
     let mut jac = [[0.0; 14]; 4];
+    let fixed = [attitude_free(ctx.shape1), attitude_free(ctx.shape2)];
     for col in 0..14 {
         let i = col / 7;
         let pp = col % 7;
+        if pp >= 3 && fixed[i] {
+            continue; // exactly zero (see `compute`)
+        }
         let mut acc = [0.0; 4];
         if pp >= 3 {
             let dgl = gens[i][pp - 3] * v[i];
@@ -973,9 +990,13 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
         }
     };
     let mut jac = [[0.0; 14]; 4];
+    let fixed = [attitude_free(ctx.shape1), attitude_free(ctx.shape2)];
     for col in 0..14 {
         let i = col / 7;
         let pp = col % 7;
+        if pp >= 3 && fixed[i] {
+            continue; // exactly zero (see `compute`)
+        }
         let mut rv = [0.0; 4];
         let mut acc = [0.0; 4];
         if pp >= 3 {
@@ -1421,5 +1442,53 @@ mod tests {
             worst <= 1e-8,
             "reduced and full Jacobians differ by {worst:e}"
         );
+    }
+
+    /// A sphere's quaternion columns are exactly zero (its set ignores its attitude), and every
+    /// other column equals the generic computation for the same ball written as an ellipsoid
+    /// (`P = I/R²`), whose quaternion columns come out at rounding level.
+    #[test]
+    fn sphere_attitude_columns_are_exactly_zero() {
+        let r = 0.6;
+        let ball = Shape::sphere(r).unwrap();
+        let same = Shape::ellipsoid([
+            [1.0 / (r * r), 0.0, 0.0],
+            [0.0, 1.0 / (r * r), 0.0],
+            [0.0, 0.0, 1.0 / (r * r)],
+        ])
+        .unwrap();
+        let others = [
+            Shape::cuboid(0.5, 0.4, 0.3).unwrap(),
+            Shape::cone(1.1, 0.5).unwrap(),
+            Shape::capsule(0.3, 1.2).unwrap(),
+            Shape::sphere(0.4).unwrap(),
+        ];
+        let pa = Pose::new([0.1, -0.2, 0.3], [0.9, 0.1, -0.3, 0.2]).unwrap();
+        let pb = Pose::new([1.4, 0.5, -0.6], [0.4, -0.5, 0.2, 0.7]).unwrap();
+        let opts = Options::default();
+        for other in &others {
+            let (_, j) = jacobian(&ball, &pa, other, &pb, &opts).unwrap();
+            let (_, g) = crate::gradient(&ball, &pa, other, &pb, &opts).unwrap();
+            let (_, je) = jacobian(&same, &pa, other, &pb, &opts).unwrap();
+            for c in 3..7 {
+                assert_eq!(g[c], 0.0);
+                for row in &j {
+                    assert_eq!(row[c], 0.0);
+                }
+                for row in &je {
+                    assert!(row[c].abs() <= 1e-9, "ellipsoid q column {c}: {}", row[c]);
+                }
+            }
+            for (jr, er) in j.iter().zip(je.iter()) {
+                for c in (0..3).chain(7..14) {
+                    assert!(
+                        (jr[c] - er[c]).abs() <= 1e-8 * (1.0 + er[c].abs()),
+                        "column {c}: sphere {} vs ellipsoid {}",
+                        jr[c],
+                        er[c]
+                    );
+                }
+            }
+        }
     }
 }
