@@ -819,6 +819,13 @@ fn reduced_jacobian<const N: usize, const M: usize>(
         /// Cone `k` on its boundary: `J ŝ`, `γ`.
         Cone(usize, [Real; 4], Real),
     }
+    if set.n == N
+        && set.eqs[..N]
+            .iter()
+            .all(|eq| matches!(eq, Eq::Lp(_) | Eq::SocApex(..)))
+    {
+        return square_jacobian(ctx, problem, set, gens, e, full);
+    }
     let ell = ctx.frame.ell;
     let mut unknowns = [(Unknown::Pad, 0usize); M];
     let mut n = 0;
@@ -953,6 +960,67 @@ fn reduced_jacobian<const N: usize, const M: usize>(
             jac[j][col] = acc[j] * ell;
         }
         jac[3][col] = acc[3];
+    }
+    if !jac.iter().flatten().all(|v| v.is_finite()) {
+        return false;
+    }
+    full.jacobian = jac;
+    true
+}
+
+/// The active-set Jacobian when exactly `N` rows are active and none of them is curved (a
+/// vertex of one polytope on a facet of the other, crossing edges, ...): the active rows alone
+/// fix the solution, `G_A dz = −ρ`, so `dz = −G_A⁻¹ρ` needs only the `N×N` factor of `G_A` and
+/// no multipliers. False when `G_A` is singular (the general system is then tried).
+fn square_jacobian<const N: usize>(
+    ctx: &Context<'_>,
+    problem: &Problem<'_, N>,
+    set: &ActiveSet,
+    gens: &[[Mat3; 4]; 2],
+    e: &[Vec3; 2],
+    full: &mut Full,
+) -> bool {
+    let ell = ctx.frame.ell;
+    let mut a = [[0.0; N]; N];
+    for (row, eq) in a.iter_mut().zip(&set.eqs[..N]) {
+        *row = *eq_g(problem, *eq);
+    }
+    let perm = match lu_factor_in_place(&mut a, N) {
+        Some(p) => p,
+        None => return false,
+    };
+    let mut y = [[0.0; 4]; N];
+    for (r, yr) in y.iter_mut().take(4).enumerate() {
+        yr[r] = 1.0;
+    }
+    lu_solve_transposed4(&a, &perm, N, &mut y);
+    let inv_ell = 1.0 / ell;
+    let fixed = [attitude_free(ctx.shape1), attitude_free(ctx.shape2)];
+    let mut jac = [[0.0; 14]; 4];
+    for (q, eq) in set.eqs[..N].iter().enumerate() {
+        let i = set.shape[q];
+        let g = eq_g(problem, *eq);
+        let a = gx(g);
+        for pp in 0..7 {
+            if pp >= 3 && fixed[i] {
+                continue;
+            }
+            // −ρ: ρ = a_p/ℓ for a position, −(M_k a)·eᵢ for a quaternion.
+            let minus_rho = if pp < 3 {
+                -a[pp] * inv_ell
+            } else {
+                (gens[i][pp - 3] * a).dot(&e[i])
+            };
+            let col = 7 * i + pp;
+            for r in 0..4 {
+                jac[r][col] += y[q][r] * minus_rho;
+            }
+        }
+    }
+    for row in jac.iter_mut().take(3) {
+        for v in row.iter_mut() {
+            *v *= ell;
+        }
     }
     if !jac.iter().flatten().all(|v| v.is_finite()) {
         return false;
