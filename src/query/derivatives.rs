@@ -826,7 +826,6 @@ fn reduced_jacobian<const N: usize, const M: usize>(
     {
         return square_jacobian(ctx, problem, set, gens, e, full);
     }
-    let ell = ctx.frame.ell;
     let mut unknowns = [(Unknown::Pad, 0usize); M];
     let mut n = 0;
     let mut a = [[0.0; M]; M];
@@ -880,34 +879,16 @@ fn reduced_jacobian<const N: usize, const M: usize>(
         }
     }
     let order = N + n;
-    let perm = match lu_factor_in_place(&mut a, order) {
-        Some(p) => p,
+    let y = match xalpha_rows(&mut a, order) {
+        Some(y) => y,
         None => return false,
     };
-    let mut y = [[0.0; 4]; M];
-    for (r, yr) in y.iter_mut().take(4).enumerate() {
-        yr[r] = 1.0;
-    }
-    lu_solve_transposed4(&a, &perm, order, &mut y);
-    let mut u = [[Vec3::zeros(); 4]; 2];
-    for i in 0..2 {
-        for k in 0..4 {
-            u[i][k] = gens[i][k].transpose() * e[i];
-        }
-    }
-    let rho = |g: &[Real; N], i: usize, pp: usize| -> Real {
-        if pp < 3 {
-            -g[pp] / ell
-        } else {
-            -gx(g).dot(&u[i][pp - 3])
-        }
-    };
+    let table = RhoTable::new(ctx, gens, e);
     let mut jac = [[0.0; 14]; 4];
-    let fixed = [attitude_free(ctx.shape1), attitude_free(ctx.shape2)];
     for col in 0..14 {
         let i = col / 7;
         let pp = col % 7;
-        if pp >= 3 && fixed[i] {
+        if table.skip(i, pp) {
             continue; // exactly zero (see `compute`)
         }
         let mut acc = [0.0; 4];
@@ -924,7 +905,7 @@ fn reduced_jacobian<const N: usize, const M: usize>(
             let yq = &y[N + qn];
             match *unknown {
                 Unknown::Row(qi) => {
-                    let bq = -rho(eq_g(problem, set.eqs[qi]), i, pp);
+                    let bq = -table.rho(eq_g(problem, set.eqs[qi]), i, pp);
                     for r in 0..4 {
                         acc[r] += yq[r] * bq;
                     }
@@ -932,7 +913,7 @@ fn reduced_jacobian<const N: usize, const M: usize>(
                 Unknown::Pad => {}
                 Unknown::Cone(k, js, gamma) => {
                     let g = &problem.soc[k].g;
-                    let rv = [0, 1, 2, 3].map(|r| rho(&g[r], i, pp));
+                    let rv = [0, 1, 2, 3].map(|r| table.rho(&g[r], i, pp));
                     // Boundary row: (Jŝ)ᵀρ; stationarity rows: γ GᵀJρ.
                     let bq = js[0] * rv[0] + js[1] * rv[1] + js[2] * rv[2] + js[3] * rv[3];
                     let jr = [
@@ -956,16 +937,11 @@ fn reduced_jacobian<const N: usize, const M: usize>(
                 }
             }
         }
-        for j in 0..3 {
-            jac[j][col] = acc[j] * ell;
+        for r in 0..4 {
+            jac[r][col] = acc[r];
         }
-        jac[3][col] = acc[3];
     }
-    if !jac.iter().flatten().all(|v| v.is_finite()) {
-        return false;
-    }
-    full.jacobian = jac;
-    true
+    store_jacobian(jac, ctx.frame.ell, full)
 }
 
 /// The active-set Jacobian when exactly `N` rows are active and none of them is curved (a
@@ -980,53 +956,30 @@ fn square_jacobian<const N: usize>(
     e: &[Vec3; 2],
     full: &mut Full,
 ) -> bool {
-    let ell = ctx.frame.ell;
     let mut a = [[0.0; N]; N];
     for (row, eq) in a.iter_mut().zip(&set.eqs[..N]) {
         *row = *eq_g(problem, *eq);
     }
-    let perm = match lu_factor_in_place(&mut a, N) {
-        Some(p) => p,
+    let y = match xalpha_rows(&mut a, N) {
+        Some(y) => y,
         None => return false,
     };
-    let mut y = [[0.0; 4]; N];
-    for (r, yr) in y.iter_mut().take(4).enumerate() {
-        yr[r] = 1.0;
-    }
-    lu_solve_transposed4(&a, &perm, N, &mut y);
-    let inv_ell = 1.0 / ell;
-    let fixed = [attitude_free(ctx.shape1), attitude_free(ctx.shape2)];
+    let table = RhoTable::new(ctx, gens, e);
     let mut jac = [[0.0; 14]; 4];
     for (q, eq) in set.eqs[..N].iter().enumerate() {
         let i = set.shape[q];
         let g = eq_g(problem, *eq);
-        let a = gx(g);
         for pp in 0..7 {
-            if pp >= 3 && fixed[i] {
+            if table.skip(i, pp) {
                 continue;
             }
-            // −ρ: ρ = a_p/ℓ for a position, −(M_k a)·eᵢ for a quaternion.
-            let minus_rho = if pp < 3 {
-                -a[pp] * inv_ell
-            } else {
-                (gens[i][pp - 3] * a).dot(&e[i])
-            };
-            let col = 7 * i + pp;
+            let minus_rho = -table.rho(g, i, pp);
             for r in 0..4 {
-                jac[r][col] += y[q][r] * minus_rho;
+                jac[r][7 * i + pp] += y[q][r] * minus_rho;
             }
         }
     }
-    for row in jac.iter_mut().take(3) {
-        for v in row.iter_mut() {
-            *v *= ell;
-        }
-    }
-    if !jac.iter().flatten().all(|v| v.is_finite()) {
-        return false;
-    }
-    full.jacobian = jac;
-    true
+    store_jacobian(jac, ctx.frame.ell, full)
 }
 
 /// [`exact_jacobian`] with storage for a system of order ≤ `M`.
@@ -1042,41 +995,19 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
     t: Real,
     full: &mut Full,
 ) -> bool {
-    let ell = ctx.frame.ell;
     let order = N + set.n;
     let mut a = [[0.0; M]; M];
     kkt_matrix(problem, set, p, t, &mut a);
-    let perm = match lu_factor_in_place(&mut a, order) {
-        Some(p) => p,
+    let y = match xalpha_rows(&mut a, order) {
+        Some(y) => y,
         None => return false,
     };
-    // Only the (x, α) rows of A⁻¹B are wanted: with Y = A⁻ᵀ[e₀ e₁ e₂ e₃] (four solves with
-    // the transposed factor instead of fourteen), J = Yᵀ B, accumulated one row of B at a time.
-    let mut y = [[0.0; 4]; M];
-    for (r, yr) in y.iter_mut().take(4).enumerate() {
-        yr[r] = 1.0;
-    }
-    lu_solve_transposed4(&a, &perm, order, &mut y);
-    // ρ of a quaternion column is −(M_k a)·eᵢ = −a·(M_kᵀ eᵢ): the vectors M_kᵀ eᵢ once.
-    let mut u = [[Vec3::zeros(); 4]; 2];
-    for i in 0..2 {
-        for k in 0..4 {
-            u[i][k] = gens[i][k].transpose() * e[i];
-        }
-    }
-    let rho = |g: &[Real; N], i: usize, pp: usize| -> Real {
-        if pp < 3 {
-            -g[pp] / ell
-        } else {
-            -gx(g).dot(&u[i][pp - 3])
-        }
-    };
+    let table = RhoTable::new(ctx, gens, e);
     let mut jac = [[0.0; 14]; 4];
-    let fixed = [attitude_free(ctx.shape1), attitude_free(ctx.shape2)];
     for col in 0..14 {
         let i = col / 7;
         let pp = col % 7;
-        if pp >= 3 && fixed[i] {
+        if table.skip(i, pp) {
             continue; // exactly zero (see `compute`)
         }
         let mut rv = [0.0; 4];
@@ -1093,14 +1024,14 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
                 continue;
             }
             let bq = match *eq {
-                Eq::Lp(j) => -rho(&problem.lp[j].g, i, pp),
-                Eq::SocApex(k, c) => -rho(&problem.soc[k].g[c], i, pp),
+                Eq::Lp(j) => -table.rho(&problem.lp[j].g, i, pp),
+                Eq::SocApex(k, c) => -table.rho(&problem.soc[k].g[c], i, pp),
                 Eq::SocPad(_) => 0.0,
                 Eq::SocBound(k, c) => {
                     let bk = &problem.soc[k];
                     if c == 0 {
                         // ρ of the whole cone, computed once per column (components follow).
-                        rv = [0, 1, 2, 3].map(|r| rho(&bk.g[r], i, pp));
+                        rv = [0, 1, 2, 3].map(|r| table.rho(&bk.g[r], i, pp));
                     }
                     let l = &p.lam[qi - c..qi - c + 4];
                     if c == 0 {
@@ -1117,10 +1048,75 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
                 }
             }
         }
-        for j in 0..3 {
-            jac[j][col] = acc[j] * ell;
+        for r in 0..4 {
+            jac[r][col] = acc[r];
         }
-        jac[3][col] = acc[3];
+    }
+    store_jacobian(jac, ctx.frame.ell, full)
+}
+
+/// Factors the leading `order×order` block of `a` and returns `Y = A⁻ᵀ[e₀ e₁ e₂ e₃]` (row q
+/// of `Y` holds the four (x, α) components): only those rows of `A⁻¹B` are wanted, so
+/// `J = YᵀB` needs four solves with the transposed factor instead of fourteen. `None` when
+/// the system is singular.
+fn xalpha_rows<const M: usize>(a: &mut [[Real; M]; M], order: usize) -> Option<[[Real; 4]; M]> {
+    let perm = lu_factor_in_place(a, order)?;
+    let mut y = [[0.0; 4]; M];
+    for (r, yr) in y.iter_mut().take(4).enumerate() {
+        yr[r] = 1.0;
+    }
+    lu_solve_transposed4(a, &perm, order, &mut y);
+    Some(y)
+}
+
+/// `ρ = ∂(gᵀz − h)/∂θ` of any row for each pose parameter, with what all rows share
+/// precomputed: `M_kᵀ eᵢ` for the quaternion columns (`−(M_k a)·eᵢ = −a·(M_kᵀ eᵢ)`), `1/ℓ` for
+/// the position ones, and which shapes ignore their attitude (their columns stay zero).
+struct RhoTable {
+    u: [[Vec3; 4]; 2],
+    inv_ell: Real,
+    fixed: [bool; 2],
+}
+
+impl RhoTable {
+    fn new(ctx: &Context<'_>, gens: &[[Mat3; 4]; 2], e: &[Vec3; 2]) -> Self {
+        let mut u = [[Vec3::zeros(); 4]; 2];
+        for i in 0..2 {
+            for k in 0..4 {
+                u[i][k] = gens[i][k].transpose() * e[i];
+            }
+        }
+        RhoTable {
+            u,
+            inv_ell: 1.0 / ctx.frame.ell,
+            fixed: [attitude_free(ctx.shape1), attitude_free(ctx.shape2)],
+        }
+    }
+
+    /// Whether column `pp` of shape `i` is identically zero (a sphere's quaternion).
+    #[inline]
+    fn skip(&self, i: usize, pp: usize) -> bool {
+        pp >= 3 && self.fixed[i]
+    }
+
+    /// ρ of row `g` of shape `i` for its parameter `pp` (0..3 position, 3..7 quaternion).
+    #[inline]
+    fn rho<const N: usize>(&self, g: &[Real; N], i: usize, pp: usize) -> Real {
+        if pp < 3 {
+            -g[pp] * self.inv_ell
+        } else {
+            -gx(g).dot(&self.u[i][pp - 3])
+        }
+    }
+}
+
+/// Stores a Jacobian accumulated in non-dimensional units (the x rows are then multiplied by
+/// `ℓ`); false, leaving `full` alone, when an entry is not finite.
+fn store_jacobian(mut jac: [[Real; 14]; 4], ell: Real, full: &mut Full) -> bool {
+    for row in jac.iter_mut().take(3) {
+        for v in row.iter_mut() {
+            *v *= ell;
+        }
     }
     if !jac.iter().flatten().all(|v| v.is_finite()) {
         return false;
