@@ -380,7 +380,12 @@ fn worse(worst: Real, x: Real) -> Real {
 #[inline]
 fn soc_slack<const N: usize>(problem: &Problem<'_, N>, k: usize, z: &[Real; N]) -> [Real; 4] {
     let b = &problem.soc[k];
-    [0, 1, 2, 3].map(|r| b.h[r] - dotn(&b.g[r], z))
+    [
+        b.h[0] - dotn(&b.g[0], z),
+        b.h[1] - dotn(&b.g[1], z),
+        b.h[2] - dotn(&b.g[2], z),
+        b.h[3] - dotn(&b.g[3], z),
+    ]
 }
 
 /// The row of `G` an equation's multiplier multiplies.
@@ -913,7 +918,12 @@ fn reduced_jacobian<const N: usize, const M: usize>(
                 Unknown::Pad => {}
                 Unknown::Cone(k, js, gamma) => {
                     let g = &problem.soc[k].g;
-                    let rv = [0, 1, 2, 3].map(|r| table.rho(&g[r], i, pp));
+                    let rv = [
+                        table.rho(&g[0], i, pp),
+                        table.rho(&g[1], i, pp),
+                        table.rho(&g[2], i, pp),
+                        table.rho(&g[3], i, pp),
+                    ];
                     // Boundary row: (Jŝ)ᵀρ; stationarity rows: γ GᵀJρ.
                     let bq = js[0] * rv[0] + js[1] * rv[1] + js[2] * rv[2] + js[3] * rv[3];
                     let jr = [
@@ -1031,7 +1041,12 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
                     let bk = &problem.soc[k];
                     if c == 0 {
                         // ρ of the whole cone, computed once per column (components follow).
-                        rv = [0, 1, 2, 3].map(|r| table.rho(&bk.g[r], i, pp));
+                        rv = [
+                            table.rho(&bk.g[0], i, pp),
+                            table.rho(&bk.g[1], i, pp),
+                            table.rho(&bk.g[2], i, pp),
+                            table.rho(&bk.g[3], i, pp),
+                        ];
                     }
                     let l = &p.lam[qi - c..qi - c + 4];
                     if c == 0 {
@@ -1129,6 +1144,7 @@ fn store_jacobian(mut jac: [[Real; 14]; 4], ell: Real, full: &mut Full) -> bool 
 /// row chosen at each step (LAPACK's `ipiv`), or `None` when a pivot is below 1e-14 of the
 /// largest entry (a degenerate active set).
 fn lu_factor_in_place<const M: usize>(a: &mut [[Real; M]; M], n: usize) -> Option<[usize; M]> {
+    let n = n.min(M);
     let mut ipiv = [0usize; M];
     let mut big: Real = 0.0;
     for i in 0..n {
@@ -1210,7 +1226,7 @@ fn lu_solve_transposed4<const M: usize>(
 ) {
     for k in 0..n {
         let inv = 1.0 / a[k][k];
-        let wk = b[k].map(|v| v * inv);
+        let wk = [b[k][0] * inv, b[k][1] * inv, b[k][2] * inv, b[k][3] * inv];
         b[k] = wk;
         for i in (k + 1)..n {
             let u = a[k][i];
