@@ -819,25 +819,25 @@ fn reduced_jacobian<const N: usize, const M: usize>(
     enum Unknown {
         /// Multiplier of an active orthant row or of an apex-cone component (equation index).
         Row(usize),
-        /// A padded cone component at the apex.
-        Pad,
         /// Cone `k` on its boundary: `J ŝ`, `γ`.
         Cone(usize, [Real; 4], Real),
     }
-    if set.n == N
-        && set.eqs[..N]
-            .iter()
-            .all(|eq| matches!(eq, Eq::Lp(_) | Eq::SocApex(..)))
+    let flat = |eq: &Eq| matches!(eq, Eq::Lp(_) | Eq::SocApex(..));
+    let padded = |eq: &Eq| matches!(eq, Eq::SocPad(_));
+    let eqs = &set.eqs[..set.n];
+    if eqs.iter().all(|eq| flat(eq) || padded(eq)) && eqs.iter().filter(|eq| flat(eq)).count() == N
     {
         return square_jacobian(ctx, problem, set, gens, e, full);
     }
-    let mut unknowns = [(Unknown::Pad, 0usize); M];
+    let mut unknowns = [(Unknown::Row(0), 0usize); M];
     let mut n = 0;
     let mut a = [[0.0; M]; M];
     for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
         let unknown = match *eq {
             Eq::Lp(_) | Eq::SocApex(..) => Unknown::Row(qi),
-            Eq::SocPad(_) => Unknown::Pad,
+            // The padded component of a 3-dimensional cone at its apex: its row of G is zero,
+            // so its equation dλ₃ = 0 is decoupled from the rest and is left out.
+            Eq::SocPad(_) => continue,
             Eq::SocBound(k, 0) => {
                 let sb = soc_slack(problem, k, &p.z).map(|x| x / t);
                 let lam0 = p.lam[qi];
@@ -864,7 +864,6 @@ fn reduced_jacobian<const N: usize, const M: usize>(
                 }
                 a[col][col] = -DUAL_REGULARISATION;
             }
-            Unknown::Pad => a[col][col] = 1.0,
             Unknown::Cone(k, js, gamma) => {
                 let g = &problem.soc[k].g;
                 for q in 0..N {
@@ -915,7 +914,6 @@ fn reduced_jacobian<const N: usize, const M: usize>(
                         acc[r] += yq[r] * bq;
                     }
                 }
-                Unknown::Pad => {}
                 Unknown::Cone(k, js, gamma) => {
                     let g = &problem.soc[k].g;
                     let rv = [
@@ -955,7 +953,8 @@ fn reduced_jacobian<const N: usize, const M: usize>(
 }
 
 /// The active-set Jacobian when exactly `N` rows are active and none of them is curved (a
-/// vertex of one polytope on a facet of the other, crossing edges, ...): the active rows alone
+/// vertex of one polytope on a facet of the other, crossing edges, a cone's apex on a facet,
+/// ...): the active rows alone
 /// fix the solution, `G_A dz = −ρ`, so `dz = −G_A⁻¹ρ` needs only the `N×N` factor of `G_A` and
 /// no multipliers. False when `G_A` is singular (the general system is then tried).
 fn square_jacobian<const N: usize>(
@@ -966,9 +965,18 @@ fn square_jacobian<const N: usize>(
     e: &[Vec3; 2],
     full: &mut Full,
 ) -> bool {
+    // The N flat rows (padded apex components, whose rows of G are zero, left out).
+    let mut rows = [0usize; N];
+    let mut n = 0;
+    for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
+        if !matches!(eq, Eq::SocPad(_)) && n < N {
+            rows[n] = qi;
+            n += 1;
+        }
+    }
     let mut a = [[0.0; N]; N];
-    for (row, eq) in a.iter_mut().zip(&set.eqs[..N]) {
-        *row = *eq_g(problem, *eq);
+    for (row, &qi) in a.iter_mut().zip(&rows) {
+        *row = *eq_g(problem, set.eqs[qi]);
     }
     let y = match xalpha_rows(&mut a, N) {
         Some(y) => y,
@@ -976,9 +984,9 @@ fn square_jacobian<const N: usize>(
     };
     let table = RhoTable::new(ctx, gens, e);
     let mut jac = [[0.0; 14]; 4];
-    for (q, eq) in set.eqs[..N].iter().enumerate() {
-        let i = set.shape[q];
-        let g = eq_g(problem, *eq);
+    for (q, &qi) in rows.iter().enumerate() {
+        let i = set.shape[qi];
+        let g = eq_g(problem, set.eqs[qi]);
         for pp in 0..7 {
             if table.skip(i, pp) {
                 continue;
