@@ -1,14 +1,15 @@
 // Development aid for solver work: `trace_case FILE INDEX` solves one reference case and
 // prints the result beside the reference α*; `trace_case time FILE...` (or `timejac`) prints the
-// median time of proximity (or jacobian) over reference files. Pair it with
+// median time of proximity (or jacobian, `timegrad`: gradient) over reference files. Pair it with
 // `valgrind --tool=callgrind` for instruction counts that do not depend on machine load.
 use serde_json::Value;
 #[path = "../tests/common/mod.rs"]
 mod common;
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    if a[1] == "time" || a[1] == "timejac" {
+    if a[1] == "time" || a[1] == "timejac" || a[1] == "timegrad" {
         let jac = a[1] == "timejac";
+        let grad = a[1] == "timegrad";
         let mut all = Vec::new();
         for f in &a[2..] {
             for c in common::load(std::path::Path::new(f)) {
@@ -25,7 +26,11 @@ fn main() {
             for (s1, p1, s2, p2) in &all {
                 let st = std::time::Instant::now();
                 for _ in 0..20 {
-                    if jac {
+                    if grad {
+                        std::hint::black_box(
+                            dcol::gradient(s1, p1, s2, p2, &Default::default()).unwrap(),
+                        );
+                    } else if jac {
                         std::hint::black_box(
                             dcol::jacobian(s1, p1, s2, p2, &Default::default()).unwrap(),
                         );
