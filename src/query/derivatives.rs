@@ -888,20 +888,7 @@ fn reduced_jacobian<const N: usize, const M: usize>(
         None => return false,
     };
     let table = RhoTable::new(ctx, gens, e);
-    let mut jac = [[0.0; 14]; 4];
-    for col in 0..14 {
-        let i = col / 7;
-        let pp = col % 7;
-        if table.skip(i, pp) {
-            continue; // exactly zero (see `compute`)
-        }
-        let mut acc = [0.0; 4];
-        if pp >= 3 {
-            let dgl = gens[i][pp - 3] * v[i];
-            for r in 0..4 {
-                acc[r] += y[0][r] * dgl[0] + y[1][r] * dgl[1] + y[2][r] * dgl[2];
-            }
-        }
+    let jac = table.columns(gens, v, &y, |i, pp, acc| {
         for (qn, (unknown, shape)) in unknowns[..n].iter().enumerate() {
             if *shape != i {
                 continue;
@@ -916,12 +903,7 @@ fn reduced_jacobian<const N: usize, const M: usize>(
                 }
                 Unknown::Cone(k, js, gamma) => {
                     let g = &problem.soc[k].g;
-                    let rv = [
-                        table.rho(&g[0], i, pp),
-                        table.rho(&g[1], i, pp),
-                        table.rho(&g[2], i, pp),
-                        table.rho(&g[3], i, pp),
-                    ];
+                    let rv = table.rho4(g, i, pp);
                     // Boundary row: (Jŝ)ᵀρ; stationarity rows: γ GᵀJρ.
                     let bq = js[0] * rv[0] + js[1] * rv[1] + js[2] * rv[2] + js[3] * rv[3];
                     let jr = [
@@ -945,10 +927,7 @@ fn reduced_jacobian<const N: usize, const M: usize>(
                 }
             }
         }
-        for r in 0..4 {
-            jac[r][col] = acc[r];
-        }
-    }
+    });
     store_jacobian(jac, ctx.frame.ell, full)
 }
 
@@ -1021,22 +1000,8 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
         None => return false,
     };
     let table = RhoTable::new(ctx, gens, e);
-    let mut jac = [[0.0; 14]; 4];
-    for col in 0..14 {
-        let i = col / 7;
-        let pp = col % 7;
-        if table.skip(i, pp) {
-            continue; // exactly zero (see `compute`)
-        }
+    let jac = table.columns(gens, v, &y, |i, pp, acc| {
         let mut rv = [0.0; 4];
-        let mut acc = [0.0; 4];
-        if pp >= 3 {
-            // Stationarity rows: B[j] = (M_k vᵢ)[j] for the x-columns.
-            let dgl = gens[i][pp - 3] * v[i];
-            for r in 0..4 {
-                acc[r] += y[0][r] * dgl[0] + y[1][r] * dgl[1] + y[2][r] * dgl[2];
-            }
-        }
         for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
             if set.shape[qi] != i {
                 continue;
@@ -1046,15 +1011,9 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
                 Eq::SocApex(k, c) => -table.rho(&problem.soc[k].g[c], i, pp),
                 Eq::SocPad(_) => 0.0,
                 Eq::SocBound(k, c) => {
-                    let bk = &problem.soc[k];
                     if c == 0 {
                         // ρ of the whole cone, computed once per column (components follow).
-                        rv = [
-                            table.rho(&bk.g[0], i, pp),
-                            table.rho(&bk.g[1], i, pp),
-                            table.rho(&bk.g[2], i, pp),
-                            table.rho(&bk.g[3], i, pp),
-                        ];
+                        rv = table.rho4(&problem.soc[k].g, i, pp);
                     }
                     let l = &p.lam[qi - c..qi - c + 4];
                     if c == 0 {
@@ -1071,10 +1030,7 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
                 }
             }
         }
-        for r in 0..4 {
-            jac[r][col] = acc[r];
-        }
-    }
+    });
     store_jacobian(jac, ctx.frame.ell, full)
 }
 
@@ -1130,6 +1086,49 @@ impl RhoTable {
         } else {
             -gx(g).dot(&self.u[i][pp - 3])
         }
+    }
+
+    /// ρ of the four rows of a cone block.
+    #[inline]
+    fn rho4<const N: usize>(&self, g: &[[Real; N]; 4], i: usize, pp: usize) -> [Real; 4] {
+        [
+            self.rho(&g[0], i, pp),
+            self.rho(&g[1], i, pp),
+            self.rho(&g[2], i, pp),
+            self.rho(&g[3], i, pp),
+        ]
+    }
+
+    /// `J = YᵀB` column by column, for an active-set system whose first rows are the
+    /// stationarity rows: their right-hand side `−dGᵀλ` (the x-columns `(M_k vᵢ)`, quaternion
+    /// parameters only) is common to every form of the system; `rows(i, pp, acc)` adds the
+    /// rest of column `(i, pp)`. Columns that are identically zero are skipped.
+    fn columns<const M: usize>(
+        &self,
+        gens: &[[Mat3; 4]; 2],
+        v: &[Vec3; 2],
+        y: &[[Real; 4]; M],
+        mut rows: impl FnMut(usize, usize, &mut [Real; 4]),
+    ) -> [[Real; 14]; 4] {
+        let mut jac = [[0.0; 14]; 4];
+        for col in 0..14 {
+            let (i, pp) = (col / 7, col % 7);
+            if self.skip(i, pp) {
+                continue; // exactly zero (see `compute`)
+            }
+            let mut acc = [0.0; 4];
+            if pp >= 3 {
+                let dgl = gens[i][pp - 3] * v[i];
+                for r in 0..4 {
+                    acc[r] += y[0][r] * dgl[0] + y[1][r] * dgl[1] + y[2][r] * dgl[2];
+                }
+            }
+            rows(i, pp, &mut acc);
+            for r in 0..4 {
+                jac[r][col] = acc[r];
+            }
+        }
+        jac
     }
 }
 
