@@ -13,13 +13,6 @@
 // Environment: DCOL_BENCH_CASES (per pair type, default 1500), DCOL_BENCH_REPEAT (default 5),
 // DCOL_BENCH_SEED (default 20240501), DCOL_BENCH_OUT (results directory, default "results").
 
-#include <fcl/geometry/shape/box.h>
-#include <fcl/geometry/shape/capsule.h>
-#include <fcl/geometry/shape/cone.h>
-#include <fcl/geometry/shape/convex.h>
-#include <fcl/geometry/shape/cylinder.h>
-#include <fcl/geometry/shape/ellipsoid.h>
-#include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
@@ -36,6 +29,7 @@
 #include <vector>
 
 #include "compare_common.h"
+#include "fcl_body.hpp"
 
 namespace {
 
@@ -45,68 +39,6 @@ const double kTols[] = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
 const double kFclTols[] = {1e-2, 1e-4, 1e-6, 1e-8, 1e-12};
 constexpr double kFclRefTol = 1e-6;  // FCL's default distance_tolerance: the ratio reference
 
-struct FclBody {
-  std::shared_ptr<fcl::CollisionGeometryd> geom;
-  fcl::Transform3d tf;
-};
-
-// Same conversion as c_tests/compare/test_fcl.cpp (dcol axis x, FCL axis z; cone origin).
-FclBody to_fcl(const cmp_body& body) {
-  const cmp_shape& s = *body.shape;
-  Eigen::Matrix3d R;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) R(i, j) = body.R[3 * i + j];
-  const Eigen::Vector3d r(body.pose.position[0], body.pose.position[1], body.pose.position[2]);
-  Eigen::Matrix3d M;
-  M << 0, 0, -1, 0, 1, 0, 1, 0, 0;
-  Eigen::Vector3d o = Eigen::Vector3d::Zero();
-  bool axial = false;
-  FclBody out;
-  switch (s.kind) {
-    case CMP_SPHERE:
-      out.geom = std::make_shared<fcl::Sphered>(s.radius);
-      break;
-    case CMP_ELLIPSOID:
-      out.geom = std::make_shared<fcl::Ellipsoidd>(s.radii[0], s.radii[1], s.radii[2]);
-      break;
-    case CMP_BOX:
-      out.geom = std::make_shared<fcl::Boxd>(2 * s.half[0], 2 * s.half[1], 2 * s.half[2]);
-      break;
-    case CMP_POLYTOPE: {
-      auto verts = std::make_shared<std::vector<Eigen::Vector3d>>();
-      for (size_t u = 0; u < s.nv; ++u)
-        verts->emplace_back(s.V[3 * u], s.V[3 * u + 1], s.V[3 * u + 2]);
-      auto faces = std::make_shared<std::vector<int>>();
-      for (size_t f = 0; f < s.nfaces; ++f) {
-        faces->push_back(static_cast<int>(s.face_start[f + 1] - s.face_start[f]));
-        for (size_t k = s.face_start[f]; k < s.face_start[f + 1]; ++k)
-          faces->push_back(s.face_index[k]);
-      }
-      out.geom = std::make_shared<fcl::Convexd>(verts, static_cast<int>(s.nfaces), faces, true);
-      break;
-    }
-    case CMP_CAPSULE:
-      out.geom = std::make_shared<fcl::Capsuled>(s.radius, s.length);
-      axial = true;
-      break;
-    case CMP_CYLINDER:
-      out.geom = std::make_shared<fcl::Cylinderd>(s.radius, s.length);
-      axial = true;
-      break;
-    case CMP_CONE:
-      out.geom = std::make_shared<fcl::Coned>(s.height * std::tan(s.half_angle), s.height);
-      axial = true;
-      o = Eigen::Vector3d(-0.25 * s.height, 0, 0);
-      break;
-    default:
-      break;
-  }
-  out.geom->computeLocalAABB();
-  out.tf.setIdentity();
-  out.tf.linear() = axial ? Eigen::Matrix3d(R * M) : R;
-  out.tf.translation() = r + R * o;
-  return out;
-}
 
 void support_fn(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* vec) {
   const cmp_body* body = static_cast<const cmp_body*>(obj);
