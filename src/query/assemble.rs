@@ -55,7 +55,9 @@ pub(crate) fn with_rows<const N: usize, R>(m: usize, f: impl FnOnce(&mut [LpRow<
 where
     Dim<N>: Scratch<N>,
 {
-    if m <= STACK_ROWS_SMALL {
+    if m == 0 {
+        f(&mut [])
+    } else if m <= STACK_ROWS_SMALL {
         let mut buf = [LpRow::ZERO; STACK_ROWS_SMALL];
         f(&mut buf[..m])
     } else if m <= STACK_ROWS {

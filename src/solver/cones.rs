@@ -69,7 +69,53 @@ pub fn interior(u: &SocVec) -> bool {
     u[0] > 0.0 && jdot(u, u) > 0.0
 }
 
-/// The Nesterov–Todd scaling of one second-order cone block.
+/// What the step to the boundary of one cone needs about the current point `u` (see
+/// [`StepBase::rate`]), computed once per iteration and used for every direction.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StepBase {
+    /// `ū = u/√(uᵀJu)`.
+    ub: SocVec,
+    /// `1/√(uᵀJu)`.
+    inv_n: Real,
+    /// `1/(ū₀ + 1)`.
+    inv_ub0p1: Real,
+}
+
+impl StepBase {
+    /// All zero (no point yet).
+    pub const ZERO: Self = StepBase {
+        ub: [0.0; SOC_MAX_DIM],
+        inv_n: 0.0,
+        inv_ub0p1: 0.0,
+    };
+
+    fn new(ub: SocVec, inv_n: Real) -> Self {
+        StepBase {
+            ub,
+            inv_n,
+            inv_ub0p1: 1.0 / (ub[0] + 1.0),
+        }
+    }
+
+    /// The rate at which `u + t du` approaches the boundary: the largest `t` keeping it in the
+    /// closed cone is `1/rate` when the rate is positive, and unbounded otherwise.
+    #[inline]
+    pub fn rate(&self, du: &SocVec) -> Real {
+        let ub = &self.ub;
+        let ub_du = jdot(ub, du);
+        let rho0 = ub_du * self.inv_n;
+        let factor = (ub_du + du[0]) * self.inv_ub0p1;
+        let mut r1 = 0.0;
+        for i in 1..D {
+            let v = du[i] - factor * ub[i];
+            r1 += v * v;
+        }
+        r1.sqrt() * self.inv_n - rho0
+    }
+}
+
+/// The Nesterov–Todd scaling of one second-order cone block, with the reciprocals an iteration
+/// needs computed once.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SocScaling {
     /// η = (sᵀJs / λᵀJλ)^{1/4}
@@ -78,9 +124,36 @@ pub struct SocScaling {
     pub w: SocVec,
     /// The scaled point v = Wλ = W⁻¹s.
     pub v: SocVec,
+    /// `1/η`.
+    inv_eta: Real,
+    /// `1/η²`.
+    inv_eta2: Real,
+    /// `1/(1 + w̄₀)`.
+    inv_1pw0: Real,
+    /// `1/(vᵀJv)` and `1/v₀`, for [`SocScaling::vsolve`].
+    inv_vdet: Real,
+    inv_v0: Real,
+    /// Step-to-boundary data of `s` and `λ`.
+    pub s_step: StepBase,
+    /// See `s_step`.
+    pub lam_step: StepBase,
 }
 
 impl SocScaling {
+    /// All zero (no iterate yet).
+    pub const ZERO: Self = SocScaling {
+        eta: 0.0,
+        w: [0.0; SOC_MAX_DIM],
+        v: [0.0; SOC_MAX_DIM],
+        inv_eta: 0.0,
+        inv_eta2: 0.0,
+        inv_1pw0: 0.0,
+        inv_vdet: 0.0,
+        inv_v0: 0.0,
+        s_step: StepBase::ZERO,
+        lam_step: StepBase::ZERO,
+    };
+
     /// Computes the scaling of interior `s`, `lam`; `None` if either is not interior.
     pub fn new(s: &SocVec, lam: &SocVec) -> Option<SocScaling> {
         let sn2 = jdot(s, s);
@@ -104,16 +177,26 @@ impl SocScaling {
         for i in 1..D {
             w[i] = (sb[i] - lb[i]) * i2g;
         }
-        let eta = (sn / ln).sqrt();
+        let eta = (sn * iln).sqrt();
+        let inv_eta = 1.0 / eta;
         let mut sc = SocScaling {
             eta,
             w,
             v: [0.0; SOC_MAX_DIM],
+            inv_eta,
+            inv_eta2: inv_eta * inv_eta,
+            inv_1pw0: 1.0 / (1.0 + w[0]),
+            inv_vdet: 0.0,
+            inv_v0: 0.0,
+            s_step: StepBase::new(sb, isn),
+            lam_step: StepBase::new(lb, iln),
         };
         sc.v = sc.apply(lam);
         if !sc.v.iter().all(|x| x.is_finite()) || !interior(&sc.v) {
             return None;
         }
+        sc.inv_vdet = 1.0 / jdot(&sc.v, &sc.v);
+        sc.inv_v0 = 1.0 / sc.v[0];
         Some(sc)
     }
 
@@ -126,7 +209,7 @@ impl SocScaling {
     /// `W⁻¹ u`.
     #[inline]
     pub fn apply_inv(&self, u: &SocVec) -> SocVec {
-        self.apply_signed(u, -1.0, 1.0 / self.eta)
+        self.apply_signed(u, -1.0, self.inv_eta)
     }
 
     #[inline]
@@ -138,7 +221,7 @@ impl SocScaling {
         }
         let mut r = [0.0; SOC_MAX_DIM];
         r[0] = k * (w[0] * u[0] + sign * w1u1);
-        let c = sign * u[0] + w1u1 / (1.0 + w[0]);
+        let c = sign * u[0] + w1u1 * self.inv_1pw0;
         for i in 1..D {
             r[i] = k * (u[i] + c * w[i]);
         }
@@ -161,7 +244,7 @@ impl SocScaling {
     /// `W⁻² u = η⁻²(2Jw(wᵀJu) − Ju)`.
     #[inline]
     pub fn apply_inv_sq(&self, u: &SocVec) -> SocVec {
-        let e2 = 1.0 / (self.eta * self.eta);
+        let e2 = self.inv_eta2;
         let wju = jdot(&self.w, u);
         let mut r = [0.0; SOC_MAX_DIM];
         r[0] = e2 * (2.0 * self.w[0] * wju - u[0]);
@@ -170,28 +253,40 @@ impl SocScaling {
         }
         r
     }
+
+    /// `η⁻²`: `W⁻² = η⁻²(2Jw̄ w̄ᵀJ − J)`.
+    #[inline]
+    pub fn inv_eta2(&self) -> Real {
+        self.inv_eta2
+    }
+
+    /// Solves `v ∘ u = r` for `u` ([`jsolve`] with the scaled point, without dividing).
+    #[inline]
+    pub fn vsolve(&self, r: &SocVec) -> SocVec {
+        let v = &self.v;
+        let mut vr = 0.0;
+        for i in 1..D {
+            vr += v[i] * r[i];
+        }
+        let mut u = [0.0; SOC_MAX_DIM];
+        u[0] = (v[0] * r[0] - vr) * self.inv_vdet;
+        for i in 1..D {
+            u[i] = (r[i] - u[0] * v[i]) * self.inv_v0;
+        }
+        u
+    }
 }
 
 /// Largest `t` with `u + t du` in the closed cone (∞ when the whole ray stays inside);
 /// `u` must be interior.
 #[inline]
 pub fn soc_step(u: &SocVec, du: &SocVec) -> Real {
-    let n2 = jdot(u, u);
-    let n = n2.sqrt();
-    let inv_n = 1.0 / n;
+    let inv_n = 1.0 / jdot(u, u).sqrt();
     let mut ub = [0.0; SOC_MAX_DIM];
     for i in 0..D {
         ub[i] = u[i] * inv_n;
     }
-    let ub_du = jdot(&ub, du);
-    let rho0 = ub_du * inv_n;
-    let factor = (ub_du + du[0]) / (ub[0] + 1.0);
-    let mut r1 = 0.0;
-    for i in 1..D {
-        let v = du[i] - factor * ub[i];
-        r1 += v * v;
-    }
-    let sigma = r1.sqrt() * inv_n - rho0;
+    let sigma = StepBase::new(ub, inv_n).rate(du);
     if sigma > 0.0 {
         1.0 / sigma
     } else {
@@ -240,6 +335,17 @@ mod tests {
                     assert!((back[i] - s[i]).abs() < 1e-12, "W⁻¹W = I");
                 }
                 assert!((jdot(&sc.w, &sc.w) - 1.0).abs() < 1e-12);
+                // The cached solve with v and the cached step rates match the plain ones.
+                let r = rand_interior(seed + 2000, d);
+                let (u1, u2) = (sc.vsolve(&r), jsolve(&sc.v, &r));
+                let du = [-3.0 * r[0], r[1], r[2], r[3]];
+                for i in 0..D {
+                    assert!((u1[i] - u2[i]).abs() < 1e-12 * (1.0 + u2[i].abs()));
+                }
+                for (base, u) in [(&sc.s_step, &s), (&sc.lam_step, &l)] {
+                    let (a, b) = (1.0 / base.rate(&du), soc_step(u, &du));
+                    assert!((a - b).abs() < 1e-12 * b.abs(), "{a} {b}");
+                }
             }
         }
     }

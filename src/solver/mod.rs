@@ -17,10 +17,22 @@ pub use settings::{Settings, DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE};
 pub use status::SolveStatus;
 
 use crate::math::Real;
-use cones::{jdot, jprod, jsolve, soc_step, SocScaling, SocVec, SOC_MAX_DIM};
+use cones::{jdot, jprod, jsolve, SocScaling, SocVec, SOC_MAX_DIM};
 use kkt::{Lu, Normal, PivotFloor};
 
 const D: usize = SOC_MAX_DIM;
+
+/// Relative duality gap below which the final Newton polish is tried before the tolerance is
+/// reached (see `Problem::solve_until`), in problems with orthant rows only. With a
+/// second-order cone the interior iterate's point is only `O(√μ)` accurate, and a trial polish
+/// (about half an iteration's work) failed often enough (ellipsoids, capsules) to cost more
+/// than it saved.
+const EARLY_POLISH_GAP: Real = 1e-6;
+
+/// The early polish is kept only if it passes the convergence test with the tolerance times
+/// this factor: at the tolerance itself the polished answer would be only as accurate as asked,
+/// where the converged iterate's polish is usually accurate to rounding.
+const EARLY_POLISH_MARGIN: Real = 1e-3;
 
 /// Iterative-refinement passes per Newton direction.
 const REFINE_PASSES: usize = 1;
@@ -60,7 +72,6 @@ pub struct LpRow<const N: usize> {
     pub lam_polished: Real,
     ds: Real,
     dlam: Real,
-    rc: Real,
     rp: Real,
     /// `λ/s`, `1/s` and `1/λ` at the current iterate (set with the scalings), so that an
     /// iteration divides twice per row rather than a dozen times.
@@ -79,7 +90,6 @@ impl<const N: usize> LpRow<N> {
         lam_polished: 0.0,
         ds: 0.0,
         dlam: 0.0,
-        rc: 0.0,
         rp: 0.0,
         d: 0.0,
         inv_s: 0.0,
@@ -109,7 +119,6 @@ pub struct SocBlock<const N: usize> {
     pub lam_polished: SocVec,
     ds: SocVec,
     dlam: SocVec,
-    rc: SocVec,
     rp: SocVec,
     sc: SocScaling,
     /// `Gᵀ J G`, constant during a solve.
@@ -126,13 +135,8 @@ impl<const N: usize> SocBlock<N> {
         lam_polished: [0.0; D],
         ds: [0.0; D],
         dlam: [0.0; D],
-        rc: [0.0; D],
         rp: [0.0; D],
-        sc: SocScaling {
-            eta: 0.0,
-            w: [0.0; D],
-            v: [0.0; D],
-        },
+        sc: SocScaling::ZERO,
         gjg: [[0.0; N]; N],
     };
 
@@ -186,6 +190,80 @@ pub struct Outcome<const N: usize> {
     /// With [`Problem::solve_until`]: `Some(true)` when the optimal value was proven below the
     /// threshold, `Some(false)` when proven above it, `None` when the solve ran to its end.
     pub decided: Option<bool>,
+}
+
+/// What one pass over the blocks at an iterate finds (see `Problem::evaluate`).
+struct Evaluation<const N: usize> {
+    /// Dual residual `c + Gᵀλ`.
+    rd: [Real; N],
+    /// `‖G z + s − h‖∞`.
+    pres: Real,
+    /// `sᵀλ`.
+    gap: Real,
+    /// `−hᵀλ`.
+    dobj: Real,
+    /// Largest multiplier (a cone's first component).
+    lam_max: Real,
+    /// Whether every slack and multiplier is strictly inside its cone.
+    interior: bool,
+    /// `Gᵀ W⁻² G`, not yet factored.
+    normal: Normal<N>,
+}
+
+/// What the step length and Mehrotra's centring need about a direction, gathered while it is
+/// formed.
+#[derive(Clone, Copy, Debug, Default)]
+struct StepStats {
+    /// The largest rate at which a block approaches its cone boundary (step to it: `1/rate`).
+    rate: Real,
+    /// `sᵀdλ + λᵀds`.
+    s1: Real,
+    /// `dsᵀdλ`.
+    s2: Real,
+}
+
+impl StepStats {
+    #[inline(always)]
+    fn lp<const N: usize>(&mut self, row: &LpRow<N>) {
+        self.rate = fmax(
+            fmax(self.rate, -row.ds * row.inv_s),
+            -row.dlam * row.inv_lam,
+        );
+        self.s1 += row.s * row.dlam + row.lam * row.ds;
+        self.s2 += row.ds * row.dlam;
+    }
+
+    #[inline(always)]
+    fn soc<const N: usize>(&mut self, b: &SocBlock<N>) {
+        self.rate = fmax(
+            fmax(self.rate, b.sc.s_step.rate(&b.ds)),
+            b.sc.lam_step.rate(&b.dlam),
+        );
+        for i in 0..D {
+            self.s1 += b.s[i] * b.dlam[i] + b.lam[i] * b.ds[i];
+            self.s2 += b.ds[i] * b.dlam[i];
+        }
+    }
+
+    /// Largest step in (0, ∞] keeping `s` and `λ` in the cones.
+    fn max_step(&self) -> Real {
+        if self.rate > 0.0 {
+            1.0 / self.rate
+        } else {
+            Real::INFINITY
+        }
+    }
+}
+
+/// `max(a, b)` that keeps `a` when `b` is NaN, as one comparison (`f64::max` also handles a
+/// NaN `a`, at a few more instructions in the hottest loops).
+#[inline(always)]
+fn fmax(a: Real, b: Real) -> Real {
+    if b > a {
+        b
+    } else {
+        a
+    }
 }
 
 #[inline(always)]
@@ -248,25 +326,6 @@ impl<'a, const N: usize> Problem<'a, N> {
         (self.lp.len() + self.n_soc) as Real
     }
 
-    /// Builds the normal matrix `Gᵀ W⁻² G` at the current iterate (scalings must be current),
-    /// not yet factored.
-    fn normal_matrix(&self) -> Normal<N> {
-        let mut h = Normal::zeros();
-        for row in self.lp.iter() {
-            h.add_rank1(row.d, &row.g);
-        }
-        for b in self.soc[..self.n_soc].iter() {
-            let e2 = 1.0 / (b.sc.eta * b.sc.eta);
-            // W⁻² = η⁻²(2Jw wᵀJ − J): a = Gᵀ J w
-            let jw = [b.sc.w[0], -b.sc.w[1], -b.sc.w[2], -b.sc.w[3]];
-            let mut a = [0.0; N];
-            gtmul_add(&mut a, &b.g, &jw, 1.0);
-            h.add_rank1(2.0 * e2, &a);
-            h.add_scaled(-e2, &b.gjg);
-        }
-        h
-    }
-
     /// `‖r_d + Gᵀdλ‖∞` for the direction held in the blocks: how far it misses the dual
     /// equation.
     fn dual_equation_error(&self, rd: &[Real; N]) -> Real {
@@ -283,52 +342,25 @@ impl<'a, const N: usize> Problem<'a, N> {
     }
 
     /// The Mehrotra predictor-corrector direction with the factored normal matrix `kkt`:
-    /// leaves `ds`, `dλ` of the corrector in the blocks and returns `dz`.
+    /// leaves `ds`, `dλ` of the corrector in the blocks and returns `dz` with the corrector's
+    /// step statistics.
     fn predictor_corrector(
         &mut self,
         kkt: &Normal<N>,
         rd: &[Real; N],
         refine: bool,
         gap: Real,
-    ) -> [Real; N] {
-        // Predictor: rc = −v∘v.
-        for row in self.lp.iter_mut() {
-            row.rc = -row.s * row.lam;
-        }
-        for b in self.soc[..self.n_soc].iter_mut() {
-            let vv = jprod(&b.sc.v, &b.sc.v);
-            b.rc = [-vv[0], -vv[1], -vv[2], -vv[3]];
-        }
-        self.direction(kkt, rd, refine);
-        let t_aff = self.max_step().min(1.0);
+    ) -> ([Real; N], StepStats) {
+        // Predictor: complementarity target −v∘v.
+        let (_, aff) = self.direction::<false>(kkt, rd, false, 0.0);
+        let t_aff = aff.max_step().min(1.0);
         let mu = gap / self.degree();
-        // Gap after the affine step, for σ.
-        let mut gap_aff = 0.0;
-        for row in self.lp.iter() {
-            gap_aff += (row.s + t_aff * row.ds) * (row.lam + t_aff * row.dlam);
-        }
-        for b in self.soc[..self.n_soc].iter() {
-            for i in 0..D {
-                gap_aff += (b.s[i] + t_aff * b.ds[i]) * (b.lam[i] + t_aff * b.dlam[i]);
-            }
-        }
+        // Gap after the affine step, Σ (s + t ds)ᵀ(λ + t dλ), for σ.
+        let gap_aff = gap + t_aff * (aff.s1 + t_aff * aff.s2);
         let ratio = (gap_aff / gap).clamp(0.0, 1.0);
         let sigma = ratio * ratio * ratio;
-        // Corrector: rc = −v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe.
-        for row in self.lp.iter_mut() {
-            row.rc = -row.s * row.lam - row.ds * row.dlam + sigma * mu;
-        }
-        for b in self.soc[..self.n_soc].iter_mut() {
-            let a = b.sc.apply_inv(&b.ds);
-            let c = b.sc.apply(&b.dlam);
-            let corr = jprod(&a, &c);
-            let vv = jprod(&b.sc.v, &b.sc.v);
-            for i in 0..D {
-                b.rc[i] = -vv[i] - corr[i];
-            }
-            b.rc[0] += sigma * mu;
-        }
-        self.direction(kkt, rd, refine)
+        // Corrector: −v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe.
+        self.direction::<true>(kkt, rd, refine, sigma * mu)
     }
 
     /// `GᵀDG` with `D = L(s)⁻¹L(λ)` at the current iterate (`None` if not finite).
@@ -368,36 +400,97 @@ impl<'a, const N: usize> Problem<'a, N> {
         jsolve(&b.s, &jprod(&b.lam, u))
     }
 
-    /// Updates every block's NT scaling; false if an iterate left the cone interior.
-    fn update_scalings(&mut self) -> bool {
+    /// The residuals at `z` and the current slacks and multipliers, the scalings (every
+    /// block's `λ/s`, reciprocals and NT scaling) and the normal matrix `Gᵀ W⁻² G`, in one pass
+    /// over the blocks; first, the previous iteration's step `t` along the directions held in
+    /// the blocks is taken when `STEP`.
+    fn evaluate<const STEP: bool>(&mut self, z: &[Real; N], t: Real) -> Evaluation<N> {
+        let mut ev = Evaluation {
+            rd: self.c,
+            pres: 0.0,
+            gap: 0.0,
+            dobj: 0.0,
+            lam_max: 0.0,
+            interior: true,
+            normal: Normal::zeros(),
+        };
         for row in self.lp.iter_mut() {
-            if !(row.s > 0.0 && row.lam > 0.0) {
-                return false;
+            if STEP {
+                row.s += t * row.ds;
+                row.lam += t * row.dlam;
             }
+            ev.lam_max = fmax(ev.lam_max, row.lam.abs());
+            for i in 0..N {
+                ev.rd[i] += row.g[i] * row.lam;
+            }
+            row.rp = dotn(&row.g, z) + row.s - row.h;
+            ev.pres = fmax(ev.pres, row.rp.abs());
+            ev.gap += row.s * row.lam;
+            ev.dobj -= row.h * row.lam;
+            ev.interior &= row.s > 0.0 && row.lam > 0.0;
             row.inv_s = 1.0 / row.s;
             row.inv_lam = 1.0 / row.lam;
             row.d = row.lam * row.inv_s;
+            ev.normal.add_rank1(row.d, &row.g);
         }
         for b in self.soc[..self.n_soc].iter_mut() {
+            if STEP {
+                for i in 0..D {
+                    b.s[i] += t * b.ds[i];
+                    b.lam[i] += t * b.dlam[i];
+                }
+            }
+            ev.lam_max = ev.lam_max.max(b.lam[0].abs());
+            gtmul_add(&mut ev.rd, &b.g, &b.lam, 1.0);
+            let gz = gmul(&b.g, z);
+            for r in 0..D {
+                b.rp[r] = gz[r] + b.s[r] - b.h[r];
+                ev.pres = ev.pres.max(b.rp[r].abs());
+                ev.gap += b.s[r] * b.lam[r];
+                ev.dobj -= b.h[r] * b.lam[r];
+            }
             match SocScaling::new(&b.s, &b.lam) {
-                Some(sc) => b.sc = sc,
-                None => return false,
+                Some(sc) => {
+                    b.sc = sc;
+                    // W⁻² = η⁻²(2Jw wᵀJ − J): a rank-one term with a = Gᵀ J w, and −η⁻² GᵀJG.
+                    let e2 = sc.inv_eta2();
+                    let jw = [sc.w[0], -sc.w[1], -sc.w[2], -sc.w[3]];
+                    let mut a = [0.0; N];
+                    gtmul_add(&mut a, &b.g, &jw, 1.0);
+                    ev.normal.add_rank1(2.0 * e2, &a);
+                    ev.normal.add_scaled(-e2, &b.gjg);
+                }
+                None => ev.interior = false,
             }
         }
-        true
+        ev
     }
 
-    /// Solves the Newton system for the complementarity target held in each block's `rc`
-    /// (in the scaled space), with residuals `rd` and each block's `rp`. Writes `ds`, `dlam`
-    /// into the blocks and returns `dz`.
-    fn direction(&mut self, kkt: &Normal<N>, rd: &[Real; N], refine: bool) -> [Real; N] {
+    /// Solves the Newton system for the complementarity target `−v∘v` (predictor) or, with
+    /// `CORRECTOR`, `−v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe` with the predictor's `ds`, `dλ` still in
+    /// the blocks, with residuals `rd` and each block's `rp`. Writes `ds`,
+    /// `dlam` into the blocks and returns `dz` with the direction's step statistics.
+    ///
+    /// With `t = r_p + W(v \ r_c)`, the Newton system reduces to `H dz = −r_d − Gᵀ W⁻² t`. For
+    /// the target `−v∘v`, `W(v \ (−v∘v)) = −Wv = −s` exactly, so only the corrector's extra
+    /// terms are solved for.
+    fn direction<const CORRECTOR: bool>(
+        &mut self,
+        kkt: &Normal<N>,
+        rd: &[Real; N],
+        refine: bool,
+        sigma_mu: Real,
+    ) -> ([Real; N], StepStats) {
         let mut rhs = [0.0; N];
         for i in 0..N {
             rhs[i] = -rd[i];
         }
-        // t = rp + W (v \ rc); rhs −= Gᵀ W⁻² t. Keep t in ds for the second pass.
+        // rhs −= Gᵀ W⁻² t; t is kept in ds for the second pass.
         for row in self.lp.iter_mut() {
-            let t = row.rp + row.rc * row.inv_lam;
+            let mut t = row.rp - row.s;
+            if CORRECTOR {
+                t += (sigma_mu - row.ds * row.dlam) * row.inv_lam;
+            }
             row.ds = t;
             let k = row.d * t;
             for i in 0..N {
@@ -405,11 +498,22 @@ impl<'a, const N: usize> Problem<'a, N> {
             }
         }
         for b in self.soc[..self.n_soc].iter_mut() {
-            let u = jsolve(&b.sc.v, &b.rc);
-            let wu = b.sc.apply(&u);
             let mut t = [0.0; D];
             for i in 0..D {
-                t[i] = b.rp[i] + wu[i];
+                t[i] = b.rp[i] - b.s[i];
+            }
+            if CORRECTOR {
+                let a = b.sc.apply_inv(&b.ds);
+                let c = b.sc.apply(&b.dlam);
+                let mut r = jprod(&a, &c);
+                for v in r.iter_mut() {
+                    *v = -*v;
+                }
+                r[0] += sigma_mu;
+                let wu = b.sc.apply(&b.sc.vsolve(&r));
+                for i in 0..D {
+                    t[i] += wu[i];
+                }
             }
             let wt = b.sc.apply_inv_sq(&t);
             gtmul_add(&mut rhs, &b.g, &wt, -1.0);
@@ -420,10 +524,12 @@ impl<'a, const N: usize> Problem<'a, N> {
         // dλ = W⁻²(G dz + t) keeps the dual equation exact; ds from the primal equation
         // (not from W(v\rc) − W²dλ, which amplifies rounding by ‖W²‖ near the boundary), so
         // only the self-correcting complementarity equation absorbs rounding.
+        let mut stats = StepStats::default();
         for row in self.lp.iter_mut() {
             let gdz = dotn(&row.g, &dz);
             row.dlam = row.d * (gdz + row.ds);
             row.ds = -row.rp - gdz;
+            stats.lp(row);
         }
         for b in self.soc[..self.n_soc].iter_mut() {
             let gdz = gmul(&b.g, &dz);
@@ -433,18 +539,26 @@ impl<'a, const N: usize> Problem<'a, N> {
                 b.ds[i] = -b.rp[i] - gdz[i];
             }
             b.dlam = b.sc.apply_inv_sq(&gt);
+            stats.soc(b);
         }
         if refine {
-            self.refine(kkt, rd, &mut dz);
+            self.refine(kkt, rd, &mut dz, &mut stats);
         }
-        dz
+        (dz, stats)
     }
 
     /// Iterative refinement of the dual equation `Gᵀdλ = −r_d`: forming `Gᵀ W⁻² G` and
     /// applying `W⁻²` round differently when the scaling is extreme, so the correction
     /// `H δz = e_d`, `δλ = W⁻² G δz`, `δs = −G δz` (which leaves the primal and linearised
-    /// complementarity equations unchanged) is applied while it helps.
-    fn refine(&mut self, kkt: &Normal<N>, rd: &[Real; N], dz: &mut [Real; N]) {
+    /// complementarity equations unchanged) is applied while it helps. `stats` is updated to
+    /// the corrected direction.
+    fn refine(
+        &mut self,
+        kkt: &Normal<N>,
+        rd: &[Real; N],
+        dz: &mut [Real; N],
+        stats: &mut StepStats,
+    ) {
         let scale = rd.iter().map(|v| v.abs()).fold(1e-3, Real::max);
         for _ in 0..REFINE_PASSES {
             let mut e = [0.0; N];
@@ -467,10 +581,12 @@ impl<'a, const N: usize> Problem<'a, N> {
             for i in 0..N {
                 dz[i] += e[i];
             }
+            *stats = StepStats::default();
             for row in self.lp.iter_mut() {
                 let gd = dotn(&row.g, &e);
                 row.dlam += row.d * gd;
                 row.ds -= gd;
+                stats.lp(row);
             }
             for b in self.soc[..self.n_soc].iter_mut() {
                 let gd = gmul(&b.g, &e);
@@ -479,23 +595,9 @@ impl<'a, const N: usize> Problem<'a, N> {
                     b.ds[i] -= gd[i];
                     b.dlam[i] += dl[i];
                 }
+                stats.soc(b);
             }
         }
-    }
-
-    /// Largest step in (0, ∞] keeping `s` and `λ` in the cones.
-    fn max_step(&self) -> Real {
-        // The largest relative decrease −ds/s, −dλ/λ over the orthant rows (no division).
-        let mut r: Real = 0.0;
-        for row in self.lp.iter() {
-            r = r.max(-row.ds * row.inv_s).max(-row.dlam * row.inv_lam);
-        }
-        let mut t = if r > 0.0 { 1.0 / r } else { Real::INFINITY };
-        for b in self.soc[..self.n_soc].iter() {
-            t = t.min(soc_step(&b.s, &b.ds));
-            t = t.min(soc_step(&b.lam, &b.dlam));
-        }
-        t
     }
 
     /// One full Newton step (σ = 0, step length 1, cones ignored) on the primal variables from
@@ -639,6 +741,45 @@ impl<'a, const N: usize> Problem<'a, N> {
         true
     }
 
+    /// Whether the polished point `z` with the polished multipliers passes the convergence
+    /// test: `s = h − G z` and `λ` in their cones to within `gap_limit`, `|sᵀλ| ≤ gap_limit`,
+    /// `|cᵀz + hᵀλ| ≤ gap_limit` and `‖c + Gᵀλ‖∞ ≤ dres_limit`.
+    fn polished_converged(&self, z: &[Real; N], gap_limit: Real, dres_limit: Real) -> bool {
+        let mut rd = self.c;
+        let mut gap = 0.0;
+        let mut dobj = 0.0;
+        // Both points must be feasible to the same accuracy for the gap to bound the error.
+        let mut infeasible: Real = 0.0;
+        for row in self.lp.iter() {
+            let l = row.lam_polished;
+            for i in 0..N {
+                rd[i] += row.g[i] * l;
+            }
+            let s = row.h - dotn(&row.g, z);
+            infeasible = fmax(fmax(infeasible, -s), -l);
+            gap += s * l;
+            dobj -= row.h * l;
+        }
+        for b in self.soc[..self.n_soc].iter() {
+            let l = &b.lam_polished;
+            gtmul_add(&mut rd, &b.g, l, 1.0);
+            let gz = gmul(&b.g, z);
+            let mut sv = [0.0; D];
+            for r in 0..D {
+                sv[r] = b.h[r] - gz[r];
+                gap += sv[r] * l[r];
+                dobj -= b.h[r] * l[r];
+            }
+            let outside = |u: &SocVec| (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]).sqrt() - u[0];
+            infeasible = fmax(fmax(infeasible, outside(&sv)), outside(l));
+        }
+        let dres = rd.iter().fold(0.0, |m: Real, v| fmax(m, v.abs()));
+        infeasible <= gap_limit
+            && gap.abs() <= gap_limit
+            && (dotn(&self.c, z) - dobj).abs() <= gap_limit
+            && dres <= dres_limit
+    }
+
     /// Runs the interior-point method from the primal point `z0`, with the dual started at
     /// `mu0 · s⁻¹` (perfectly centred). The final iterate stays in the problem's blocks.
     pub fn solve(&mut self, z0: &[Real; N], mu0: Real, settings: &Settings) -> Outcome<N> {
@@ -743,34 +884,23 @@ impl<'a, const N: usize> Problem<'a, N> {
         // iteration is taken (it shrinks the gap about a hundredfold); `saved` keeps the
         // converged answer in case that iteration cannot be completed.
         let mut saved: Option<Outcome<N>> = None;
+        // The step taken along the directions held in the blocks, applied by `evaluate`.
+        let mut step: Option<Real> = None;
+        // The early polish is tried once: where it fails the contact is usually curved, and
+        // it fails again until the iterate is converged.
+        let mut early_tried = false;
+        let early_gap = if self.n_soc == 0 {
+            EARLY_POLISH_GAP
+        } else {
+            0.0
+        };
         loop {
-            // Residuals and convergence.
-            let mut rd = self.c;
-            let mut pres: Real = 0.0;
-            let mut gap = 0.0;
-            let mut dobj = 0.0;
-            let mut lam_max: Real = 0.0;
-            for row in self.lp.iter_mut() {
-                lam_max = lam_max.max(row.lam.abs());
-                for i in 0..N {
-                    rd[i] += row.g[i] * row.lam;
-                }
-                row.rp = dotn(&row.g, &z) + row.s - row.h;
-                pres = pres.max(row.rp.abs());
-                gap += row.s * row.lam;
-                dobj -= row.h * row.lam;
-            }
-            for b in self.soc[..self.n_soc].iter_mut() {
-                lam_max = lam_max.max(b.lam[0].abs());
-                gtmul_add(&mut rd, &b.g, &b.lam, 1.0);
-                let gz = gmul(&b.g, &z);
-                for r in 0..D {
-                    b.rp[r] = gz[r] + b.s[r] - b.h[r];
-                    pres = pres.max(b.rp[r].abs());
-                    gap += b.s[r] * b.lam[r];
-                    dobj -= b.h[r] * b.lam[r];
-                }
-            }
+            // Residuals, scalings and the normal matrix; then convergence.
+            let ev = match step {
+                Some(t) => self.evaluate::<true>(&z, t),
+                None => self.evaluate::<false>(&z, 0.0),
+            };
+            let (rd, pres, gap, dobj) = (ev.rd, ev.pres, ev.gap, ev.dobj);
             let pobj = dotn(&self.c, &z);
             let dres = rd.iter().map(|v| v.abs()).fold(0.0, Real::max);
             outcome.z = z;
@@ -780,7 +910,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             let scale = pobj.abs().max(1.0);
             let zmax = z.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
             let pres_limit = tol * (1.0 + hmax + gmax * zmax);
-            let dres_limit = tol * (1.0 + cmax + gmax * lam_max);
+            let dres_limit = tol * (1.0 + cmax + gmax * ev.lam_max);
             if let Some(th) = threshold {
                 let primal_feasible = pres <= pres_limit;
                 if th.stop_below && primal_feasible && pobj < th.value {
@@ -797,10 +927,33 @@ impl<'a, const N: usize> Problem<'a, N> {
                 && (pobj - dobj).abs() <= tol * scale
                 && pres <= pres_limit
                 && dres <= dres_limit;
+            // Close to the optimum the final Newton polish alone usually reaches the tolerance
+            // (it converges quadratically where the interior iterate converges linearly), so it
+            // is tried early and its point kept when it passes the same test.
+            if !converged
+                && !early_tried
+                && saved.is_none()
+                && ev.interior
+                && gap <= early_gap * scale
+                && pres <= pres_limit
+            {
+                early_tried = true;
+                let mut trial = outcome;
+                if self.polish(&mut trial, tol * scale)
+                    && self.polished_converged(
+                        &trial.z,
+                        EARLY_POLISH_MARGIN * tol * scale,
+                        EARLY_POLISH_MARGIN * dres_limit,
+                    )
+                {
+                    trial.status = SolveStatus::Converged;
+                    return trial;
+                }
+            }
+            // The scalings are current (for derivatives) whatever happens next.
             if converged || saved.is_some() {
                 outcome.status = SolveStatus::Converged;
-                // Leave the scalings current for derivatives.
-                if !self.update_scalings() {
+                if !ev.interior {
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
@@ -814,10 +967,9 @@ impl<'a, const N: usize> Problem<'a, N> {
             } else {
                 if iter >= settings.max_iterations {
                     outcome.status = SolveStatus::MaxIterations;
-                    self.update_scalings();
                     return outcome;
                 }
-                if !self.update_scalings() {
+                if !ev.interior {
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
@@ -827,8 +979,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             // floor would have raised and the direction then misses the dual equation (the
             // pivot was rounding noise: a direction that is singular at the solution), the
             // direction is recomputed with the conservative floor.
-            let h = self.normal_matrix();
-            let mut kkt = h;
+            let mut kkt = ev.normal;
             if !kkt.factor(PivotFloor::Own) {
                 if let Some(done) = saved {
                     return done;
@@ -838,11 +989,11 @@ impl<'a, const N: usize> Problem<'a, N> {
             }
             // Rounding in the normal equations only matters once the scaling is extreme.
             let refine = gap < REFINE_BELOW_GAP * scale;
-            let mut dz = self.predictor_corrector(&kkt, &rd, refine, gap);
+            let (mut dz, mut stats) = self.predictor_corrector(&kkt, &rd, refine, gap);
             if kkt.has_weak_pivot()
                 && !(self.dual_equation_error(&rd) <= WEAK_PIVOT_DUAL_ERROR * dres.max(dres_limit))
             {
-                kkt = h;
+                kkt = ev.normal;
                 if !kkt.factor(PivotFloor::Largest) {
                     if let Some(done) = saved {
                         return done;
@@ -850,9 +1001,9 @@ impl<'a, const N: usize> Problem<'a, N> {
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
-                dz = self.predictor_corrector(&kkt, &rd, refine, gap);
+                (dz, stats) = self.predictor_corrector(&kkt, &rd, refine, gap);
             }
-            let t = (0.99 * self.max_step()).min(1.0);
+            let t = (0.99 * stats.max_step()).min(1.0);
             if !(t > 0.0) || !dz.iter().all(|v| v.is_finite()) {
                 if let Some(done) = saved {
                     return done;
@@ -863,16 +1014,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             for i in 0..N {
                 z[i] += t * dz[i];
             }
-            for row in self.lp.iter_mut() {
-                row.s += t * row.ds;
-                row.lam += t * row.dlam;
-            }
-            for b in self.soc[..self.n_soc].iter_mut() {
-                for i in 0..D {
-                    b.s[i] += t * b.ds[i];
-                    b.lam[i] += t * b.dlam[i];
-                }
-            }
+            step = Some(t);
             iter += 1;
         }
     }
@@ -898,6 +1040,41 @@ mod tests {
         assert_eq!(out.status, SolveStatus::Converged);
         assert!((out.z[0] - 1.0).abs() < 1e-9 && (out.z[1] - 2.0).abs() < 1e-9);
         assert!((out.primal_objective - 3.0).abs() < 1e-9);
+    }
+
+    /// An orthant-only problem ends on the early polish: the answer is the vertex to rounding
+    /// while the interior iterate's own gap is still above the tolerance.
+    #[test]
+    fn lp_ends_on_early_polish() {
+        // min x₀ + 2x₁ + 3x₂ s.t. x ≥ (1, −2, 0.5), x₀ + x₁ + x₂ ≤ 10.
+        let mut rows = [LpRow::<3>::ZERO; 4];
+        for (i, lo) in [1.0, -2.0, 0.5].into_iter().enumerate() {
+            // s = x_i − lo = h − g·x
+            rows[i].g[i] = -1.0;
+            rows[i].h = -lo;
+        }
+        rows[3].g = [1.0, 1.0, 1.0];
+        rows[3].h = 10.0;
+        let mut p = Problem::new(&mut rows);
+        p.c = [1.0, 2.0, 3.0];
+        let settings = Settings::default();
+        let out = p.solve(&[3.0, 3.0, 3.0], 1.0, &settings);
+        assert_eq!(out.status, SolveStatus::Converged);
+        let expect = [1.0, -2.0, 0.5];
+        for i in 0..3 {
+            assert!((out.z[i] - expect[i]).abs() < 1e-14, "{out:?}");
+        }
+        assert!((out.primal_objective - (1.0 - 4.0 + 1.5)).abs() < 1e-14);
+        let gap: Real = p.lp.iter().map(|r| r.s * r.lam).sum();
+        assert!(
+            gap > settings.tolerance && gap <= EARLY_POLISH_GAP * 10.0,
+            "gap {gap}"
+        );
+        // The polished multipliers certify the vertex: λ = c on the three active rows.
+        for i in 0..3 {
+            assert!((p.lp[i].lam_polished - p.c[i]).abs() < 1e-12);
+        }
+        assert!(p.lp[3].lam_polished.abs() < 1e-12);
     }
 
     /// min t s.t. ‖(x − a)‖ ≤ t with x₀ ≤ −1 → distance from a = (1, 0) to the halfplane = 2.
