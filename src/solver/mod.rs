@@ -6,7 +6,10 @@
 //! The problem is `minimise cᵀz subject to s = h − G z ∈ K`. The method is that of CVXOPT's
 //! `conelp` without equality constraints: Nesterov–Todd scaling, a Mehrotra
 //! predictor-corrector, the normal equations `Gᵀ W⁻² G dz = r` factored by a dense Cholesky,
-//! one pass of iterative refinement, and a final Newton polish. It knows nothing of shapes.
+//! one pass of iterative refinement of the corrector, and a final Newton polish (tried early,
+//! at a relative gap of 1e-6, on problems without cones). Each iteration passes over the blocks
+//! five times (seven once refinement starts): once for the residuals, scalings and normal
+//! matrix, twice per direction. It knows nothing of shapes.
 
 pub mod cones;
 pub mod kkt;
@@ -611,6 +614,8 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// `GᵀDG` to `aho` for the implicit-function derivatives. Returns whether the step was
     /// kept.
     fn polish(&mut self, outcome: &mut Outcome<N>, objective_tolerance: Real) -> bool {
+        // Nothing of an earlier attempt (the early polish) may survive this one.
+        self.aho = None;
         for row in self.lp.iter_mut() {
             row.lam_polished = row.lam;
         }
