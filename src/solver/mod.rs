@@ -891,14 +891,9 @@ impl<'a, const N: usize> Problem<'a, N> {
         let mut saved: Option<Outcome<N>> = None;
         // The step taken along the directions held in the blocks, applied by `evaluate`.
         let mut step: Option<Real> = None;
-        // The early polish is tried once: where it fails the contact is usually curved, and
-        // it fails again until the iterate is converged.
-        let mut early_tried = false;
-        let early_gap = if self.n_soc == 0 {
-            EARLY_POLISH_GAP
-        } else {
-            0.0
-        };
+        // The early polish is tried at most once (where it fails, it fails again until the
+        // iterate is converged), and only without cones (see `EARLY_POLISH_GAP`).
+        let mut early_pending = self.n_soc == 0;
         loop {
             // Residuals, scalings and the normal matrix; then convergence.
             let ev = match step {
@@ -936,13 +931,13 @@ impl<'a, const N: usize> Problem<'a, N> {
             // (it converges quadratically where the interior iterate converges linearly), so it
             // is tried early and its point kept when it passes the same test.
             if !converged
-                && !early_tried
+                && early_pending
                 && saved.is_none()
                 && ev.interior
-                && gap <= early_gap * scale
+                && gap <= EARLY_POLISH_GAP * scale
                 && pres <= pres_limit
             {
-                early_tried = true;
+                early_pending = false;
                 let mut trial = outcome;
                 if self.polish(&mut trial, tol * scale)
                     && self.polished_converged(
