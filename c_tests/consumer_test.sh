@@ -41,10 +41,14 @@ for mode in shared static; do
     { cat "$work/consumer-$mode.log"; exit 1; }
   for exe in consumer consumer_cpp; do
     "$work/consumer-$mode/$exe"
+    # ldd's output is captured before it is searched: under pipefail, `ldd | grep -q` fails
+    # whenever grep exits at the first match while ldd is still writing (SIGPIPE), which made
+    # this check flaky on CI although the library resolved correctly.
+    deps=$(ldd "$work/consumer-$mode/$exe")
     if [[ $mode == shared ]]; then
-      ldd "$work/consumer-$mode/$exe" | grep -q "libdcol.so.0 => $libdir/libdcol.so.0" ||
-        { echo "FAILED: $exe does not load the installed libdcol.so.0"; ldd "$work/consumer-$mode/$exe"; exit 1; }
-    elif ldd "$work/consumer-$mode/$exe" | grep -q libdcol; then
+      grep -qF "libdcol.so.0 => $libdir/libdcol.so.0 " <<<"$deps" ||
+        { echo "FAILED: $exe does not load the installed libdcol.so.0"; echo "$deps"; exit 1; }
+    elif grep -q libdcol <<<"$deps"; then
       echo "FAILED: the static $exe depends on a shared libdcol"
       exit 1
     fi
