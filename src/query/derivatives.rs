@@ -89,6 +89,11 @@ fn gx<const N: usize>(g: &[Real; N]) -> Vec3 {
 /// unit quaternion and `(ẽ₀, ẽ_k)` the k-th unit vector of R⁴ (its component along q does not
 /// rotate, so the projection of the normalisation drops out). Closed form, a few dozen flops.
 pub(crate) fn rotation_generators(pose: &Pose) -> [Mat3; 4] {
+    rotation_axes(pose).map(|o| Mat3::new(0.0, -o.z, o.y, o.z, 0.0, -o.x, -o.y, o.x, 0.0))
+}
+
+/// The axes `ω_k` of [`rotation_generators`] (`M_k u = ω_k × u`).
+pub(crate) fn rotation_axes(pose: &Pose) -> [Vec3; 4] {
     let q = pose.quaternion();
     // ‖q‖ without overflow or underflow: scale by the largest component first.
     let c = q.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
@@ -96,13 +101,12 @@ pub(crate) fn rotation_generators(pose: &Pose) -> [Mat3; 4] {
     let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + u[3] * u[3]).sqrt();
     let (w, v) = (u[0] / n, Vec3::new(u[1] / n, u[2] / n, u[3] / n));
     let k = 2.0 / n / c;
-    let skew = |o: Vec3| Mat3::new(0.0, -o.z, o.y, o.z, 0.0, -o.x, -o.y, o.x, 0.0);
     let axis = |j: usize| {
         let mut e = Vec3::zeros();
         e[j] = 1.0;
-        skew((e * w + v.cross(&e)) * k)
+        (e * w + v.cross(&e)) * k
     };
-    [skew(-v * k), axis(0), axis(1), axis(2)]
+    [-v * k, axis(0), axis(1), axis(2)]
 }
 
 /// Fills `full.gradient` (and `full.jacobian` when asked) from a solved problem.
@@ -126,13 +130,15 @@ pub(crate) fn compute<const N: usize>(
                                               // A sphere's set does not depend on its attitude, so every derivative with respect to its
                                               // quaternion is exactly zero: zero generators make every route give exact zeros, and the
                                               // Jacobian skips those columns.
-    let gens = [(ctx.shape1, ctx.pose1), (ctx.shape2, ctx.pose2)].map(|(shape, pose)| {
-        if attitude_free(shape) {
-            [Mat3::zeros(); 4]
-        } else {
-            rotation_generators(pose)
+    let mut axes = [[Vec3::zeros(); 4]; 2];
+    for (a, (shape, pose)) in axes
+        .iter_mut()
+        .zip([(ctx.shape1, ctx.pose1), (ctx.shape2, ctx.pose2)])
+    {
+        if !attitude_free(shape) {
+            *a = rotation_axes(pose);
         }
-    });
+    }
     let ranges = row_ranges(ctx.shape1, ctx.shape2);
     // The polish was accepted (else there is no reliable solution point, only the
     // barrier-smoothed Jacobian); near an active-set change, the refined point.
@@ -177,13 +183,24 @@ pub(crate) fn compute<const N: usize>(
         for j in 0..3 {
             grad[base + j] = vr[i][j] / ell;
         }
+        // −eᵢ·(M_k vᵢ) = −ω_k·(vᵢ × eᵢ).
+        let ve = vr[i].cross(&er[i]);
         for k in 0..4 {
-            grad[base + 3 + k] = -er[i].dot(&(gens[i][k] * vr[i]));
+            grad[base + 3 + k] = -axes[i][k].dot(&ve);
         }
     }
     full.gradient = grad;
     if want < Want::Jacobian {
         return;
+    }
+    // The generators as matrices, for the Jacobian (written in place: `[_; 2].map` would copy
+    // the 576-byte result several times).
+    let skew = |o: &Vec3| Mat3::new(0.0, -o.z, o.y, o.z, 0.0, -o.x, -o.y, o.x, 0.0);
+    let mut gens = [[Mat3::zeros(); 4]; 2];
+    for (g, a) in gens.iter_mut().zip(&axes) {
+        for (gk, ak) in g.iter_mut().zip(a) {
+            *gk = skew(ak);
+        }
     }
     let exact = match &refined {
         Some((set, p)) => exact_jacobian(ctx, problem, set, p, &gens, &er, &vr, t, full),
@@ -254,6 +271,11 @@ fn rho_of<const N: usize>(g: &[Real; N], p: usize, gen: &[Mat3; 4], e: &Vec3, el
 const MAX_ACTIVE: usize = 24;
 /// The smaller storage size for the active-set system (see [`exact_jacobian`]).
 const SMALL_ACTIVE: usize = 12;
+/// The smallest storage size, for the reduced systems of pairs of curved shapes (order
+/// `4 + 2`: two cones on their boundary).
+const TINY_ACTIVE: usize = 6;
+/// Storage sizes up to this are factored whole, padded (see [`xalpha_rows`]).
+const PADDED_ACTIVE: usize = 6;
 
 /// `−δ` on the diagonal of each equality row's own multiplier: when more constraints are
 /// active than the dimension needs (a polytope vertex where four or more facets meet), the
@@ -778,7 +800,9 @@ fn exact_jacobian<const N: usize>(
     if tests::FULL_SYSTEM_ONLY.with(|f| f.get()) {
         return exact_jacobian_in::<N, MAX_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full);
     }
-    let done = if reduced_order <= SMALL_ACTIVE {
+    let done = if reduced_order <= TINY_ACTIVE {
+        reduced_jacobian::<N, TINY_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+    } else if reduced_order <= SMALL_ACTIVE {
         reduced_jacobian::<N, SMALL_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
     } else {
         reduced_jacobian::<N, MAX_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
@@ -866,17 +890,14 @@ fn reduced_jacobian<const N: usize, const M: usize>(
             }
             Unknown::Cone(k, js, gamma) => {
                 let g = &problem.soc[k].g;
+                // −γ GᵀJG, with the solver's copy of GᵀJG.
+                let gjg = problem.soc[k].gjg();
                 for q in 0..N {
                     let w = g[0][q] * js[0] + g[1][q] * js[1] + g[2][q] * js[2] + g[3][q] * js[3];
                     a[q][col] = w;
                     a[col][q] = -w;
-                    // −γ (GᵀJG)[q][·]
                     for q2 in 0..N {
-                        let gjg = g[0][q] * g[0][q2]
-                            - g[1][q] * g[1][q2]
-                            - g[2][q] * g[2][q2]
-                            - g[3][q] * g[3][q2];
-                        a[q][q2] -= gamma * gjg;
+                        a[q][q2] -= gamma * gjg[q][q2];
                     }
                 }
             }
@@ -1039,12 +1060,33 @@ fn exact_jacobian_in<const N: usize, const M: usize>(
 /// `J = YᵀB` needs four solves with the transposed factor instead of fourteen. `None` when
 /// the system is singular.
 fn xalpha_rows<const M: usize>(a: &mut [[Real; M]; M], order: usize) -> Option<[[Real; 4]; M]> {
-    let perm = lu_factor_in_place(a, order)?;
+    // In the small storage the system is padded to order M with a diagonal block (the largest
+    // entry on its diagonal, so that the singularity test's scale is unchanged; a padded row is
+    // never a pivot of a real column, and its right-hand side and solution are zero): the
+    // factorisation's loops then have compile-time bounds, which for these orders costs less
+    // than the padding adds.
+    let n = if M <= PADDED_ACTIVE {
+        let big = a[..order]
+            .iter()
+            .flat_map(|row| row[..order].iter())
+            .fold(0.0, |m: Real, v| m.max(v.abs()));
+        for (i, row) in a.iter_mut().enumerate().skip(order) {
+            row[i] = big;
+        }
+        M
+    } else {
+        order
+    };
+    let perm = if M <= PADDED_ACTIVE {
+        lu_factor_whole(a)?
+    } else {
+        lu_factor_in_place(a, n)?
+    };
     let mut y = [[0.0; 4]; M];
     for (r, yr) in y.iter_mut().take(4).enumerate() {
         yr[r] = 1.0;
     }
-    lu_solve_transposed4(a, &perm, order, &mut y);
+    lu_solve_transposed4(a, &perm, n, &mut y);
     Some(y)
 }
 
@@ -1150,6 +1192,7 @@ fn store_jacobian(mut jac: [[Real; 14]; 4], ell: Real, full: &mut Full) -> bool 
 /// LU with partial pivoting, in place, of the leading `n×n` block of `a`; returns the pivot
 /// row chosen at each step (LAPACK's `ipiv`), or `None` when a pivot is below 1e-14 of the
 /// largest entry (a degenerate active set).
+#[inline(always)]
 fn lu_factor_in_place<const M: usize>(a: &mut [[Real; M]; M], n: usize) -> Option<[usize; M]> {
     let n = n.min(M);
     let mut ipiv = [0usize; M];
@@ -1195,6 +1238,46 @@ fn lu_factor_in_place<const M: usize>(a: &mut [[Real; M]; M], n: usize) -> Optio
     Some(ipiv)
 }
 
+/// [`lu_factor_in_place`] of the whole of a small `a`, written with compile-time loop bounds
+/// (so it unrolls): the same pivots, operations and result.
+#[inline(always)]
+fn lu_factor_whole<const M: usize>(a: &mut [[Real; M]; M]) -> Option<[usize; M]> {
+    let mut ipiv = [0usize; M];
+    let mut big: Real = 0.0;
+    for row in a.iter() {
+        for v in row {
+            big = big.max(v.abs());
+        }
+    }
+    if !(big > 0.0) || !big.is_finite() {
+        return None;
+    }
+    for k in 0..M {
+        let mut p = k;
+        for i in (k + 1)..M {
+            if a[i][k].abs() > a[p][k].abs() {
+                p = i;
+            }
+        }
+        let piv = a[p][k];
+        if !(piv.abs() > 1e-14 * big) {
+            return None;
+        }
+        a.swap(p, k);
+        ipiv[k] = p;
+        let inv = 1.0 / piv;
+        let pivot_row = a[k];
+        for row in a.iter_mut().skip(k + 1) {
+            let f = row[k] * inv;
+            row[k] = f;
+            for j in (k + 1)..M {
+                row[j] -= f * pivot_row[j];
+            }
+        }
+    }
+    Some(ipiv)
+}
+
 /// Solves `A x = b` in place with the factor from [`lu_factor_in_place`].
 fn lu_solve_one<const M: usize>(
     a: &[[Real; M]; M],
@@ -1225,6 +1308,7 @@ fn lu_solve_one<const M: usize>(
 /// row) with the factor from [`lu_factor_in_place`]: `PA = LU`, so `Aᵀ = UᵀLᵀP`, a forward
 /// solve with `Uᵀ` and a backward one with the unit `Lᵀ` (both sweeping rows of the factor),
 /// then `Pᵀ`.
+#[inline(always)]
 fn lu_solve_transposed4<const M: usize>(
     a: &[[Real; M]; M],
     ipiv: &[usize; M],
@@ -1619,6 +1703,66 @@ mod tests {
                         er[c]
                     );
                 }
+            }
+        }
+    }
+
+    /// The padded whole-matrix factorisation of the smallest storage gives what the general
+    /// one gives for the same system in larger storage (orders below and at the storage size,
+    /// pivoting exercised by a small leading entry), and both report a singular system.
+    #[test]
+    fn padded_small_system_matches_general_factorisation() {
+        use super::{xalpha_rows, TINY_ACTIVE};
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for order in 4..=TINY_ACTIVE {
+            for trial in 0..20 {
+                let mut small = [[0.0; TINY_ACTIVE]; TINY_ACTIVE];
+                let mut large = [[0.0; 12]; 12];
+                for i in 0..order {
+                    for j in 0..order {
+                        let v = next() * if trial % 2 == 0 { 1e-3 } else { 1e3 };
+                        small[i][j] = v;
+                        large[i][j] = v;
+                    }
+                }
+                small[0][0] *= 1e-6;
+                large[0][0] *= 1e-6;
+                let ys = xalpha_rows(&mut small, order).expect("regular");
+                let yl = xalpha_rows(&mut large, order).expect("regular");
+                for q in 0..order {
+                    for r in 0..4 {
+                        let (a, b) = (ys[q][r], yl[q][r]);
+                        assert!(
+                            (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+                            "order {order} trial {trial} Y[{q}][{r}]: {a} vs {b}"
+                        );
+                    }
+                }
+                for y in &ys[order..] {
+                    assert_eq!(*y, [0.0; 4]);
+                }
+                // A repeated row makes both singular.
+                let mut small_singular = [[0.0; TINY_ACTIVE]; TINY_ACTIVE];
+                let mut large_singular = [[0.0; 12]; 12];
+                for i in 0..order {
+                    for j in 0..order {
+                        let v = next();
+                        small_singular[i][j] = v;
+                        large_singular[i][j] = v;
+                    }
+                }
+                for j in 0..order {
+                    small_singular[order - 1][j] = small_singular[0][j];
+                    large_singular[order - 1][j] = large_singular[0][j];
+                }
+                assert!(xalpha_rows(&mut small_singular, order).is_none());
+                assert!(xalpha_rows(&mut large_singular, order).is_none());
             }
         }
     }

@@ -147,6 +147,11 @@ impl<const N: usize> SocBlock<N> {
     pub fn scaling(&self) -> &SocScaling {
         &self.sc
     }
+
+    /// `Gᵀ J G` with `J = diag(1, −1, −1, −1)` (valid after a solve; it depends on `g` only).
+    pub fn gjg(&self) -> &[[Real; N]; N] {
+        &self.gjg
+    }
 }
 
 /// A cone program `min cᵀz s.t. h − G z ∈ K` with its iterate.
