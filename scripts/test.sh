@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs the whole test suite: the Rust tests, then the CMake build with its C tests (ctest), once
-# normally and once with AddressSanitizer + UBSan.
+# Runs the whole test suite: the lints (rustfmt, clippy, rustdoc), the Rust tests, then the CMake
+# build with its C tests (ctest), once normally and once with AddressSanitizer + UBSan.
 #
 #   ./scripts/test.sh
 #
@@ -11,6 +11,20 @@ cd "$(dirname "$0")/.."
 
 jobs=${JOBS:-2}
 cargo_target=$PWD/build/cargo-target
+
+echo "== lints: rustfmt, clippy and rustdoc, warnings as errors"
+# rustfmt and clippy are rustup components a minimal toolchain may lack; rustdoc never is.
+if cargo fmt --version >/dev/null 2>&1; then
+  cargo fmt --check
+else
+  echo "(rustfmt is not installed: format check skipped)"
+fi
+if cargo clippy --version >/dev/null 2>&1; then
+  cargo clippy --release --all-targets -- -D warnings
+else
+  echo "(clippy is not installed: lint skipped)"
+fi
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 
 echo "== cargo test --release"
 cargo test --release

@@ -91,16 +91,17 @@ impl Arrays {
     }
 }
 
-/// Proximity (as dcol_proximity) of `count` pairs: pair i is (shapes1[i], poses1[i],
-/// shapes2[i], poses2[i]); its result goes to results[i] and its status to statuses[i].
+/// Proximity (as dcol_proximity) of `count` pairs: pair i is (`shapes1[i]`, `poses1[i]`,
+/// `shapes2[i]`, `poses2[i]`); its result goes to `results[i]` and its status to `statuses[i]`.
 ///
-/// Each pair is independent: a bad pair does not fail the batch. statuses[i] is DCOL_OK
-/// (results[i] written), DCOL_ERROR_NOT_CONVERGED (results[i] holds the last iterate),
-/// DCOL_ERROR_NULL_POINTER (shapes1[i] or shapes2[i] is NULL), DCOL_ERROR_INVALID_POSE (poses1[i]
-/// or poses2[i] rejected, or their origins too far apart) or DCOL_ERROR_INTERNAL, and on these
-/// errors results[i] is untouched. Per-pair failures do not set the last error message (the call
-/// itself succeeds): call dcol_proximity on that pair for the sentence. results[i] is exactly
-/// what dcol_proximity returns for the pair, bit for bit, whatever `threads` is.
+/// Each pair is independent: a bad pair does not fail the batch. `statuses[i]` is DCOL_OK
+/// (`results[i]` written), DCOL_ERROR_NOT_CONVERGED (`results[i]` holds the last iterate),
+/// DCOL_ERROR_NULL_POINTER (`shapes1[i]` or `shapes2[i]` is NULL), DCOL_ERROR_INVALID_POSE
+/// (`poses1[i]` or `poses2[i]` rejected, or their origins too far apart) or
+/// DCOL_ERROR_INTERNAL, and on these errors `results[i]` is untouched. Per-pair failures do
+/// not set the last error message (the call itself succeeds): call dcol_proximity on that pair
+/// for the sentence. `results[i]` is exactly what dcol_proximity returns for the pair, bit for
+/// bit, whatever `threads` is.
 ///
 /// The call returns DCOL_OK once every pair has its status; or DCOL_ERROR_NULL_POINTER if one of
 /// the six arrays is NULL while count > 0, or DCOL_ERROR_INVALID_OPTIONS if *options is

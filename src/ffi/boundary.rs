@@ -1,7 +1,7 @@
 //! The single panic boundary, the pointer helpers and the per-thread last error message.
 //!
-//! Every exported function runs its body through [`run`] (status-returning functions) or
-//! [`catch`] (the few that return a value), so a Rust panic never unwinds into C.
+//! Every exported function runs its body through `run` (status-returning functions) or
+//! `catch` (the few that return a value), so a Rust panic never unwinds into C.
 
 use std::cell::RefCell;
 use std::fmt::{self, Write as _};

@@ -3,7 +3,7 @@
 //! Every shape is built once by a validating constructor that precomputes what queries need
 //! (Cholesky factors, tan β, bounding and inscribed radii) and is immutable afterwards, so it
 //! can be shared between threads. A shape contributes its *scaled* conic constraints to a
-//! problem through [`ConicShape::rows`]: in body coordinates `u = Qᵀ(x − r)`, each constraint
+//! problem through `ConicShape::rows`: in body coordinates `u = Qᵀ(x − r)`, each constraint
 //! row is `s = f_u·u + f_α α + f_w·w` with `w` the shape's own slack variables, and the rows
 //! form at most one second-order cone plus nonnegative-orthant rows.
 
