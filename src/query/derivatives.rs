@@ -1077,11 +1077,7 @@ fn xalpha_rows<const M: usize>(a: &mut [[Real; M]; M], order: usize) -> Option<[
     } else {
         order
     };
-    let perm = if M <= PADDED_ACTIVE {
-        lu_factor_whole(a)?
-    } else {
-        lu_factor_in_place(a, n)?
-    };
+    let perm = lu_factor_in_place(a, n)?;
     let mut y = [[0.0; 4]; M];
     for (r, yr) in y.iter_mut().take(4).enumerate() {
         yr[r] = 1.0;
@@ -1196,82 +1192,45 @@ fn store_jacobian(mut jac: [[Real; 14]; 4], ell: Real, full: &mut Full) -> bool 
 fn lu_factor_in_place<const M: usize>(a: &mut [[Real; M]; M], n: usize) -> Option<[usize; M]> {
     let n = n.min(M);
     let mut ipiv = [0usize; M];
+    // The largest |entry| (a NaN is passed over here and refused as a pivot below).
     let mut big: Real = 0.0;
-    for i in 0..n {
-        for j in 0..n {
-            big = big.max(a[i][j].abs());
+    for row in a[..n].iter() {
+        for v in row[..n].iter() {
+            let x = v.abs();
+            if x > big {
+                big = x;
+            }
         }
     }
     if !(big > 0.0) || !big.is_finite() {
         return None;
     }
+    let floor = 1e-14 * big;
     for k in 0..n {
-        let mut p = k;
-        for i in (k + 1)..n {
-            if a[i][k].abs() > a[p][k].abs() {
+        let (mut p, mut pmax) = (k, a[k][k].abs());
+        for (i, row) in a[..n].iter().enumerate().skip(k + 1) {
+            let x = row[k].abs();
+            if x > pmax {
                 p = i;
+                pmax = x;
             }
         }
-        let piv = a[p][k];
-        if !(piv.abs() > 1e-14 * big) {
+        if !(pmax > floor) {
             return None;
         }
-        if p != k {
-            let (lo, hi) = a.split_at_mut(p);
-            lo[k][..n].swap_with_slice(&mut hi[0][..n]);
-        }
+        // Whole rows: the entries beyond the order are zero in both.
+        a.swap(p, k);
         ipiv[k] = p;
-        let inv = 1.0 / piv;
-        let (top, below) = a.split_at_mut(k + 1);
-        let pivot_row = &top[k][..n];
-        for row in below[..n - k - 1].iter_mut() {
+        let pivot_row = a[k];
+        let inv = 1.0 / pivot_row[k];
+        for row in a[k + 1..n].iter_mut() {
             let f = row[k] * inv;
             row[k] = f;
             if f == 0.0 {
                 continue;
             }
-            for (x, pv) in row[k + 1..n].iter_mut().zip(&pivot_row[k + 1..]) {
+            for (x, pv) in row[k + 1..n].iter_mut().zip(&pivot_row[k + 1..n]) {
                 *x -= f * pv;
-            }
-        }
-    }
-    Some(ipiv)
-}
-
-/// [`lu_factor_in_place`] of the whole of a small `a`, written with compile-time loop bounds
-/// (so it unrolls): the same pivots, operations and result.
-#[inline(always)]
-fn lu_factor_whole<const M: usize>(a: &mut [[Real; M]; M]) -> Option<[usize; M]> {
-    let mut ipiv = [0usize; M];
-    let mut big: Real = 0.0;
-    for row in a.iter() {
-        for v in row {
-            big = big.max(v.abs());
-        }
-    }
-    if !(big > 0.0) || !big.is_finite() {
-        return None;
-    }
-    for k in 0..M {
-        let mut p = k;
-        for i in (k + 1)..M {
-            if a[i][k].abs() > a[p][k].abs() {
-                p = i;
-            }
-        }
-        let piv = a[p][k];
-        if !(piv.abs() > 1e-14 * big) {
-            return None;
-        }
-        a.swap(p, k);
-        ipiv[k] = p;
-        let inv = 1.0 / piv;
-        let pivot_row = a[k];
-        for row in a.iter_mut().skip(k + 1) {
-            let f = row[k] * inv;
-            row[k] = f;
-            for j in (k + 1)..M {
-                row[j] -= f * pivot_row[j];
             }
         }
     }
@@ -1315,23 +1274,22 @@ fn lu_solve_transposed4<const M: usize>(
     n: usize,
     b: &mut [[Real; 4]; M],
 ) {
+    let n = n.min(M);
     for k in 0..n {
         let inv = 1.0 / a[k][k];
-        let wk = [b[k][0] * inv, b[k][1] * inv, b[k][2] * inv, b[k][3] * inv];
+        let wk = b[k].map(|x| x * inv);
         b[k] = wk;
-        for i in (k + 1)..n {
-            let u = a[k][i];
+        for (bi, u) in b[k + 1..n].iter_mut().zip(&a[k][k + 1..n]) {
             for c in 0..4 {
-                b[i][c] -= u * wk[c];
+                bi[c] -= u * wk[c];
             }
         }
     }
     for k in (0..n).rev() {
         let vk = b[k];
-        for i in 0..k {
-            let l = a[k][i];
+        for (bi, l) in b[..k].iter_mut().zip(&a[k][..k]) {
             for c in 0..4 {
-                b[i][c] -= l * vk[c];
+                bi[c] -= l * vk[c];
             }
         }
     }
