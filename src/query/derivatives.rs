@@ -23,7 +23,7 @@ use crate::error::Error;
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape, ShapeKind};
 use crate::solver::cones::jprod;
-use crate::solver::{Outcome, Problem};
+use crate::solver::{Outcome, Problem, SolveStatus};
 
 /// Below this largest quaternion component (below 1e-150), derivatives with respect to q (which scale like
 /// 1/‖q‖) may overflow a double.
@@ -109,6 +109,47 @@ pub(crate) fn rotation_axes(pose: &Pose) -> [Vec3; 4] {
     [-v * k, axis(0), axis(1), axis(2)]
 }
 
+/// `κℓ/dist`: solver coordinates are this times physical ones (ξ, α, slacks).
+fn solver_scale(ctx: &Context<'_>) -> Real {
+    1.0 / ctx.frame.point_factor() * ctx.frame.ell
+}
+
+/// The solution point refined on its active set (see [`refine_solution`]), when it was.
+pub(crate) struct Refined<const N: usize>(Option<(ActiveSet, Point<N>)>);
+
+impl<const N: usize> Refined<N> {
+    /// Not refined.
+    pub(crate) const NONE: Self = Refined(None);
+
+    /// The refined primal point (solver coordinates), if there is one.
+    pub(crate) fn z(&self) -> Option<&[Real; N]> {
+        self.0.as_ref().map(|(_, p)| &p.z)
+    }
+}
+
+/// The solution point near an active-set change. The polished point of a converged solve
+/// satisfies the KKT conditions of its active set to rounding, except next to an active-set
+/// change (a weakly active row whose slack and multiplier are both O(√μ), as at a contact
+/// next to a cone's rim): there one Newton polish leaves it O(√μ) off (up to 1e-6 ℓ in x* at
+/// the default tolerance), and [`refine`] (Newton's method on the KKT system of the identified
+/// active set, with sign checks) finds the exact point. One pass over the rows decides
+/// ([`ambiguity`]); the refinement itself runs rarely (12 of 7 201 queries in the benchmark's
+/// sweep). `NONE` when not needed, not possible (no accepted polish) or not converged.
+pub(crate) fn refine_solution<const N: usize>(
+    ctx: &Context<'_>,
+    problem: &Problem<'_, N>,
+    outcome: &Outcome<N>,
+) -> Refined<N> {
+    if outcome.status != SolveStatus::Converged
+        || problem.aho.is_none()
+        || ambiguity(problem, &outcome.z) <= AMBIGUOUS
+    {
+        return Refined::NONE;
+    }
+    let ranges = row_ranges(ctx.shape1, ctx.shape2);
+    Refined(refine(problem, &ranges, &outcome.z, solver_scale(ctx)))
+}
+
 /// Fills `full.gradient` (and `full.jacobian` when asked) from a solved problem.
 ///
 /// Both are taken on the active set identified at the polished point ([`identify`]). When that
@@ -121,15 +162,17 @@ pub(crate) fn compute<const N: usize>(
     ctx: &Context<'_>,
     problem: &Problem<'_, N>,
     outcome: &Outcome<N>,
+    refined: &Refined<N>,
     want: Want,
     full: &mut Full,
 ) {
     let frame = &ctx.frame;
     let ell = frame.ell;
-    let t = 1.0 / frame.point_factor() * ell; // κℓ/dist: solver = t · physical (ξ, α, w)
-                                              // A sphere's set does not depend on its attitude, so every derivative with respect to its
-                                              // quaternion is exactly zero: zero generators make every route give exact zeros, and the
-                                              // Jacobian skips those columns.
+    // κℓ/dist: solver = t · physical (ξ, α, w).
+    let t = solver_scale(ctx);
+    // A sphere's set does not depend on its attitude, so every derivative with respect to its
+    // quaternion is exactly zero: zero generators make every route give exact zeros, and the
+    // Jacobian skips those columns.
     let mut axes = [[Vec3::zeros(); 4]; 2];
     for (a, (shape, pose)) in axes
         .iter_mut()
@@ -143,11 +186,7 @@ pub(crate) fn compute<const N: usize>(
     // The polish was accepted (else there is no reliable solution point, only the
     // barrier-smoothed Jacobian); near an active-set change, the refined point.
     let polished = problem.aho.is_some();
-    let refined = if polished && !(ambiguity(problem, &outcome.z) <= AMBIGUOUS) {
-        refine(problem, &ranges, &outcome.z, t)
-    } else {
-        None
-    };
+    let refined = &refined.0;
     // eᵢ and vᵢ = Σ λ̄ a over shape i's rows, with the polished multipliers λ̄ (all rows).
     let z = &outcome.z;
     let xi = Vec3::new(z[0], z[1], z[2]) / t;

@@ -130,7 +130,14 @@ impl Task for ProximityTask<'_> {
             stop_below,
         });
         let outcome = problem.solve_until(&z0, mu0, ctx.options, threshold);
-        let z = &outcome.z;
+        // Next to an active-set change the polished point is refined on its active set (rare;
+        // see `derivatives::refine_solution`), and the answer is taken there.
+        let refined = if outcome.decided.is_none() {
+            derivatives::refine_solution(ctx, &problem, &outcome)
+        } else {
+            derivatives::Refined::NONE
+        };
+        let z = refined.z().unwrap_or(&outcome.z);
         let alpha_n = z[3];
         let xi = Vec3::new(z[0], z[1], z[2]);
         let r1 = *ctx.pose1.position();
@@ -153,7 +160,7 @@ impl Task for ProximityTask<'_> {
             return full;
         }
         if self.want >= Want::Gradient {
-            derivatives::compute(ctx, &problem, &outcome, self.want, &mut full);
+            derivatives::compute(ctx, &problem, &outcome, &refined, self.want, &mut full);
         }
         full
     }
