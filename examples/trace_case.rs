@@ -1,5 +1,5 @@
 // Development aid for solver work: `trace_case FILE INDEX` solves one reference case and
-// prints the result beside the reference α*; `trace_case time FILE...` (or `timejac`) prints the
+// prints the result beside the reference α* (`DCOL_TOL` sets the tolerance); `trace_case time FILE...` (or `timejac`) prints the
 // median time of proximity (or jacobian, `timegrad`: gradient) over reference files. Pair it with
 // `valgrind --tool=callgrind` for instruction counts that do not depend on machine load.
 use serde_json::Value;
@@ -49,12 +49,17 @@ fn main() {
     }
     let cases = common::load(std::path::Path::new(&a[1]));
     let c: &Value = &cases[a[2].parse::<usize>().unwrap()];
+    // `DCOL_TOL` overrides the solver tolerance (as in tests/reference.rs).
+    let mut opts = dcol::Options::default();
+    if let Some(t) = std::env::var("DCOL_TOL").ok().and_then(|v| v.parse().ok()) {
+        opts.tolerance = t;
+    }
     let p = dcol::proximity(
         &common::shape(&c["shape1"]),
         &common::pose(&c["pose1"]),
         &common::shape(&c["shape2"]),
         &common::pose(&c["pose2"]),
-        &Default::default(),
+        &opts,
     )
     .unwrap();
     println!("{:?}\nref alpha {}", p, c["alpha"]);
