@@ -9,7 +9,10 @@
 //! At the default tolerance x* is also held to [`NEWTON_POINT_TOL`]: the polished point is
 //! O(μ)-accurate, and next to an active-set change (a weakly active row, as at a contact by a
 //! cone's rim) it is refined on its active set. Without that refinement such points were up
-//! to 1.3e-8·ℓ off (cone–ellipsoid), and 1.5e-6·ℓ after a change of the starting point.
+//! to 1.3e-8·ℓ off (cone–ellipsoid), and 1.5e-6·ℓ after a change of the starting point
+//! (`query::proximity::tests::answer_does_not_depend_on_the_starting_point`). How far the
+//! polished point is depends on the gap at which the solve stopped: 7e-9·ℓ at most over the
+//! starts tried (initial μ 0.1–10 times the default, α' 0.9–1.7 times).
 
 #![allow(clippy::needless_range_loop)] // entries are compared by index in lockstep
 
@@ -22,7 +25,7 @@ use std::collections::BTreeMap;
 const ALPHA_TOL: f64 = 1e-10;
 const POINT_TOL: f64 = 1e-7;
 /// x* (where unique) at the default tolerance, relative to ℓ (see the module docs).
-const NEWTON_POINT_TOL: f64 = 5e-9;
+const NEWTON_POINT_TOL: f64 = 1e-8;
 
 #[derive(Default, Debug)]
 struct Worst {

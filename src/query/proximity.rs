@@ -119,7 +119,7 @@ impl Task for ProximityTask<'_> {
         z0[0] = xi.x;
         z0[1] = xi.y;
         z0[2] = xi.z;
-        z0[3] = 1.2 * alpha_in;
+        z0[3] = start_alpha_factor() * alpha_in;
         let mu0 = 10.0 * (z0[3] - 1.0).max(0.1) / (problem.lp.len() + problem.n_soc) as Real;
         // Threshold in solver units; ‖z*‖₁ ≤ N α' bounds the dual-residual term (every
         // component of z* is at most α' in magnitude in these coordinates).
@@ -163,6 +163,29 @@ impl Task for ProximityTask<'_> {
             derivatives::compute(ctx, &problem, &outcome, &refined, self.want, &mut full);
         }
         full
+    }
+}
+
+/// α' of the feasible start, relative to the inscribed-ball bound `κ/(ι₁' + ι₂')`.
+const START_ALPHA_FACTOR: Real = 1.2;
+
+#[cfg(test)]
+thread_local! {
+    /// Replaces [`START_ALPHA_FACTOR`] (this thread only), to test that the answer does not
+    /// depend on the starting point.
+    static TEST_START_ALPHA_FACTOR: std::cell::Cell<Real> =
+        const { std::cell::Cell::new(START_ALPHA_FACTOR) };
+}
+
+#[inline]
+fn start_alpha_factor() -> Real {
+    #[cfg(test)]
+    {
+        TEST_START_ALPHA_FACTOR.with(|c| c.get())
+    }
+    #[cfg(not(test))]
+    {
+        START_ALPHA_FACTOR
     }
 }
 
@@ -315,4 +338,75 @@ pub fn proximity(
     options: &Options,
 ) -> Result<Proximity, Error> {
     query(shape1, pose1, shape2, pose2, options, Want::Proximity).map(|f| f.prox)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TEST_START_ALPHA_FACTOR;
+    use crate::{proximity, Options, Pose, Shape};
+
+    /// Reference case `ref-cone-ellipsoid-010` (`../shared/reference`, values copied): a contact
+    /// next to the cone's rim, where the cone's base row is weakly active (slack and multiplier
+    /// both O(√μ) at the last iterate). The polished point alone depended on where the solve
+    /// started (x* off by 1.5e-6·ℓ when started at 1.05× the inscribed bound instead of 1.2×);
+    /// with the refinement on the active set every start gives the oracle's answer.
+    #[test]
+    fn answer_does_not_depend_on_the_starting_point() {
+        let cone = Shape::cone(0.7708460389020768, 0.38196237303482544).unwrap();
+        let ellipsoid = Shape::ellipsoid([
+            [
+                0.9174361468979626,
+                -0.04793763438889435,
+                0.0017659819775128053,
+            ],
+            [
+                -0.04793763438889435,
+                1.2104364125327358,
+                -0.3372793768428028,
+            ],
+            [
+                0.0017659819775128053,
+                -0.3372793768428028,
+                0.9411951215311882,
+            ],
+        ])
+        .unwrap();
+        let p1 = Pose::new(
+            [-0.32440352918558135, 1.3786119087878013, 1.7778231336039605],
+            [
+                0.20162915161790956,
+                0.12202188236894111,
+                0.7980098172280561,
+                0.5546500491739154,
+            ],
+        )
+        .unwrap();
+        let p2 = Pose::new(
+            [0.4260713840311531, 2.3753717250567505, 1.3785067884219755],
+            [
+                0.9307566736168071,
+                -0.03205737313432736,
+                0.06115922564559505,
+                0.3590597282680614,
+            ],
+        )
+        .unwrap();
+        let alpha_ref = 1.009004931098814;
+        let x_ref = [-0.35419812194286243, 1.7179690456128716, 1.6387257406424003];
+        let ell = cone.bounding_radius().max(ellipsoid.bounding_radius());
+        for factor in [1.05, 1.2, 1.5, 2.0, 4.0] {
+            TEST_START_ALPHA_FACTOR.with(|c| c.set(factor));
+            let p = proximity(&cone, &p1, &ellipsoid, &p2, &Options::default()).unwrap();
+            TEST_START_ALPHA_FACTOR.with(|c| c.set(super::START_ALPHA_FACTOR));
+            assert!(p.status.is_converged(), "start {factor}: {:?}", p.status);
+            let ea = (p.alpha - alpha_ref).abs() / alpha_ref;
+            let ex = ((p.point.x - x_ref[0]).powi(2)
+                + (p.point.y - x_ref[1]).powi(2)
+                + (p.point.z - x_ref[2]).powi(2))
+            .sqrt()
+                / ell;
+            assert!(ea <= 1e-12, "start {factor}: alpha off by {ea:e}");
+            assert!(ex <= 1e-9, "start {factor}: x off by {ex:e} l");
+        }
+    }
 }
