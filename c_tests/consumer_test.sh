@@ -44,7 +44,7 @@ for mode in shared static; do
     # ldd's output is captured before it is searched: under pipefail, `ldd | grep -q` fails
     # whenever grep exits at the first match while ldd is still writing (SIGPIPE), which made
     # this check flaky on CI although the library resolved correctly.
-    deps=$(ldd "$work/consumer-$mode/$exe")
+    deps=$(ldd "$work/consumer-$mode/$exe") || { echo "FAILED: ldd $exe"; exit 1; }
     if [[ $mode == shared ]]; then
       grep -qF "libdcol.so.0 => $libdir/libdcol.so.0 " <<<"$deps" ||
         { echo "FAILED: $exe does not load the installed libdcol.so.0"; echo "$deps"; exit 1; }

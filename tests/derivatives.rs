@@ -930,6 +930,12 @@ fn fd_directional_all_pairs() {
 // ---------------------------------------------------------------------------------------------
 // (b): identities.
 
+/// The identities that compare J with the returned x* and contact points: both are taken at
+/// the same point (refined on its active set next to an active-set change), so they hold to
+/// about 1e-9. While x* was the polished point and J the refined one they differed by up to
+/// 5e-7 there.
+const POINT_CONSISTENCY_TOL: f64 = 1e-7;
+
 /// Names of the identities checked by [`identities_all_pairs`], with their tolerance.
 const IDENTITIES: [(&str, f64); 11] = [
     ("∂α/∂r₁ + ∂α/∂r₂ = 0", TOL),
@@ -937,9 +943,12 @@ const IDENTITIES: [(&str, f64); 11] = [
     ("dpᵢ[:,r₁] + dpᵢ[:,r₂] = I", ALGEBRAIC_TOL),
     ("J·q = 0, ∇α·q = 0, dpᵢ·q = 0 per block", ALGEBRAIC_TOL),
     ("∇α·m = 0 (common rotation m)", TOL),
-    ("J·m = [ω×(x−c); 0], dpᵢ·m = ω×(pᵢ−c)", TOL),
+    (
+        "J·m = [ω×(x−c); 0], dpᵢ·m = ω×(pᵢ−c)",
+        POINT_CONSISTENCY_TOL,
+    ),
     ("∂α/∂r₂·(r₂−r₁) = α", TOL),
-    ("∂x/∂r₂·(r₂−r₁) = x − r₁", TOL),
+    ("∂x/∂r₂·(r₂−r₁) = x − r₁", POINT_CONSISTENCY_TOL),
     ("∇α (Lagrangian) = J[3,:] (implicit function)", TOL),
     ("swap: ∇α(b,a) = ∇α(a,b) permuted", TOL),
     ("swap: J(b,a) = J(a,b) permuted", TOL),

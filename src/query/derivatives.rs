@@ -141,7 +141,7 @@ pub(crate) fn refine_solution<const N: usize>(
     outcome: &Outcome<N>,
 ) -> Refined<N> {
     if outcome.status != SolveStatus::Converged
-        || problem.aho.is_none()
+        || !problem.polished
         || ambiguity(problem, &outcome.z) <= AMBIGUOUS
     {
         return Refined::NONE;
@@ -152,12 +152,11 @@ pub(crate) fn refine_solution<const N: usize>(
 
 /// Fills `full.gradient` (and `full.jacobian` when asked) from a solved problem.
 ///
-/// Both are taken on the active set identified at the polished point ([`identify`]). When that
-/// point does not satisfy the KKT conditions of its active set to [`AMBIGUOUS`] (near an
-/// active-set change: a weakly active row whose slack the polish has not closed, or an
-/// inactive one whose multiplier it has not zeroed), it is first refined by Newton's method on
-/// the active-set KKT system ([`refine`]), and both derivatives are taken at the refined point.
-/// Otherwise (almost always) nothing beyond the polish is done.
+/// Both are taken on the active set identified at the polished point ([`identify`]), or, when
+/// [`refine_solution`] refined that point (near an active-set change: a weakly active row
+/// whose slack the polish has not closed, or an inactive one whose multiplier it has not
+/// zeroed), at the refined point `refined` on its active set: the point `proximity` reports.
+/// Without an accepted polish only the barrier-smoothed Jacobian is available.
 pub(crate) fn compute<const N: usize>(
     ctx: &Context<'_>,
     problem: &Problem<'_, N>,
@@ -185,7 +184,7 @@ pub(crate) fn compute<const N: usize>(
     let ranges = row_ranges(ctx.shape1, ctx.shape2);
     // The polish was accepted (else there is no reliable solution point, only the
     // barrier-smoothed Jacobian); near an active-set change, the refined point.
-    let polished = problem.aho.is_some();
+    let polished = problem.polished;
     let refined = &refined.0;
     // eᵢ and vᵢ = Σ λ̄ a over shape i's rows, with the polished multipliers λ̄ (all rows).
     let z = &outcome.z;
@@ -829,8 +828,9 @@ fn exact_jacobian<const N: usize>(
     full: &mut Full,
 ) -> bool {
     // First the reduced system (one unknown per cone on its boundary); should it fail, the
-    // full one. Each lives on the stack in the smallest of two sizes that holds it (zeroing
-    // and sweeping a 24×24 array for a system of order 6 is wasted work).
+    // full one. Each lives on the stack in the smallest storage that holds it (6, 12 or 24 for
+    // the reduced system, 12 or 24 for the full one: zeroing and sweeping a 24×24 array for a
+    // system of order 6 is wasted work).
     let reduced_order = N + set.eqs[..set.n]
         .iter()
         .filter(|eq| !matches!(eq, Eq::SocBound(_, c) if *c > 0))

@@ -394,10 +394,17 @@ mod tests {
         let alpha_ref = 1.009004931098814;
         let x_ref = [-0.35419812194286243, 1.7179690456128716, 1.6387257406424003];
         let ell = cone.bounding_radius().max(ellipsoid.bounding_radius());
+        /// Restores the default start when dropped, even if the solve panics.
+        struct Restore;
+        impl Drop for Restore {
+            fn drop(&mut self) {
+                TEST_START_ALPHA_FACTOR.with(|c| c.set(super::START_ALPHA_FACTOR));
+            }
+        }
         for factor in [1.05, 1.2, 1.5, 2.0, 4.0] {
+            let _restore = Restore;
             TEST_START_ALPHA_FACTOR.with(|c| c.set(factor));
             let p = proximity(&cone, &p1, &ellipsoid, &p2, &Options::default()).unwrap();
-            TEST_START_ALPHA_FACTOR.with(|c| c.set(super::START_ALPHA_FACTOR));
             assert!(p.status.is_converged(), "start {factor}: {:?}", p.status);
             let ea = (p.alpha - alpha_ref).abs() / alpha_ref;
             let ex = ((p.point.x - x_ref[0]).powi(2)

@@ -165,8 +165,12 @@ pub struct Problem<'a, const N: usize> {
     pub soc: [SocBlock<N>; MAX_SOC],
     /// Number of second-order cone blocks.
     pub n_soc: usize,
-    /// LU factor of `GᵀDG`, `D = L(s)⁻¹L(λ)`, at the final iterate (set by the polish).
+    /// LU factor of `GᵀDG`, `D = L(s)⁻¹L(λ)`, at the final iterate (set by the polish, also
+    /// when its step is then refused).
     pub aho: Option<Lu<N>>,
+    /// Whether the final polish was accepted: the returned point and `lam_polished` are the
+    /// polished ones (when false, `lam_polished` equals `lam`).
+    pub polished: bool,
 }
 
 /// A question "is the optimal value below `value`?" for [`Problem::solve_until`].
@@ -314,6 +318,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             soc: [SocBlock::EMPTY; MAX_SOC],
             n_soc: 0,
             aho: None,
+            polished: false,
         }
     }
 
@@ -621,6 +626,7 @@ impl<'a, const N: usize> Problem<'a, N> {
     fn polish(&mut self, outcome: &mut Outcome<N>, objective_tolerance: Real) -> bool {
         // Nothing of an earlier attempt (the early polish) may survive this one.
         self.aho = None;
+        self.polished = false;
         for row in self.lp.iter_mut() {
             row.lam_polished = row.lam;
         }
@@ -748,6 +754,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             outcome.z[i] += dz[i];
         }
         outcome.primal_objective += dobj;
+        self.polished = true;
         true
     }
 
