@@ -241,12 +241,34 @@ pub(crate) fn compute<const N: usize>(
         }
     }
     let exact = match &refined {
-        Some((set, p)) => exact_jacobian(ctx, problem, set, p, &gens, &er, &vr, t, full),
+        Some((set, p)) => exact_jacobian(
+            &AtPoint {
+                ctx,
+                problem,
+                set,
+                p,
+                gens: &gens,
+                e: &er,
+                v: &vr,
+                t,
+            },
+            full,
+        ),
         None if polished => {
             let mut set = ActiveSet::EMPTY;
             identify(problem, &ranges, &outcome.z, &[], &mut set) && {
                 let p = Point::polished(problem, &set, &outcome.z);
-                exact_jacobian(ctx, problem, &set, &p, &gens, &er, &vr, t, full)
+                let at = AtPoint {
+                    ctx,
+                    problem,
+                    set: &set,
+                    p: &p,
+                    gens: &gens,
+                    e: &er,
+                    v: &vr,
+                    t,
+                };
+                exact_jacobian(&at, full)
             }
         }
         None => false,
@@ -812,21 +834,26 @@ fn refine<const N: usize>(
 
 /// The exact (non-smoothed) Jacobian on the active set `set` at the point `p`: the
 /// implicit-function system of [`kkt_matrix`] with right-hand sides `−dGᵀλ` (stationarity),
+/// What every form of the active-set Jacobian needs: the query, the solved problem, the active
+/// set and the point on it, the rotation generators, `eᵢ` and `vᵢ`, and the scale `t` (solver =
+/// t · physical).
+#[derive(Clone, Copy)]
+struct AtPoint<'r, 'q, 'a, const N: usize> {
+    ctx: &'r Context<'q>,
+    problem: &'r Problem<'a, N>,
+    set: &'r ActiveSet,
+    p: &'r Point<N>,
+    gens: &'r [[Mat3; 4]; 2],
+    e: &'r [Vec3; 2],
+    v: &'r [Vec3; 2],
+    t: Real,
+}
+
 /// `−ρ` (active rows and apex cones), `0` (padded components) and `L(λ)ρ` (cones on their
 /// boundary). Returns false (leaving `full` alone) when the active set is degenerate: a
 /// singular system.
-#[allow(clippy::too_many_arguments)]
-fn exact_jacobian<const N: usize>(
-    ctx: &Context<'_>,
-    problem: &Problem<'_, N>,
-    set: &ActiveSet,
-    p: &Point<N>,
-    gens: &[[Mat3; 4]; 2],
-    e: &[Vec3; 2],
-    v: &[Vec3; 2],
-    t: Real,
-    full: &mut Full,
-) -> bool {
+fn exact_jacobian<const N: usize>(at: &AtPoint<'_, '_, '_, N>, full: &mut Full) -> bool {
+    let set = at.set;
     // First the reduced system (one unknown per cone on its boundary); should it fail, the
     // full one. Each lives on the stack in the smallest storage that holds it (6, 12 or 24 for
     // the reduced system, 12 or 24 for the full one: zeroing and sweeping a 24×24 array for a
@@ -837,22 +864,22 @@ fn exact_jacobian<const N: usize>(
         .count();
     #[cfg(test)]
     if tests::FULL_SYSTEM_ONLY.with(|f| f.get()) {
-        return exact_jacobian_in::<N, MAX_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full);
+        return exact_jacobian_in::<N, MAX_ACTIVE>(at, full);
     }
     let done = if reduced_order <= TINY_ACTIVE {
-        reduced_jacobian::<N, TINY_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+        reduced_jacobian::<N, TINY_ACTIVE>(at, full)
     } else if reduced_order <= SMALL_ACTIVE {
-        reduced_jacobian::<N, SMALL_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+        reduced_jacobian::<N, SMALL_ACTIVE>(at, full)
     } else {
-        reduced_jacobian::<N, MAX_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+        reduced_jacobian::<N, MAX_ACTIVE>(at, full)
     };
     if done {
         return true;
     }
     if N + set.n <= SMALL_ACTIVE {
-        exact_jacobian_in::<N, SMALL_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+        exact_jacobian_in::<N, SMALL_ACTIVE>(at, full)
     } else {
-        exact_jacobian_in::<N, MAX_ACTIVE>(ctx, problem, set, p, gens, e, v, t, full)
+        exact_jacobian_in::<N, MAX_ACTIVE>(at, full)
     }
 }
 
@@ -865,18 +892,20 @@ fn exact_jacobian<const N: usize>(
 /// deficient along `J s̄`, and their consistency condition is the boundary equation), at
 /// about a quarter of the cost for pairs of curved shapes. False when the system is singular or
 /// a cone's slack is not usable (then the full system is tried).
-#[allow(clippy::too_many_arguments)]
 fn reduced_jacobian<const N: usize, const M: usize>(
-    ctx: &Context<'_>,
-    problem: &Problem<'_, N>,
-    set: &ActiveSet,
-    p: &Point<N>,
-    gens: &[[Mat3; 4]; 2],
-    e: &[Vec3; 2],
-    v: &[Vec3; 2],
-    t: Real,
+    at: &AtPoint<'_, '_, '_, N>,
     full: &mut Full,
 ) -> bool {
+    let AtPoint {
+        ctx,
+        problem,
+        set,
+        p,
+        gens,
+        e,
+        v,
+        t,
+    } = *at;
     /// One unknown of the reduced system.
     #[derive(Clone, Copy)]
     enum Unknown {
@@ -890,7 +919,7 @@ fn reduced_jacobian<const N: usize, const M: usize>(
     let eqs = &set.eqs[..set.n];
     if eqs.iter().all(|eq| flat(eq) || padded(eq)) && eqs.iter().filter(|eq| flat(eq)).count() == N
     {
-        return square_jacobian(ctx, problem, set, gens, e, full);
+        return square_jacobian(at, full);
     }
     let mut unknowns = [(Unknown::Row(0), 0usize); M];
     let mut n = 0;
@@ -996,14 +1025,15 @@ fn reduced_jacobian<const N: usize, const M: usize>(
 /// ...): the active rows alone
 /// fix the solution, `G_A dz = −ρ`, so `dz = −G_A⁻¹ρ` needs only the `N×N` factor of `G_A` and
 /// no multipliers. False when `G_A` is singular (the general system is then tried).
-fn square_jacobian<const N: usize>(
-    ctx: &Context<'_>,
-    problem: &Problem<'_, N>,
-    set: &ActiveSet,
-    gens: &[[Mat3; 4]; 2],
-    e: &[Vec3; 2],
-    full: &mut Full,
-) -> bool {
+fn square_jacobian<const N: usize>(at: &AtPoint<'_, '_, '_, N>, full: &mut Full) -> bool {
+    let AtPoint {
+        ctx,
+        problem,
+        set,
+        gens,
+        e,
+        ..
+    } = *at;
     // The N flat rows (padded apex components, whose rows of G are zero, left out).
     let mut rows = [0usize; N];
     let mut n = 0;
@@ -1040,18 +1070,20 @@ fn square_jacobian<const N: usize>(
 }
 
 /// [`exact_jacobian`] with storage for a system of order ≤ `M`.
-#[allow(clippy::too_many_arguments)]
 fn exact_jacobian_in<const N: usize, const M: usize>(
-    ctx: &Context<'_>,
-    problem: &Problem<'_, N>,
-    set: &ActiveSet,
-    p: &Point<N>,
-    gens: &[[Mat3; 4]; 2],
-    e: &[Vec3; 2],
-    v: &[Vec3; 2],
-    t: Real,
+    at: &AtPoint<'_, '_, '_, N>,
     full: &mut Full,
 ) -> bool {
+    let AtPoint {
+        ctx,
+        problem,
+        set,
+        p,
+        gens,
+        e,
+        v,
+        t,
+    } = *at;
     let order = N + set.n;
     let mut a = [[0.0; M]; M];
     kkt_matrix(problem, set, p, t, &mut a);
