@@ -441,8 +441,9 @@ enum dcol_status dcol_proximity(const struct dcol_shape *shape1,
  * quaternion columns with respect to the four numbers given (through the normalisation).
  *
  * `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
- * DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes the gradient only if
- * all 14 entries are finite. On any other status nothing is written.
+ * DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes that iterate's
+ * gradient (from its multipliers) only if all 14 entries are finite. On any other status
+ * nothing is written.
  *
  * # Safety
  * As dcol_proximity; `gradient` must be NULL or valid for writing 14 doubles.
@@ -460,8 +461,9 @@ enum dcol_status dcol_gradient(const struct dcol_shape *shape1,
  * doubles), rows (x1, x2, x3, alpha), columns as in dcol_gradient.
  *
  * `options` may be NULL (defaults). On DCOL_OK fills *result and jacobian[0..56]. On
- * DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes the Jacobian only if
- * all 56 entries are finite. On any other status nothing is written.
+ * DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes that iterate's
+ * (barrier-smoothed) Jacobian only if all 56 entries are finite. On any other status nothing
+ * is written.
  *
  * # Safety
  * As dcol_proximity; `jacobian` must be NULL or valid for writing 56 doubles.

@@ -815,6 +815,30 @@ impl<'a, const N: usize> Problem<'a, N> {
         settings: &Settings,
         threshold: Option<Threshold>,
     ) -> Outcome<N> {
+        self.aho = None;
+        self.polished = false;
+        let outcome = self.iterate(z0, mu0, settings, threshold);
+        // Without an accepted polish the multipliers of the last iterate stand for the polished
+        // ones (derivatives of an unconverged solve are then those of its last iterate).
+        if !self.polished {
+            for row in self.lp.iter_mut() {
+                row.lam_polished = row.lam;
+            }
+            for b in self.soc[..self.n_soc].iter_mut() {
+                b.lam_polished = b.lam;
+            }
+        }
+        outcome
+    }
+
+    /// The interior-point iterations of [`Problem::solve_until`].
+    fn iterate(
+        &mut self,
+        z0: &[Real; N],
+        mu0: Real,
+        settings: &Settings,
+        threshold: Option<Threshold>,
+    ) -> Outcome<N> {
         let mut z = *z0;
         // Initial slacks; the largest violation of strict interiority (negative when z0 is
         // strictly feasible) decides whether they must be pushed inside.
@@ -961,6 +985,9 @@ impl<'a, const N: usize> Problem<'a, N> {
                     trial.status = SolveStatus::Converged;
                     return trial;
                 }
+                // Refused: the iterate moves on, so nothing of this attempt may describe it.
+                self.aho = None;
+                self.polished = false;
             }
             // The scalings are current (for derivatives) whatever happens next.
             if converged || saved.is_some() {
