@@ -11,6 +11,9 @@ use crate::solver::{LpRow, Problem};
 
 /// Orthant rows up to which the workspace lives on the stack.
 pub(crate) const STACK_ROWS_SMALL: usize = 8;
+/// Orthant rows up to which the workspace lives on the stack (middle buffer: two boxes, or a
+/// box and a 12-facet polytope; a smaller buffer is less to zero per query).
+pub(crate) const STACK_ROWS_MEDIUM: usize = 18;
 /// Orthant rows up to which the workspace lives on the stack (larger buffer).
 pub(crate) const STACK_ROWS: usize = 32;
 
@@ -59,6 +62,9 @@ where
         f(&mut [])
     } else if m <= STACK_ROWS_SMALL {
         let mut buf = [LpRow::ZERO; STACK_ROWS_SMALL];
+        f(&mut buf[..m])
+    } else if m <= STACK_ROWS_MEDIUM {
+        let mut buf = [LpRow::ZERO; STACK_ROWS_MEDIUM];
         f(&mut buf[..m])
     } else if m <= STACK_ROWS {
         let mut buf = [LpRow::ZERO; STACK_ROWS];

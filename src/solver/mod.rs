@@ -37,10 +37,8 @@ const EARLY_POLISH_GAP: Real = 1e-6;
 /// where the converged iterate's polish is usually accurate to rounding.
 const EARLY_POLISH_MARGIN: Real = 1e-3;
 
-/// Iterative-refinement passes per Newton direction.
-const REFINE_PASSES: usize = 1;
 /// Refinement runs once the duality gap (relative) is below this.
-const REFINE_BELOW_GAP: Real = 1e-5;
+const REFINE_BELOW_GAP: Real = 1e-7;
 
 /// A Newton direction solved with a factor that kept weak pivots is used only if it satisfies
 /// the dual equation `Gᵀdλ = −r_d` to this fraction of `max(‖r_d‖∞, dual residual limit)`.
@@ -220,6 +218,8 @@ struct Evaluation<const N: usize> {
     interior: bool,
     /// `Gᵀ W⁻² G`, not yet factored.
     normal: Normal<N>,
+    /// Right-hand side of the predictor's normal equations, `−r_d − Gᵀ W⁻² (r_p − s)`.
+    rhs: [Real; N],
 }
 
 /// What the step length and Mehrotra's centring need about a direction, gathered while it is
@@ -354,26 +354,25 @@ impl<'a, const N: usize> Problem<'a, N> {
         e.iter().map(|v| v.abs()).fold(0.0, Real::max)
     }
 
-    /// The Mehrotra predictor-corrector direction with the factored normal matrix `kkt`:
-    /// leaves `ds`, `dλ` of the corrector in the blocks and returns `dz` with the corrector's
-    /// step statistics.
+    /// The Mehrotra predictor-corrector direction with the factored normal matrix `kkt` and
+    /// the evaluation `ev` of the current iterate: leaves `ds`, `dλ` of the corrector in the
+    /// blocks and returns `dz` with the corrector's step statistics.
     fn predictor_corrector(
         &mut self,
         kkt: &Normal<N>,
-        rd: &[Real; N],
+        ev: &Evaluation<N>,
         refine: bool,
-        gap: Real,
     ) -> ([Real; N], StepStats) {
         // Predictor: complementarity target −v∘v.
-        let (_, aff) = self.direction::<false>(kkt, rd, false, 0.0);
+        let aff = self.predictor(kkt, &ev.rhs);
         let t_aff = aff.max_step().min(1.0);
-        let mu = gap / self.degree();
+        let mu = ev.gap / self.degree();
         // Gap after the affine step, Σ (s + t ds)ᵀ(λ + t dλ), for σ.
-        let gap_aff = gap + t_aff * (aff.s1 + t_aff * aff.s2);
-        let ratio = (gap_aff / gap).clamp(0.0, 1.0);
+        let gap_aff = ev.gap + t_aff * (aff.s1 + t_aff * aff.s2);
+        let ratio = (gap_aff / ev.gap).clamp(0.0, 1.0);
         let sigma = ratio * ratio * ratio;
         // Corrector: −v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe.
-        self.direction::<true>(kkt, rd, refine, sigma * mu)
+        self.corrector(kkt, ev, refine, sigma * mu)
     }
 
     /// `GᵀDG` with `D = L(s)⁻¹L(λ)` at the current iterate (`None` if not finite).
@@ -426,7 +425,10 @@ impl<'a, const N: usize> Problem<'a, N> {
             lam_max: 0.0,
             interior: true,
             normal: Normal::zeros(),
+            rhs: [0.0; N],
         };
+        // Σ Gᵀ W⁻² t with t = r_p − s (the predictor's right-hand side, less r_d).
+        let mut gwt = [0.0; N];
         for row in self.lp.iter_mut() {
             if STEP {
                 row.s += t * row.ds;
@@ -444,6 +446,11 @@ impl<'a, const N: usize> Problem<'a, N> {
             row.inv_s = 1.0 / row.s;
             row.inv_lam = 1.0 / row.lam;
             row.d = row.lam * row.inv_s;
+            let t = row.rp - row.s;
+            let dt = row.d * t;
+            for i in 0..N {
+                gwt[i] += dt * row.g[i];
+            }
             ev.normal.add_rank1(row.d, &row.g);
         }
         for b in self.soc[..self.n_soc].iter_mut() {
@@ -472,75 +479,35 @@ impl<'a, const N: usize> Problem<'a, N> {
                     gtmul_add(&mut a, &b.g, &jw, 1.0);
                     ev.normal.add_rank1(2.0 * e2, &a);
                     ev.normal.add_scaled(-e2, &b.gjg);
+                    let mut t = [0.0; D];
+                    for i in 0..D {
+                        t[i] = b.rp[i] - b.s[i];
+                    }
+                    gtmul_add(&mut gwt, &b.g, &sc.apply_inv_sq(&t), 1.0);
                 }
                 None => ev.interior = false,
             }
         }
+        for i in 0..N {
+            ev.rhs[i] = -ev.rd[i] - gwt[i];
+        }
         ev
     }
 
-    /// Solves the Newton system for the complementarity target `−v∘v` (predictor) or, with
-    /// `CORRECTOR`, `−v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe` with the predictor's `ds`, `dλ` still in
-    /// the blocks, with residuals `rd` and each block's `rp`. Writes `ds`,
-    /// `dlam` into the blocks and returns `dz` with the direction's step statistics.
-    ///
-    /// With `t = r_p + W(v \ r_c)`, the Newton system reduces to `H dz = −r_d − Gᵀ W⁻² t`. For
-    /// the target `−v∘v`, `W(v \ (−v∘v)) = −Wv = −s` exactly, so only the corrector's extra
-    /// terms are solved for.
-    fn direction<const CORRECTOR: bool>(
-        &mut self,
-        kkt: &Normal<N>,
-        rd: &[Real; N],
-        refine: bool,
-        sigma_mu: Real,
-    ) -> ([Real; N], StepStats) {
-        let mut rhs = [0.0; N];
-        for i in 0..N {
-            rhs[i] = -rd[i];
-        }
-        // rhs −= Gᵀ W⁻² t; t is kept in ds for the second pass.
-        for row in self.lp.iter_mut() {
-            let mut t = row.rp - row.s;
-            if CORRECTOR {
-                t += (sigma_mu - row.ds * row.dlam) * row.inv_lam;
-            }
-            row.ds = t;
-            let k = row.d * t;
-            for i in 0..N {
-                rhs[i] -= k * row.g[i];
-            }
-        }
-        for b in self.soc[..self.n_soc].iter_mut() {
-            let mut t = [0.0; D];
-            for i in 0..D {
-                t[i] = b.rp[i] - b.s[i];
-            }
-            if CORRECTOR {
-                let a = b.sc.apply_inv(&b.ds);
-                let c = b.sc.apply(&b.dlam);
-                let mut r = jprod(&a, &c);
-                for v in r.iter_mut() {
-                    *v = -*v;
-                }
-                r[0] += sigma_mu;
-                let wu = b.sc.apply(&b.sc.vsolve(&r));
-                for i in 0..D {
-                    t[i] += wu[i];
-                }
-            }
-            let wt = b.sc.apply_inv_sq(&t);
-            gtmul_add(&mut rhs, &b.g, &wt, -1.0);
-            b.ds = t;
-        }
-        kkt.solve(&mut rhs);
-        let mut dz = rhs;
+    /// The affine-scaling (predictor) direction, complementarity target `−v∘v`, from the
+    /// right-hand side `rhs` that [`Problem::evaluate`] formed. With `t = r_p + W(v \ r_c)` the Newton system reduces to
+    /// `H dz = −r_d − Gᵀ W⁻² t`, and for the target `−v∘v`, `W(v \ (−v∘v)) = −Wv = −s`
+    /// exactly. Writes `ds`, `dλ` into the blocks and returns the step statistics.
+    fn predictor(&mut self, kkt: &Normal<N>, rhs: &[Real; N]) -> StepStats {
+        let mut dz = *rhs;
+        kkt.solve(&mut dz);
         // dλ = W⁻²(G dz + t) keeps the dual equation exact; ds from the primal equation
         // (not from W(v\rc) − W²dλ, which amplifies rounding by ‖W²‖ near the boundary), so
         // only the self-correcting complementarity equation absorbs rounding.
         let mut stats = StepStats::default();
         for row in self.lp.iter_mut() {
             let gdz = dotn(&row.g, &dz);
-            row.dlam = row.d * (gdz + row.ds);
+            row.dlam = row.d * (gdz + row.rp - row.s);
             row.ds = -row.rp - gdz;
             stats.lp(row);
         }
@@ -548,14 +515,90 @@ impl<'a, const N: usize> Problem<'a, N> {
             let gdz = gmul(&b.g, &dz);
             let mut gt = [0.0; D];
             for i in 0..D {
-                gt[i] = gdz[i] + b.ds[i];
+                gt[i] = gdz[i] + b.rp[i] - b.s[i];
                 b.ds[i] = -b.rp[i] - gdz[i];
             }
             b.dlam = b.sc.apply_inv_sq(&gt);
             stats.soc(b);
         }
+        stats
+    }
+
+    /// The corrector direction, complementarity target `−v∘v − (W⁻¹Δs_a)∘(WΔλ_a) + σμe`, with
+    /// the predictor's `ds`, `dλ` still in the blocks. Its right-hand side is the predictor's
+    /// plus what the target adds: `−(λ/s)·c·g` for an orthant row with `c = (σμ − ds dλ)/λ`,
+    /// and `−Gᵀ W⁻¹ (v \ r)` for a cone with `r` the target's extra part (`W⁻² W = W⁻¹`);
+    /// each block keeps its extra part in `ds` for the second pass. Writes `ds`, `dλ` into the
+    /// blocks and returns `dz` with the step statistics; with `refine`, one pass of iterative
+    /// refinement follows, from the dual residual gathered in the second pass.
+    fn corrector(
+        &mut self,
+        kkt: &Normal<N>,
+        ev: &Evaluation<N>,
+        refine: bool,
+        sigma_mu: Real,
+    ) -> ([Real; N], StepStats) {
+        let mut rhs = ev.rhs;
+        for row in self.lp.iter_mut() {
+            let extra = (sigma_mu - row.ds * row.dlam) * row.inv_lam;
+            row.ds = extra;
+            let k = row.d * extra;
+            for i in 0..N {
+                rhs[i] -= k * row.g[i];
+            }
+        }
+        // Each cone's W⁻¹(v \ r) goes to its `ds` (the predictor's is not needed after this).
+        for b in self.soc[..self.n_soc].iter_mut() {
+            let a = b.sc.apply_inv(&b.ds);
+            let c = b.sc.apply(&b.dlam);
+            let mut r = jprod(&a, &c);
+            for v in r.iter_mut() {
+                *v = -*v;
+            }
+            r[0] += sigma_mu;
+            let u = b.sc.apply_inv(&b.sc.vsolve(&r));
+            gtmul_add(&mut rhs, &b.g, &u, -1.0);
+            b.ds = u;
+        }
+        let mut dz = rhs;
+        kkt.solve(&mut dz);
+        // The dual equation's residual −r_d − Gᵀdλ, for the refinement.
+        let mut e = [0.0; N];
+        let mut stats = StepStats::default();
+        for row in self.lp.iter_mut() {
+            let t = row.rp - row.s + row.ds;
+            let gdz = dotn(&row.g, &dz);
+            row.dlam = row.d * (gdz + t);
+            row.ds = -row.rp - gdz;
+            stats.lp(row);
+            if refine {
+                for i in 0..N {
+                    e[i] -= row.g[i] * row.dlam;
+                }
+            }
+        }
+        for b in self.soc[..self.n_soc].iter_mut() {
+            let u = b.ds;
+            let gdz = gmul(&b.g, &dz);
+            let mut gt = [0.0; D];
+            for i in 0..D {
+                gt[i] = gdz[i] + b.rp[i] - b.s[i];
+                b.ds[i] = -b.rp[i] - gdz[i];
+            }
+            let dl = b.sc.apply_inv_sq(&gt);
+            for i in 0..D {
+                b.dlam[i] = dl[i] + u[i];
+            }
+            stats.soc(b);
+            if refine {
+                gtmul_add(&mut e, &b.g, &b.dlam, -1.0);
+            }
+        }
         if refine {
-            self.refine(kkt, rd, &mut dz, &mut stats);
+            for i in 0..N {
+                e[i] -= ev.rd[i];
+            }
+            self.refine(kkt, &ev.rd, e, &mut dz, &mut stats);
         }
         (dz, stats)
     }
@@ -563,53 +606,41 @@ impl<'a, const N: usize> Problem<'a, N> {
     /// Iterative refinement of the dual equation `Gᵀdλ = −r_d`: forming `Gᵀ W⁻² G` and
     /// applying `W⁻²` round differently when the scaling is extreme, so the correction
     /// `H δz = e_d`, `δλ = W⁻² G δz`, `δs = −G δz` (which leaves the primal and linearised
-    /// complementarity equations unchanged) is applied while it helps. `stats` is updated to
-    /// the corrected direction.
+    /// complementarity equations unchanged) is applied once, from the residual
+    /// `e = −r_d − Gᵀdλ` the corrector gathered, unless it is already at rounding level.
+    /// `stats` is updated to the corrected direction.
     fn refine(
         &mut self,
         kkt: &Normal<N>,
         rd: &[Real; N],
+        mut e: [Real; N],
         dz: &mut [Real; N],
         stats: &mut StepStats,
     ) {
         let scale = rd.iter().map(|v| v.abs()).fold(1e-3, Real::max);
-        for _ in 0..REFINE_PASSES {
-            let mut e = [0.0; N];
-            for i in 0..N {
-                e[i] = -rd[i];
+        let err = e.iter().map(|v| v.abs()).fold(0.0, Real::max);
+        if !(err > 1e-15 * scale) {
+            return;
+        }
+        kkt.solve(&mut e);
+        for i in 0..N {
+            dz[i] += e[i];
+        }
+        *stats = StepStats::default();
+        for row in self.lp.iter_mut() {
+            let gd = dotn(&row.g, &e);
+            row.dlam += row.d * gd;
+            row.ds -= gd;
+            stats.lp(row);
+        }
+        for b in self.soc[..self.n_soc].iter_mut() {
+            let gd = gmul(&b.g, &e);
+            let dl = b.sc.apply_inv_sq(&gd);
+            for i in 0..D {
+                b.ds[i] -= gd[i];
+                b.dlam[i] += dl[i];
             }
-            for row in self.lp.iter() {
-                for i in 0..N {
-                    e[i] -= row.g[i] * row.dlam;
-                }
-            }
-            for b in self.soc[..self.n_soc].iter() {
-                gtmul_add(&mut e, &b.g, &b.dlam, -1.0);
-            }
-            let err = e.iter().map(|v| v.abs()).fold(0.0, Real::max);
-            if !(err > 1e-15 * scale) {
-                break;
-            }
-            kkt.solve(&mut e);
-            for i in 0..N {
-                dz[i] += e[i];
-            }
-            *stats = StepStats::default();
-            for row in self.lp.iter_mut() {
-                let gd = dotn(&row.g, &e);
-                row.dlam += row.d * gd;
-                row.ds -= gd;
-                stats.lp(row);
-            }
-            for b in self.soc[..self.n_soc].iter_mut() {
-                let gd = gmul(&b.g, &e);
-                let dl = b.sc.apply_inv_sq(&gd);
-                for i in 0..D {
-                    b.ds[i] -= gd[i];
-                    b.dlam[i] += dl[i];
-                }
-                stats.soc(b);
-            }
+            stats.soc(b);
         }
     }
 
@@ -1028,7 +1059,7 @@ impl<'a, const N: usize> Problem<'a, N> {
             }
             // Rounding in the normal equations only matters once the scaling is extreme.
             let refine = gap < REFINE_BELOW_GAP * scale;
-            let (mut dz, mut stats) = self.predictor_corrector(&kkt, &rd, refine, gap);
+            let (mut dz, mut stats) = self.predictor_corrector(&kkt, &ev, refine);
             if kkt.has_weak_pivot()
                 && !(self.dual_equation_error(&rd) <= WEAK_PIVOT_DUAL_ERROR * dres.max(dres_limit))
             {
@@ -1040,7 +1071,7 @@ impl<'a, const N: usize> Problem<'a, N> {
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
-                (dz, stats) = self.predictor_corrector(&kkt, &rd, refine, gap);
+                (dz, stats) = self.predictor_corrector(&kkt, &ev, refine);
             }
             let t = (0.99 * stats.max_step()).min(1.0);
             if !(t > 0.0) || !dz.iter().all(|v| v.is_finite()) {
