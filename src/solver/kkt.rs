@@ -1,5 +1,5 @@
 //! The reduced KKT system: the dense normal matrix `H = Gᵀ W⁻² G` of order `N` and its
-//! Cholesky factorisation, on the stack.
+//! square-root-free Cholesky factorisation `H = L D Lᵀ`, on the stack.
 
 use crate::math::Real;
 
@@ -16,12 +16,16 @@ pub enum PivotFloor {
     Own,
 }
 
-/// A symmetric positive definite matrix of order `N` and its Cholesky factor.
+/// A symmetric positive definite matrix of order `N` and its factor `L D Lᵀ` (`L` unit lower
+/// triangular, `D` diagonal: a Cholesky factorisation without square roots, which would sit on
+/// the critical path of every iteration).
 #[derive(Clone, Copy, Debug)]
 pub struct Normal<const N: usize> {
-    /// Lower triangle holds H before `factor` and L (H = L Lᵀ) after.
+    /// Lower triangle holds H before `factor` and the strictly lower part of L after.
     a: [[Real; N]; N],
-    /// `1/L[i][i]` after `factor`, so that solves multiply instead of dividing.
+    /// `D[i]` after `factor`.
+    diag: [Real; N],
+    /// `1/D[i]` after `factor`, so that solves multiply instead of dividing.
     inv_diag: [Real; N],
     /// See [`Normal::has_weak_pivot`].
     weak: bool,
@@ -32,6 +36,7 @@ impl<const N: usize> Normal<N> {
     pub fn zeros() -> Self {
         Normal {
             a: [[0.0; N]; N],
+            diag: [0.0; N],
             inv_diag: [0.0; N],
             weak: false,
         }
@@ -65,16 +70,16 @@ impl<const N: usize> Normal<N> {
         }
     }
 
-    /// Cholesky in place. A pivot not above the floor is raised to it: a static regularisation
-    /// that keeps the direction a descent direction. With [`PivotFloor::Largest`] the floor is
-    /// `1e-14 · max_i H_ii`; with [`PivotFloor::Own`] it is `1e-14 · H_jj`, and
-    /// [`Normal::has_weak_pivot`] then tells whether a pivot was kept that the `Largest` floor
-    /// would have raised. Near convergence an active constraint's weight `λ/s` grows like
-    /// `1/μ`, so the `Largest` floor soon swamps the O(1) pivot of a weakly curved direction
-    /// (the tangent plane of a distance); the `Own` floor keeps it, but a pivot of a direction
-    /// that is singular at the solution (a parallel contact) is then left at the rounding level,
-    /// so a direction solved with it must be checked. Returns false when the matrix has
-    /// non-finite entries or no positive diagonal at all.
+    /// `L D Lᵀ` factorisation in place. A pivot `D[j]` not above the floor is raised to it: a
+    /// static regularisation that keeps the direction a descent direction. With
+    /// [`PivotFloor::Largest`] the floor is `1e-14 · max_i H_ii`; with [`PivotFloor::Own`] it
+    /// is `1e-14 · H_jj`, and [`Normal::has_weak_pivot`] then tells whether a pivot was kept
+    /// that the `Largest` floor would have raised. Near convergence an active constraint's
+    /// weight `λ/s` grows like `1/μ`, so the `Largest` floor soon swamps the O(1) pivot of a
+    /// weakly curved direction (the tangent plane of a distance); the `Own` floor keeps it,
+    /// but a pivot of a direction that is singular at the solution (a parallel contact) is
+    /// then left at the rounding level, so a direction solved with it must be checked. Returns
+    /// false when the matrix has non-finite entries or no positive diagonal at all.
     pub fn factor(&mut self, floor: PivotFloor) -> bool {
         let n = N;
         let mut dmax: Real = 0.0;
@@ -97,22 +102,24 @@ impl<const N: usize> Normal<N> {
                 PivotFloor::Own if own > 0.0 => PIVOT_FLOOR * own,
                 _ => largest,
             };
-            let mut d = self.a[j][j];
+            // w_k = L[j][k] D[k]; D[j] = H_jj − Σ L[j][k] w_k.
+            let mut w = [0.0; N];
+            let mut d = own;
             for k in 0..j {
-                d -= self.a[j][k] * self.a[j][k];
+                w[k] = self.a[j][k] * self.diag[k];
+                d -= self.a[j][k] * w[k];
             }
             if !(d > floor) {
                 d = floor;
             }
             self.weak |= d <= largest;
-            let l = d.sqrt();
-            self.a[j][j] = l;
-            let inv = 1.0 / l;
+            self.diag[j] = d;
+            let inv = 1.0 / d;
             self.inv_diag[j] = inv;
             for i in (j + 1)..n {
                 let mut v = self.a[i][j];
                 for k in 0..j {
-                    v -= self.a[i][k] * self.a[j][k];
+                    v -= self.a[i][k] * w[k];
                 }
                 self.a[i][j] = v * inv;
             }
@@ -134,14 +141,17 @@ impl<const N: usize> Normal<N> {
             for k in 0..i {
                 v -= self.a[i][k] * b[k];
             }
-            b[i] = v * self.inv_diag[i];
+            b[i] = v;
+        }
+        for i in 0..n {
+            b[i] *= self.inv_diag[i];
         }
         for i in (0..n).rev() {
             let mut v = b[i];
             for k in (i + 1)..n {
                 v -= self.a[k][i] * b[k];
             }
-            b[i] = v * self.inv_diag[i];
+            b[i] = v;
         }
     }
 }
