@@ -186,8 +186,11 @@ impl SocScaling {
             inv_eta,
             inv_eta2: inv_eta * inv_eta,
             inv_1pw0: 1.0 / (1.0 + w[0]),
-            inv_vdet: 0.0,
-            inv_v0: 0.0,
+            // v = W λ = η‖λ‖ W̄ λ̄ with det W̄ = 1 and (W̄ λ̄)₀ = γ, so vᵀJv = ‖s‖‖λ‖ and
+            // v₀ = η ‖λ‖ γ: both reciprocals without a division on the critical path (and
+            // vᵀJv without the cancellation of forming it from v near the boundary).
+            inv_vdet: isn * iln,
+            inv_v0: inv_eta * iln * 2.0 * i2g,
             s_step: StepBase::new(sb, isn),
             lam_step: StepBase::new(lb, iln),
         };
@@ -195,8 +198,6 @@ impl SocScaling {
         if !sc.v.iter().all(|x| x.is_finite()) || !interior(&sc.v) {
             return None;
         }
-        sc.inv_vdet = 1.0 / jdot(&sc.v, &sc.v);
-        sc.inv_v0 = 1.0 / sc.v[0];
         Some(sc)
     }
 
