@@ -591,7 +591,7 @@ fn soc_apex(s: &[Real; 4], l: &[Real; 4]) -> bool {
 
 /// The matrix of the active-set KKT system at `p`, on the physical scale (`dz` physical, so
 /// slacks `s̄ = (h − G z)/t`): rows `0..N` stationarity `Gᵀdλ`, then one row per equation of
-/// `set` (see [`Eq`]); unknowns `[dz, dλ of each equation]`. It is the Jacobian of the KKT
+/// `set` (see [`enum@Eq`]); unknowns `[dz, dλ of each equation]`. It is the Jacobian of the KKT
 /// residual, used both for Newton's method ([`refine`]) and the implicit function theorem.
 fn kkt_matrix<const N: usize, const M: usize>(
     problem: &Problem<'_, N>,
@@ -1448,7 +1448,7 @@ pub(crate) fn coincident(full: &mut Full) {
 }
 
 /// ∂α*/∂(r₁, q₁, r₂, q₂): 14 numbers, `q` as given (through the normalisation), from the
-/// Lagrangian at the primal-dual solution. Costs little beyond [`super::proximity`].
+/// Lagrangian at the primal-dual solution. Costs little beyond [`super::proximity()`].
 ///
 /// ```
 /// use dcol::{gradient, Options, Pose, Shape};

@@ -5,11 +5,12 @@
 //!
 //! The problem is `minimise cᵀz subject to s = h − G z ∈ K`. The method is that of CVXOPT's
 //! `conelp` without equality constraints: Nesterov–Todd scaling, a Mehrotra
-//! predictor-corrector, the normal equations `Gᵀ W⁻² G dz = r` factored by a dense Cholesky,
+//! predictor-corrector, the normal equations `Gᵀ W⁻² G dz = r` factored as a dense `L D Lᵀ`,
 //! one pass of iterative refinement of the corrector, and a final Newton polish (tried early,
 //! at a relative gap of 1e-6, on problems without cones). Each iteration passes over the blocks
-//! five times (seven once refinement starts): once for the residuals, scalings and normal
-//! matrix, twice per direction. It knows nothing of shapes.
+//! four times (five once refinement starts): once for the residuals, scalings, normal matrix
+//! and the predictor's right-hand side, once for the predictor's `ds`, `dλ`, twice for the
+//! corrector. It knows nothing of shapes.
 
 pub mod cones;
 pub mod kkt;
@@ -495,9 +496,10 @@ impl<'a, const N: usize> Problem<'a, N> {
     }
 
     /// The affine-scaling (predictor) direction, complementarity target `−v∘v`, from the
-    /// right-hand side `rhs` that [`Problem::evaluate`] formed. With `t = r_p + W(v \ r_c)` the Newton system reduces to
-    /// `H dz = −r_d − Gᵀ W⁻² t`, and for the target `−v∘v`, `W(v \ (−v∘v)) = −Wv = −s`
-    /// exactly. Writes `ds`, `dλ` into the blocks and returns the step statistics.
+    /// right-hand side `rhs` that [`Problem::evaluate`] formed. With `t = r_p + W(v \ r_c)`
+    /// the Newton system reduces to `H dz = −r_d − Gᵀ W⁻² t`, and for the target `−v∘v`,
+    /// `W(v \ (−v∘v)) = −Wv = −s` exactly. Writes `ds`, `dλ` into the blocks and returns the
+    /// step statistics.
     fn predictor(&mut self, kkt: &Normal<N>, rhs: &[Real; N]) -> StepStats {
         let mut dz = *rhs;
         kkt.solve(&mut dz);
