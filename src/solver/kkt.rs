@@ -23,8 +23,6 @@ pub enum PivotFloor {
 pub struct Normal<const N: usize> {
     /// Lower triangle holds H before `factor` and the strictly lower part of L after.
     a: [[Real; N]; N],
-    /// `D[i]` after `factor`.
-    diag: [Real; N],
     /// `1/D[i]` after `factor`, so that solves multiply instead of dividing.
     inv_diag: [Real; N],
     /// See [`Normal::has_weak_pivot`].
@@ -36,7 +34,6 @@ impl<const N: usize> Normal<N> {
     pub fn zeros() -> Self {
         Normal {
             a: [[0.0; N]; N],
-            diag: [0.0; N],
             inv_diag: [0.0; N],
             weak: false,
         }
@@ -95,6 +92,8 @@ impl<const N: usize> Normal<N> {
         }
         let largest = PIVOT_FLOOR * dmax;
         self.weak = false;
+        // D (only `1/D` is kept for the solves).
+        let mut diag = [0.0; N];
         for j in 0..n {
             // Column j's diagonal is still the original entry here (step k writes column k).
             let own = self.a[j][j];
@@ -106,14 +105,14 @@ impl<const N: usize> Normal<N> {
             let mut w = [0.0; N];
             let mut d = own;
             for k in 0..j {
-                w[k] = self.a[j][k] * self.diag[k];
+                w[k] = self.a[j][k] * diag[k];
                 d -= self.a[j][k] * w[k];
             }
             if !(d > floor) {
                 d = floor;
             }
             self.weak |= d <= largest;
-            self.diag[j] = d;
+            diag[j] = d;
             let inv = 1.0 / d;
             self.inv_diag[j] = inv;
             for i in (j + 1)..n {
