@@ -29,6 +29,17 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 echo "== cargo test --release"
 cargo test --release
 
+echo "== cargo test --release compiled for the x86-64-v3 CPU level (the DCOL_TARGET_CPU build),"
+echo "   where this machine has that level"
+# glibc's loader lists the levels the CPU supports; without that level the build cannot run here.
+loader=/lib64/ld-linux-x86-64.so.2
+if [[ $(uname -m) == x86_64 && -x $loader ]] && "$loader" --help 2>/dev/null | grep -q "x86-64-v3 (supported"; then
+  RUSTFLAGS="${RUSTFLAGS:-} -C target-cpu=x86-64-v3" cargo test --release --tests \
+    --target-dir build/cargo-target-x86-64-v3
+else
+  echo "(this machine does not report x86-64-v3 support: skipped)"
+fi
+
 echo "== fuzz smoke (the deterministic, fixed-seed random driver: a test run must not go red on a"
 echo "   coverage-guided fuzzer's fresh find; run ./scripts/fuzz_smoke.sh with libFuzzer for that)"
 FUZZ_ENGINE=random ./scripts/fuzz_smoke.sh

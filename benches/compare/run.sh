@@ -7,7 +7,9 @@
 #   benches/compare/run.sh            # full run (DCOL_BENCH_CASES=1500 per pair type), a few minutes
 #   benches/compare/run.sh --smoke    # 6 cases per pair type, results to build/bench-smoke/, no plot
 #                                     # unless matplotlib is importable; < 60 s after the build
-# Environment: DCOL_BENCH_CASES, DCOL_BENCH_REPEAT, DCOL_BENCH_SEED (see bench_compare.cpp).
+# Environment: DCOL_BENCH_CASES, DCOL_BENCH_REPEAT, DCOL_BENCH_SEED (see bench_compare.cpp), and
+# DCOL_TARGET_CPU (e.g. x86-64-v3: dcol compiled for that CPU level, see the README; FCL and
+# libccd stay the system's builds).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
@@ -16,8 +18,10 @@ smoke=0
 jobs="${DCOL_BENCH_JOBS:-2}"
 prefix="$root/build/bench-prefix"
 
-cmake -S . -B build/bench-dcol -DCMAKE_BUILD_TYPE=Release \
-  -DDCOL_CARGO_TARGET_DIR="$root/build/cargo-target" >/dev/null
+cpu="${DCOL_TARGET_CPU:-}"
+# A CPU level has its own cargo target directory (other flags: a full rebuild each time it flips).
+cmake -S . -B build/bench-dcol -DCMAKE_BUILD_TYPE=Release -DDCOL_TARGET_CPU="$cpu" \
+  -DDCOL_CARGO_TARGET_DIR="$root/build/cargo-target${cpu:+-$cpu}" >/dev/null
 cmake --build build/bench-dcol -j"$jobs" >/dev/null
 cmake --install build/bench-dcol --prefix "$prefix" >/dev/null
 cmake -S benches/compare -B build/bench-compare -DCMAKE_BUILD_TYPE=Release \
