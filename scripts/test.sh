@@ -32,8 +32,13 @@ cargo test --release
 echo "== cargo test --release compiled for the x86-64-v3 CPU level (the DCOL_TARGET_CPU build),"
 echo "   where this machine has that level"
 # glibc's loader lists the levels the CPU supports; without that level the build cannot run here.
+# (Read whole, not piped into `grep -q`: with pipefail, grep's early exit could fail the pipe.)
 loader=/lib64/ld-linux-x86-64.so.2
-if [[ $(uname -m) == x86_64 && -x $loader ]] && "$loader" --help 2>/dev/null | grep -q "x86-64-v3 (supported"; then
+levels=""
+if [[ $(uname -m) == x86_64 && -x $loader ]]; then
+  levels=$("$loader" --help 2>/dev/null || true)
+fi
+if [[ $levels == *"x86-64-v3 (supported"* ]]; then
   RUSTFLAGS="${RUSTFLAGS:-} -C target-cpu=x86-64-v3" cargo test --release --tests \
     --target-dir build/cargo-target-x86-64-v3
 else
