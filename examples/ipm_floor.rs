@@ -19,18 +19,22 @@ use std::time::Instant;
 type V = [f64; 4];
 type M = [[f64; 4]; 4];
 
+/// `uᵀ J v`, `J = diag(1, −1, −1, −1)`.
 #[inline(always)]
 fn jdot(u: &V, v: &V) -> f64 {
     u[0] * v[0] - u[1] * v[1] - u[2] * v[2] - u[3] * v[3]
 }
+/// `uᵀ v`.
 #[inline(always)]
 fn dot(u: &V, v: &V) -> f64 {
     u[0] * v[0] + u[1] * v[1] + u[2] * v[2] + u[3] * v[3]
 }
+/// `G z` for one cone's rows.
 #[inline(always)]
 fn gmul(g: &M, z: &V) -> V {
     [dot(&g[0], z), dot(&g[1], z), dot(&g[2], z), dot(&g[3], z)]
 }
+/// `Gᵀ u` for one cone's rows.
 #[inline(always)]
 fn gtmul(g: &M, u: &V) -> V {
     let mut r = [0.0; 4];
@@ -40,6 +44,8 @@ fn gtmul(g: &M, u: &V) -> V {
     r
 }
 
+/// One cone's Nesterov–Todd scaling with the reciprocals an iteration needs (the fields of
+/// `cones::SocScaling` and its two step bases: `i…` are reciprocals).
 #[derive(Clone, Copy)]
 struct Sc {
     w: V,
@@ -58,6 +64,7 @@ struct Sc {
     ilb1: f64,
 }
 
+/// The NT scaling of interior `s`, `l` (`None` if either is not interior).
 #[inline(always)]
 fn scaling(s: &V, l: &V) -> Option<Sc> {
     let sn2 = jdot(s, s);
@@ -100,6 +107,7 @@ fn scaling(s: &V, l: &V) -> Option<Sc> {
     Some(sc)
 }
 
+/// `W u` (`sign` 1, `k` = η) or `W⁻¹ u` (`sign` −1, `k` = 1/η).
 #[inline(always)]
 fn apply(sc: &Sc, u: &V, sign: f64, k: f64) -> V {
     let w = &sc.w;
@@ -112,6 +120,7 @@ fn apply(sc: &Sc, u: &V, sign: f64, k: f64) -> V {
         k * (u[3] + c * w[3]),
     ]
 }
+/// `W⁻² u`.
 #[inline(always)]
 fn inv_sq(sc: &Sc, u: &V) -> V {
     let e2 = sc.ie2;
@@ -123,6 +132,7 @@ fn inv_sq(sc: &Sc, u: &V) -> V {
         e2 * (-2.0 * sc.w[3] * wju + u[3]),
     ]
 }
+/// The rate at which `u + t du` approaches the cone's boundary, from `ū = u/√(uᵀJu)`.
 #[inline(always)]
 fn rate(ub: &V, inv_n: f64, inv_ub0p1: f64, du: &V) -> f64 {
     let ub_du = jdot(ub, du);
@@ -133,6 +143,7 @@ fn rate(ub: &V, inv_n: f64, inv_ub0p1: f64, du: &V) -> f64 {
     let c = du[3] - f * ub[3];
     (a * a + b * b + c * c).sqrt() * inv_n - rho0
 }
+/// Solves `v ∘ u = r` for `u`.
 #[inline(always)]
 fn vsolve(sc: &Sc, r: &V) -> V {
     let v = &sc.v;
@@ -146,10 +157,12 @@ fn vsolve(sc: &Sc, r: &V) -> V {
     ]
 }
 
+/// `H = L D Lᵀ` with `1/D` kept.
 struct Ldl {
     l: M,
     id: V,
 }
+/// Factors `H` (lower triangle), raising pivots below `1e-14 H_jj`.
 #[inline(always)]
 fn factor(h: &M) -> Ldl {
     let mut l = [[0.0; 4]; 4];
@@ -176,6 +189,7 @@ fn factor(h: &M) -> Ldl {
     }
     Ldl { l, id }
 }
+/// Solves `H x = b` in place.
 #[inline(always)]
 fn solve(f: &Ldl, b: &mut V) {
     for i in 0..4 {
@@ -193,6 +207,7 @@ fn solve(f: &Ldl, b: &mut V) {
     }
 }
 
+/// The cone program `min α s.t. h_k − G_k z ∈ Q₄, k = 0, 1`.
 struct Prob {
     g: [M; 2],
     h: [V; 2],
@@ -276,7 +291,10 @@ fn solve_prob(p: &Prob, z0: V, mu0: f64, tol: f64) -> (V, u32) {
                 rp[k][i] = gz[i] + s[k][i] - p.h[k][i];
             }
             gap += dot(&s[k], &l[k]);
-            let scv = scaling(&s[k], &l[k]).unwrap();
+            let scv = match scaling(&s[k], &l[k]) {
+                Some(v) => v,
+                None => return (z, it),
+            };
             let jw = [scv.w[0], -scv.w[1], -scv.w[2], -scv.w[3]];
             let a = gtmul(&p.g[k], &jw);
             let e2 = scv.ie2;
