@@ -1,7 +1,9 @@
 //! `dcol_options` and `dcol_options_default`.
 
 use super::boundary::{catch, read, Failure};
+use crate::error::{Error, ErrorDetail};
 use crate::query::Options;
+use crate::solver::Method;
 
 /// Solver options. Start from dcol_options_default() and change what you need; every query
 /// takes options == NULL as the defaults.
@@ -13,6 +15,24 @@ pub struct dcol_options {
     pub tolerance: f64,
     /// Interior-point iteration limit, at least 1. The default is in dcol_options_default().
     pub max_iterations: u32,
+    /// Which solvers a query may use: DCOL_METHOD_AUTO (0, the default: closed forms and the
+    /// certified ray cast on support maps, with the interior-point solver as the fallback) or
+    /// DCOL_METHOD_INTERIOR_POINT (1: the interior-point solver only). Other values are
+    /// rejected with DCOL_ERROR_INVALID_OPTIONS. (Appended after the two original fields, so an
+    /// initializer that sets only those two selects DCOL_METHOD_AUTO.)
+    pub method: u32,
+}
+
+/// dcol_options.method: closed forms and the certified ray cast, interior point as fallback.
+pub const DCOL_METHOD_AUTO: u32 = 0;
+/// dcol_options.method: the interior-point solver only.
+pub const DCOL_METHOD_INTERIOR_POINT: u32 = 1;
+
+fn method_code(m: Method) -> u32 {
+    match m {
+        Method::Auto => DCOL_METHOD_AUTO,
+        Method::InteriorPoint => DCOL_METHOD_INTERIOR_POINT,
+    }
 }
 
 impl From<Options> for dcol_options {
@@ -20,6 +40,7 @@ impl From<Options> for dcol_options {
         dcol_options {
             tolerance: o.tolerance,
             max_iterations: o.max_iterations,
+            method: method_code(o.method),
         }
     }
 }
@@ -41,9 +62,21 @@ pub(crate) unsafe fn read_options(ptr: *const dcol_options) -> Result<Options, F
     }
     // SAFETY: forwarded from this function's contract (non-NULL here).
     let o = unsafe { read(ptr, "options") }?;
+    let method = match o.method {
+        DCOL_METHOD_AUTO => Method::Auto,
+        DCOL_METHOD_INTERIOR_POINT => Method::InteriorPoint,
+        other => {
+            return Err(Failure::api(Error::InvalidOptions(ErrorDetail::new(
+                "options->method",
+                other as f64,
+                "must be DCOL_METHOD_AUTO (0) or DCOL_METHOD_INTERIOR_POINT (1)",
+            ))))
+        }
+    };
     let opts = Options {
         tolerance: o.tolerance,
         max_iterations: o.max_iterations,
+        method,
     };
     opts.validate().map_err(Failure::api_in("options->"))?;
     Ok(opts)

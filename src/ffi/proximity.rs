@@ -8,7 +8,7 @@ use super::status::dcol_status;
 use crate::math::{Pose, Vec3};
 use crate::query::{self, Options, Proximity};
 use crate::shapes::Shape;
-use crate::solver::SolveStatus;
+use crate::solver::{SolveStatus, Solver};
 
 /// The proximity of two posed shapes: the smallest uniform scaling alpha of both shapes (each
 /// about its own origin) at which they touch. alpha > 1: separated, alpha < 1:
@@ -24,9 +24,23 @@ pub struct dcol_proximity_result {
     pub contact1: [f64; 3],
     /// p2 = r2 + (x* - r2) / alpha*, on the boundary of shape 2 (world); r2 when alpha* = 0.
     pub contact2: [f64; 3],
-    /// Interior-point iterations used.
+    /// Interior-point iterations used (0 when another solver answered: see `solver`).
     pub iterations: u32,
+    /// Which solver answered: DCOL_SOLVER_INTERIOR_POINT (0), DCOL_SOLVER_RAY_CAST (1, the ray
+    /// cast on support maps closed its certified bracket), DCOL_SOLVER_POLISH (2, the ray cast
+    /// then a Newton polish on the contact features it identified) or DCOL_SOLVER_CLOSED_FORM
+    /// (3). (Appended after the original fields.)
+    pub solver: u32,
 }
+
+/// dcol_proximity_result.solver: the interior-point solver.
+pub const DCOL_SOLVER_INTERIOR_POINT: u32 = 0;
+/// dcol_proximity_result.solver: the certified ray cast on support maps.
+pub const DCOL_SOLVER_RAY_CAST: u32 = 1;
+/// dcol_proximity_result.solver: the ray cast and a Newton polish on the contact features.
+pub const DCOL_SOLVER_POLISH: u32 = 2;
+/// dcol_proximity_result.solver: a closed form for the pair.
+pub const DCOL_SOLVER_CLOSED_FORM: u32 = 3;
 
 fn arr(v: &Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
@@ -40,6 +54,12 @@ impl From<&Proximity> for dcol_proximity_result {
             contact1: arr(&p.contact1),
             contact2: arr(&p.contact2),
             iterations: p.iterations,
+            solver: match p.solver {
+                Solver::InteriorPoint => DCOL_SOLVER_INTERIOR_POINT,
+                Solver::RayCast => DCOL_SOLVER_RAY_CAST,
+                Solver::Polish => DCOL_SOLVER_POLISH,
+                Solver::ClosedForm => DCOL_SOLVER_CLOSED_FORM,
+            },
         }
     }
 }

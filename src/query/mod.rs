@@ -5,6 +5,7 @@ mod assemble;
 mod derivatives;
 mod distance;
 mod early_exit;
+mod geometric;
 mod proximity;
 
 pub use derivatives::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};

@@ -13,7 +13,7 @@ use super::derivatives;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{LpRow, Problem, Settings, SolveStatus, Threshold};
+use crate::solver::{LpRow, Method, Problem, Settings, SolveStatus, Solver, Threshold};
 
 /// Query options: the solver's stopping tolerance and iteration limit.
 pub type Options = Settings;
@@ -33,6 +33,8 @@ pub struct Proximity {
     pub iterations: u32,
     /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
     pub status: SolveStatus,
+    /// Which solver answered.
+    pub solver: Solver,
 }
 
 /// The normalisation between world and solver coordinates.
@@ -149,6 +151,7 @@ impl Task for ProximityTask<'_> {
             contact2: r2 + (xi - frame.delta) * (frame.ell / alpha_n),
             iterations: outcome.iterations,
             status: outcome.status,
+            solver: Solver::InteriorPoint,
         };
         let mut full = Full {
             prox,
@@ -235,6 +238,7 @@ pub(crate) fn query_until(
             contact2: r2,
             iterations: 0,
             status: SolveStatus::Converged,
+            solver: Solver::ClosedForm,
         };
         let mut full = Full {
             prox,
@@ -253,6 +257,17 @@ pub(crate) fn query_until(
             dist,
             "the distance between the two origins overflows a double",
         )));
+    }
+    if want == Want::Proximity && threshold.is_none() && options.method == Method::Auto {
+        if let Some(prox) = super::geometric::proximity(shape1, pose1, shape2, pose2, options, dist)
+        {
+            return Ok(Full {
+                prox,
+                gradient: [0.0; 14],
+                jacobian: [[0.0; 14]; 4],
+                decided: None,
+            });
+        }
     }
     let (rho1, rho2) = (shape1.bounding_radius(), shape2.bounding_radius());
     let ell = rho1.max(rho2);

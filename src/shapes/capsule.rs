@@ -1,9 +1,10 @@
 //! Capsule: points within `R` of the segment `±L/2 e_x`. Scaled, with the slack γ (position
 //! along the axis): the cone `[αR; u − γ e_x]` and the rows `αL/2 ∓ γ ≥ 0`.
 
+use super::support::{PieceEval, Round, SupportMap};
 use super::{positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::Error;
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// A capsule of radius `R` and segment length `L` along the body x axis.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,6 +29,33 @@ impl Capsule {
     /// The segment length `L`.
     pub fn length(&self) -> Real {
         self.length
+    }
+}
+
+impl Capsule {
+    /// Piece 0 is the ball around `+L/2 e_x`, piece 1 the one around `−L/2 e_x`.
+    #[inline]
+    fn end(&self, id: u32) -> Vec3 {
+        let half = 0.5 * self.length;
+        Vec3::new(if id == 0 { half } else { -half }, 0.0, 0.0)
+    }
+}
+
+impl SupportMap for Capsule {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        let id = u32::from(m.x < 0.0);
+        (self.end(id) + Round::Ball(self.radius).point(m), id)
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        (id < 2).then(|| Round::Ball(self.radius).eval(&self.end(id), m))?
+    }
+    fn flat_face(&self, _m: &Vec3, _cos_min: Real) -> Option<Vec3> {
+        None
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        // The inscribed cylinder of radius R between the end centres.
+        (p.x.abs() / (0.5 * self.length)).max(p.y.hypot(p.z) / self.radius)
     }
 }
 

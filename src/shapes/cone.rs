@@ -1,9 +1,10 @@
 //! Cone: height `H`, half angle β, apex at `−3H/4 e_x`, base disc of radius `H tan β` at
 //! `+H/4 e_x`. Scaled: the cone `[tan β (u_x + α 3H/4); u_y; u_z]` and the row `αH/4 − u_x ≥ 0`.
 
+use super::support::{nearest_normal, PieceEval, Round, SupportMap};
 use super::{positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// A solid right circular cone with its origin at the centroid.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,6 +59,53 @@ impl Cone {
     pub(crate) fn inscribed_radius(&self) -> Real {
         let h = self.height;
         (0.25 * h).min(0.75 * h * self.half_angle.sin())
+    }
+}
+
+impl Cone {
+    /// Piece 0 is the apex `−3H/4 e_x`, piece 1 the base rim (radius `H tan β` at `+H/4 e_x`).
+    #[inline]
+    fn apex_and_rim(&self) -> (Vec3, Vec3, Real) {
+        let h = self.height;
+        (
+            Vec3::new(-0.75 * h, 0.0, 0.0),
+            Vec3::new(0.25 * h, 0.0, 0.0),
+            h * self.tan_beta,
+        )
+    }
+}
+
+/// The base's outward normal.
+const BASE_NORMAL: [Vec3; 1] = [Vec3::new(1.0, 0.0, 0.0)];
+
+impl SupportMap for Cone {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        let (apex, base, rho) = self.apex_and_rim();
+        let rim = base + Round::Circle(rho).point(m);
+        if apex.dot(m) > rim.dot(m) {
+            (apex, 0)
+        } else {
+            (rim, 1)
+        }
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        let (apex, base, rho) = self.apex_and_rim();
+        match id {
+            0 => Round::Flat.eval(&apex, m),
+            1 => Round::Circle(rho).eval(&base, m),
+            _ => None,
+        }
+    }
+    fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
+        nearest_normal(&BASE_NORMAL, m, cos_min)
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        // p ∈ tB ⇔ p_x ≤ tH/4 and ‖p_yz‖ ≤ tan β (p_x + t·3H/4).
+        let h = self.height;
+        let base = p.x / (0.25 * h);
+        let side = (p.y.hypot(p.z) / self.tan_beta - p.x) / (0.75 * h);
+        base.max(side).max(0.0)
     }
 }
 

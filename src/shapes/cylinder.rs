@@ -1,9 +1,10 @@
 //! Cylinder: radius `R`, length `L`, axis `e_x`. Scaled: the cone `[αR; u_y; u_z]` and the rows
 //! `αL/2 ∓ u_x ≥ 0`.
 
+use super::support::{nearest_normal, PieceEval, Round, SupportMap};
 use super::{positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::Error;
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// A solid cylinder centred at the body origin with its axis along body x.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,6 +29,35 @@ impl Cylinder {
     /// The length `L` (flat ends at `x = ±L/2`).
     pub fn length(&self) -> Real {
         self.length
+    }
+}
+
+impl Cylinder {
+    /// Piece 0 is the rim circle at `x = +L/2`, piece 1 the one at `x = −L/2`.
+    #[inline]
+    fn cap(&self, id: u32) -> Vec3 {
+        let half = 0.5 * self.length;
+        Vec3::new(if id == 0 { half } else { -half }, 0.0, 0.0)
+    }
+}
+
+/// The two caps' outward normals.
+const CAP_NORMALS: [Vec3; 2] = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0)];
+
+impl SupportMap for Cylinder {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        let id = u32::from(m.x < 0.0);
+        (self.cap(id) + Round::Circle(self.radius).point(m), id)
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        (id < 2).then(|| Round::Circle(self.radius).eval(&self.cap(id), m))?
+    }
+    fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
+        nearest_normal(&CAP_NORMALS, m, cos_min)
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        (p.x.abs() / (0.5 * self.length)).max(p.y.hypot(p.z) / self.radius)
     }
 }
 

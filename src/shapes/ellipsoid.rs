@@ -1,8 +1,9 @@
 //! Ellipsoid: `bᵀ P b ≤ 1` with `P = UᵀU` (Cholesky). Scaled: the cone `[α; U u]`.
 
+use super::support::{PieceEval, Round, SupportMap};
 use super::{BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
-use crate::math::{Mat3, Real};
+use crate::math::{Mat3, Real, Vec3};
 
 /// An ellipsoid centred at the body origin.
 #[derive(Clone, Debug, PartialEq)]
@@ -10,6 +11,8 @@ pub struct Ellipsoid {
     p: Mat3,
     /// Upper-triangular `U` with `P = UᵀU`.
     u: Mat3,
+    /// `P⁻¹`: the support function is `√(mᵀP⁻¹m)`.
+    p_inv: Mat3,
     eig_min: Real,
     eig_max: Real,
 }
@@ -66,9 +69,12 @@ impl Ellipsoid {
             }
         };
         let u = chol.l().transpose();
+        let p_inv = chol.inverse();
+        let p_inv = (p_inv + p_inv.transpose()) * 0.5;
         Ok(Ellipsoid {
             p: m,
             u,
+            p_inv,
             eig_min,
             eig_max,
         })
@@ -85,6 +91,22 @@ impl Ellipsoid {
 
     pub(crate) fn inscribed_radius(&self) -> Real {
         1.0 / self.eig_max.sqrt()
+    }
+}
+
+impl SupportMap for Ellipsoid {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        (Round::Quadric(&self.p_inv).point(m), 0)
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        (id == 0).then(|| Round::Quadric(&self.p_inv).eval(&Vec3::zeros(), m))?
+    }
+    fn flat_face(&self, _m: &Vec3, _cos_min: Real) -> Option<Vec3> {
+        None
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        p.dot(&(self.p * p)).max(0.0).sqrt()
     }
 }
 

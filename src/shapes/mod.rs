@@ -14,6 +14,7 @@ mod ellipsoid;
 mod polygon;
 mod polytope;
 mod sphere;
+mod support;
 
 pub use capsule::Capsule;
 pub use cone::Cone;
@@ -22,9 +23,10 @@ pub use ellipsoid::Ellipsoid;
 pub use polygon::Polygon;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
+pub(crate) use support::{PieceEval, SupportMap};
 
 use crate::error::{Error, ErrorDetail};
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// The most facets a polytope or polygon may have (construction is O(m³) in the facet count).
 pub const MAX_FACETS: usize = 256;
@@ -266,6 +268,22 @@ impl ConicShape for Shape {
     }
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         dispatch!(self, s => s.rows(inv_scale, sink))
+    }
+}
+
+impl SupportMap for Shape {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        dispatch!(self, s => s.support(m))
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        dispatch!(self, s => s.piece(id, m))
+    }
+    fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
+        dispatch!(self, s => s.flat_face(m, cos_min))
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        dispatch!(self, s => s.gauge(p))
     }
 }
 

@@ -1,9 +1,10 @@
 //! Padded polygon: points within `R` of the plane polygon `{ (y, 0) : C y ≤ d }`. Scaled, with
 //! the slack `y ∈ R²`: the cone `[αR; u − (y, 0)]` and the rows `α d_i − c_i·y ≥ 0`.
 
+use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
 use super::{check_halfspaces, positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// A polygon in the body x-y plane, padded by a radius.
 #[derive(Clone, Debug, PartialEq)]
@@ -12,6 +13,8 @@ pub struct Polygon {
     d: Vec<Real>,
     radius: Real,
     polygon_radius: Real,
+    /// The polygon's vertices `(y, 0)`, deduplicated.
+    vertices: Vec<Vec3>,
 }
 
 impl Polygon {
@@ -52,6 +55,7 @@ impl Polygon {
             }
         }
         let mut rho2: Real = 0.0;
+        let mut vertices: Vec<Vec3> = Vec::new();
         for i in 0..m {
             for j in (i + 1)..m {
                 let det = cross(&n[i], &n[j]);
@@ -68,6 +72,7 @@ impl Polygon {
                     .all(|(nl, ol)| nl[0] * v[0] + nl[1] * v[1] <= ol + 1e-9 * ol.max(vn))
                 {
                     rho2 = rho2.max(vn * vn);
+                    super::polytope::add_vertex(&mut vertices, Vec3::new(v[0], v[1], 0.0));
                 }
             }
         }
@@ -80,6 +85,7 @@ impl Polygon {
             d: d.to_vec(),
             radius,
             polygon_radius,
+            vertices,
         })
     }
 
@@ -104,6 +110,35 @@ impl Polygon {
 
     pub(crate) fn inscribed_radius(&self) -> Real {
         self.radius
+    }
+}
+
+/// The padded polygon's flat top and bottom.
+const SIDE_NORMALS: [Vec3; 2] = [Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -1.0)];
+
+impl SupportMap for Polygon {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        let (k, _) = argmax_dot(&self.vertices, m);
+        (
+            self.vertices[k] + Round::Ball(self.radius).point(m),
+            k as u32,
+        )
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        Round::Ball(self.radius).eval(self.vertices.get(id as usize)?, m)
+    }
+    fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
+        nearest_normal(&SIDE_NORMALS, m, cos_min)
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        // The inscribed prism: the polygon times [−R, R] along z.
+        self.c
+            .iter()
+            .zip(&self.d)
+            .fold(p.z.abs() / self.radius, |g: Real, (c, d)| {
+                g.max((c[0] * p.x + c[1] * p.y) / d)
+            })
     }
 }
 

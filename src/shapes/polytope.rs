@@ -1,6 +1,7 @@
 //! Polytope: `A b ≤ b`, every `b_i > 0` (origin strictly inside), bounded. Scaled: the rows
 //! `α b_i − a_i·u ≥ 0`.
 
+use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
 use super::{check_halfspaces, BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
@@ -10,6 +11,10 @@ use crate::math::{Real, Vec3};
 pub struct Polytope {
     a: Vec<[Real; 3]>,
     b: Vec<Real>,
+    /// The vertices, deduplicated (the support map is the best of them).
+    vertices: Vec<Vec3>,
+    /// The facets' outward unit normals.
+    normals: Vec<Vec3>,
     bounding_radius: Real,
     inscribed_radius: Real,
 }
@@ -69,6 +74,7 @@ impl Polytope {
         }
         // Vertices: intersections of three planes that satisfy all constraints.
         let mut rho: Real = 0.0;
+        let mut vertices: Vec<Vec3> = Vec::new();
         for i in 0..m {
             for j in (i + 1)..m {
                 let cij = n[i].cross(&n[j]);
@@ -91,6 +97,7 @@ impl Polytope {
                         .all(|(nl, ol)| nl.dot(&v) <= ol + 1e-9 * ol.max(vn));
                     if feasible {
                         rho = rho.max(vn);
+                        add_vertex(&mut vertices, v);
                     }
                 }
             }
@@ -102,6 +109,8 @@ impl Polytope {
         Ok(Polytope {
             a: a.to_vec(),
             b: b.to_vec(),
+            vertices,
+            normals: n,
             bounding_radius: rho.max(iota),
             inscribed_radius: iota,
         })
@@ -123,6 +132,39 @@ impl Polytope {
 
     pub(crate) fn inscribed_radius(&self) -> Real {
         self.inscribed_radius
+    }
+
+    /// The vertices (deduplicated).
+    pub fn vertices(&self) -> &[Vec3] {
+        &self.vertices
+    }
+}
+
+/// Adds `v` unless a vertex within rounding of it is already there (several facets through one
+/// vertex give it once per triple of facets).
+pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3) {
+    let tol = 1e-9 * v.norm().max(Real::MIN_POSITIVE);
+    if !vertices.iter().any(|w| (w - v).norm() <= tol) {
+        vertices.push(v);
+    }
+}
+
+impl SupportMap for Polytope {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        let (k, _) = argmax_dot(&self.vertices, m);
+        (self.vertices[k], k as u32)
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        Round::Flat.eval(self.vertices.get(id as usize)?, m)
+    }
+    fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
+        nearest_normal(&self.normals, m, cos_min)
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        self.a.iter().zip(&self.b).fold(0.0, |g: Real, (a, b)| {
+            g.max((a[0] * p.x + a[1] * p.y + a[2] * p.z) / b)
+        })
     }
 }
 

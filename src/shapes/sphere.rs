@@ -1,8 +1,9 @@
 //! Sphere: `‖b‖ ≤ R`. Scaled: the second-order cone `[αR; u]`.
 
+use super::support::{PieceEval, Round, SupportMap};
 use super::{positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::Error;
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// A ball of radius `R` about the body origin.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,6 +21,22 @@ impl Sphere {
     /// The radius `R`.
     pub fn radius(&self) -> Real {
         self.radius
+    }
+}
+
+impl SupportMap for Sphere {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        (Round::Ball(self.radius).point(m), 0)
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        (id == 0).then(|| Round::Ball(self.radius).eval(&Vec3::zeros(), m))?
+    }
+    fn flat_face(&self, _m: &Vec3, _cos_min: Real) -> Option<Vec3> {
+        None
+    }
+    fn gauge(&self, p: &Vec3) -> Real {
+        p.norm() / self.radius
     }
 }
 

@@ -14,11 +14,13 @@
 
 pub mod cones;
 pub mod kkt;
+pub(crate) mod polish;
+pub(crate) mod raycast;
 mod settings;
 mod status;
 
 pub use settings::{Settings, DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE};
-pub use status::SolveStatus;
+pub use status::{Method, SolveStatus, Solver};
 
 use crate::math::Real;
 use cones::{jdot, jprod, jsolve, SocScaling, SocVec, SOC_MAX_DIM};

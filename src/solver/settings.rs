@@ -17,6 +17,10 @@ pub struct Settings {
     pub tolerance: Real,
     /// Iteration limit; reaching it gives [`super::SolveStatus::MaxIterations`].
     pub max_iterations: u32,
+    /// Which solvers a query may use (the default: the geometric solvers with the
+    /// interior-point fallback). Derivatives, the exact distance and the scene's early exits
+    /// run the interior-point solver whatever this says.
+    pub method: super::Method,
 }
 
 impl Default for Settings {
@@ -24,6 +28,7 @@ impl Default for Settings {
         Settings {
             tolerance: DEFAULT_TOLERANCE,
             max_iterations: DEFAULT_MAX_ITERATIONS,
+            method: super::Method::Auto,
         }
     }
 }

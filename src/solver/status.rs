@@ -18,3 +18,30 @@ impl SolveStatus {
         self == SolveStatus::Converged
     }
 }
+
+/// Which solver produced an answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Solver {
+    /// The interior-point solver of the cone program (the fallback, or chosen by
+    /// [`Method::InteriorPoint`]).
+    #[default]
+    InteriorPoint,
+    /// The ray cast on the support maps (portal refinement) closed its bracket on its own.
+    RayCast,
+    /// The ray cast identified the contact features and the Newton polish on them closed the
+    /// bracket.
+    Polish,
+    /// A closed form for the pair (spheres, capsules, a sphere and a box).
+    ClosedForm,
+}
+
+/// Which solvers a query may use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Method {
+    /// Closed forms, then the certified ray cast and polish on support maps, with the
+    /// interior-point solver as the fallback when they cannot certify the answer.
+    #[default]
+    Auto,
+    /// The interior-point solver only (for comparison, and for its smoothed derivatives).
+    InteriorPoint,
+}

@@ -1,0 +1,240 @@
+//! Support maps: every primitive as the maximum of a few smooth *pieces*.
+//!
+//! A convex body `B` is described to the geometric solvers by its support function
+//! `h(m) = max over b ∈ B of m·b` and a support point (a maximiser). For every primitive `h` is
+//! the maximum of a few pieces of one form,
+//!
+//! ```text
+//!     p(m) = a·m + ‖m‖_round        (a: a body point; ‖·‖_round: 0, r‖m‖, r‖m_yz‖ or √(mᵀQm))
+//! ```
+//!
+//! whose gradient `a + ∇‖m‖_round` is the support point of that piece (a point of the shape) and
+//! whose Hessian is what a Newton polish needs. A sphere or ellipsoid is one piece; a polytope
+//! one linear piece per vertex; a capsule two (its end balls), a cylinder two (its rim circles),
+//! a cone two (apex and base rim), a padded polygon one per polygon vertex. Where the round part
+//! is not differentiable (a cylinder's or cone's flat disc, `m_yz = 0`) the shape has a flat
+//! face, reported by `flat_face` instead.
+
+use crate::math::{Mat3, Real, Vec3};
+
+/// The curved part of a piece: `‖m‖_round`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Round<'a> {
+    /// Linear piece (a polytope vertex, a cone's apex).
+    Flat,
+    /// `r‖m‖`: a ball of radius `r` (sphere, capsule end, padded polygon corner).
+    Ball(Real),
+    /// `r‖(m_y, m_z)‖`: a circle of radius `r` in the body y-z plane (cylinder and cone rims).
+    Circle(Real),
+    /// `√(mᵀQm)` with `Q` symmetric positive definite (an ellipsoid, `Q = P⁻¹`).
+    Quadric(&'a Mat3),
+}
+
+/// A piece evaluated at a direction: value, gradient (its support point) and Hessian.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PieceEval {
+    /// `p(m)`.
+    pub value: Real,
+    /// `∇p(m)`: the piece's support point (body frame).
+    pub grad: Vec3,
+    /// `∇²p(m)`.
+    pub hess: Mat3,
+}
+
+/// Relative size below which the round part of a piece counts as not differentiable.
+const ROUND_EPS: Real = 1e-300;
+
+impl Round<'_> {
+    /// The round part's support point at `m` (its gradient); at the one direction where it is
+    /// not unique (`m = 0`, or `m_yz = 0` for a circle) any point of the round part.
+    #[inline]
+    pub(crate) fn point(&self, m: &Vec3) -> Vec3 {
+        match *self {
+            Round::Flat => Vec3::zeros(),
+            Round::Ball(r) => {
+                let n = m.norm();
+                if n > ROUND_EPS {
+                    m * (r / n)
+                } else {
+                    Vec3::new(r, 0.0, 0.0)
+                }
+            }
+            Round::Circle(r) => {
+                let n = m.y.hypot(m.z);
+                if n > ROUND_EPS {
+                    Vec3::new(0.0, m.y * (r / n), m.z * (r / n))
+                } else {
+                    Vec3::new(0.0, r, 0.0)
+                }
+            }
+            Round::Quadric(q) => {
+                let qm = q * m;
+                let s = m.dot(&qm);
+                if s > 0.0 {
+                    qm / s.sqrt()
+                } else {
+                    Vec3::zeros()
+                }
+            }
+        }
+    }
+
+    /// Value, gradient and Hessian of `a·m + ‖m‖_round`; `None` where the round part is not
+    /// differentiable.
+    pub(crate) fn eval(&self, a: &Vec3, m: &Vec3) -> Option<PieceEval> {
+        let (value, grad, hess) = match *self {
+            Round::Flat => (0.0, Vec3::zeros(), Mat3::zeros()),
+            Round::Ball(r) => {
+                let n = m.norm();
+                if !(n > ROUND_EPS) {
+                    return None;
+                }
+                let u = m / n;
+                (
+                    r * n,
+                    u * r,
+                    (Mat3::identity() - u * u.transpose()) * (r / n),
+                )
+            }
+            Round::Circle(r) => {
+                let n = m.y.hypot(m.z);
+                if !(n > ROUND_EPS * m.norm().max(ROUND_EPS)) {
+                    return None;
+                }
+                let u = Vec3::new(0.0, m.y / n, m.z / n);
+                let p = Mat3::new(0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);
+                (r * n, u * r, (p - u * u.transpose()) * (r / n))
+            }
+            Round::Quadric(q) => {
+                let qm = q * m;
+                let s2 = m.dot(&qm);
+                if !(s2 > 0.0) {
+                    return None;
+                }
+                let s = s2.sqrt();
+                let g = qm / s;
+                (s, g, (q - g * g.transpose()) / s)
+            }
+        };
+        Some(PieceEval {
+            value: value + a.dot(m),
+            grad: grad + a,
+            hess,
+        })
+    }
+}
+
+/// What the geometric solvers need of a shape: its support map, its pieces, its flat faces.
+/// Everything is in the body frame and in the shape's own units.
+pub(crate) trait SupportMap {
+    /// A support point for direction `m` (any `m ≠ 0`; not necessarily unit) and the index of the
+    /// piece it belongs to. `h(m) = m·point`.
+    fn support(&self, m: &Vec3) -> (Vec3, u32);
+    /// Piece `id` evaluated at `m` (`None` where it is not differentiable or `id` is unknown).
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval>;
+    /// The outward unit normal of a flat face (a polytope facet, a disc, a padded polygon's
+    /// top or bottom) whose normal makes an angle with `m` of cosine at least `cos_min`,
+    /// the closest such one; `None` if there is none.
+    fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3>;
+    /// An upper bound `g` on the gauge of body point `p` (the least `t ≥ 0` with `p ∈ tB`), so
+    /// that `p/g` lies in the shape: exact for the sphere, ellipsoid, polytope, cylinder and
+    /// cone; for the capsule and padded polygon the gauge of an inscribed cylinder or prism.
+    fn gauge(&self, p: &Vec3) -> Real;
+}
+
+/// The best of a set of points in direction `m`: `(index, m·point)`.
+#[inline]
+pub(crate) fn argmax_dot(points: &[Vec3], m: &Vec3) -> (usize, Real) {
+    let mut best = 0;
+    let mut best_h = Real::NEG_INFINITY;
+    for (k, p) in points.iter().enumerate() {
+        let h = p.dot(m);
+        if h > best_h {
+            best_h = h;
+            best = k;
+        }
+    }
+    (best, best_h)
+}
+
+/// The closest of a set of unit normals to `m` if its cosine is at least `cos_min`.
+pub(crate) fn nearest_normal(normals: &[Vec3], m: &Vec3, cos_min: Real) -> Option<Vec3> {
+    let n = m.norm();
+    if !(n > 0.0) {
+        return None;
+    }
+    let (k, c) = argmax_dot(normals, m);
+    (c >= cos_min * n).then(|| normals[k])
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::shapes::Shape;
+
+    /// Checks a shape's support map against brute force over sampled directions: the support
+    /// point's value `m·s` is at least that of every other support point seen (so `h` is the
+    /// maximum over the shape's points), the piece reproduces the point, and the piece's
+    /// gradient and Hessian match finite differences.
+    pub(crate) fn check_support(shape: &Shape) {
+        let dirs: Vec<Vec3> = (0..400)
+            .map(|i| {
+                let t = i as Real * 0.618_033_988_75;
+                let z = 1.0 - 2.0 * ((i as Real + 0.5) / 400.0);
+                let r = (1.0 - z * z).sqrt();
+                Vec3::new(r * (t * 6.283).cos(), r * (t * 6.283).sin(), z)
+            })
+            .collect();
+        let pts: Vec<Vec3> = dirs.iter().map(|m| shape.support(m).0).collect();
+        for m in &dirs {
+            let (s, id) = shape.support(m);
+            let h = s.dot(m);
+            for p in &pts {
+                assert!(
+                    p.dot(m) <= h + 1e-12,
+                    "{:?}: support not maximal",
+                    shape.kind()
+                );
+            }
+            if let Some(e) = shape.piece(id, m) {
+                assert!((e.grad - s).norm() < 1e-12, "piece point differs");
+                assert!((e.value - h).abs() < 1e-12, "piece value differs");
+                let step = 1e-6;
+                for j in 0..3 {
+                    let mut mp = *m;
+                    let mut mm = *m;
+                    mp[j] += step;
+                    mm[j] -= step;
+                    let (ep, em) = (shape.piece(id, &mp).unwrap(), shape.piece(id, &mm).unwrap());
+                    let fd_g = (ep.value - em.value) / (2.0 * step);
+                    assert!((fd_g - e.grad[j]).abs() < 1e-6, "gradient vs FD");
+                    let fd_h = (ep.grad - em.grad) / (2.0 * step);
+                    for i in 0..3 {
+                        assert!((fd_h[i] - e.hess[(i, j)]).abs() < 1e-5, "Hessian vs FD");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_primitive_support_map_is_maximal_and_pieces_match() {
+        let shapes = [
+            Shape::sphere(0.7).unwrap(),
+            Shape::ellipsoid([[1.0, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap(),
+            Shape::cuboid(1.0, 0.5, 0.25).unwrap(),
+            Shape::capsule(0.3, 1.2).unwrap(),
+            Shape::cylinder(0.4, 1.0).unwrap(),
+            Shape::cone(1.5, 0.4).unwrap(),
+            Shape::polygon(
+                &[[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]],
+                &[0.5; 4],
+                0.1,
+            )
+            .unwrap(),
+        ];
+        for s in &shapes {
+            check_support(s);
+        }
+    }
+}

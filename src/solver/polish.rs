@@ -1,0 +1,429 @@
+//! Newton polish of a ray cast on the contact features it identified, with a certificate.
+//!
+//! By duality (`../shared/ALGORITHMS.md` §1), `1/α' = min { h_K(n) : n·r = 1 }` with
+//! `h_K(n) = h₁(n) + h₂(−n)`, and every shape's support function is the maximum of a few
+//! smooth pieces (`crate::shapes::SupportMap`). Once the cast has identified which pieces are
+//! active (a vertex, an edge's two vertices, a rim, a smooth patch, ...), the optimum solves the
+//! smooth KKT system of the epigraph problem
+//!
+//! ```text
+//!     Σ_k λ_k ∇p_k(n) = μ r          (the primal point u − v on the ray: μ = 1/α')
+//!     n·r = 1
+//!     Σ_{k ∈ shape i} λ_k = 1        (i = 1, 2)
+//!     p_k(n) = p_{k₀(i)}(n)          (the active pieces of a shape tie)
+//! ```
+//!
+//! in `(n, μ, λ)`, which Newton's method solves to full precision in a few steps. A flat face
+//! (polytope facet, disc, padded polygon side) fixes `n` outright and is tried first.
+//!
+//! Both routes end in the certificate of §1: `α_lo = 1/h_K(n)` from the full support maps, and
+//! `α_hi` from a point of K (a convex combination of the pieces' support points, which lie in
+//! the shapes) on or next to the ray. An answer is returned only when the bracket is closed.
+
+use super::raycast::{upper_from_point, Cast, Pair};
+use crate::math::{Mat3, Real, Vec3};
+use crate::shapes::SupportMap;
+
+/// At most this many active pieces per shape.
+const MAX_PIECES: usize = 3;
+/// Unknowns: n (3), μ, and up to 2·MAX_PIECES multipliers.
+const MAX_DIM: usize = 4 + 2 * MAX_PIECES;
+/// Newton steps per active set.
+const MAX_NEWTON: usize = 10;
+
+/// A polished answer in the normalised frame.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Polished {
+    pub alpha_lo: Real,
+    pub alpha_hi: Real,
+    /// The optimal normal (scaled so that `n·r = 1`).
+    pub normal: Vec3,
+    /// The point of shape 1 and of shape 2 (relative to their origins, normalised units).
+    pub a: Vec3,
+    pub b: Vec3,
+    /// Newton steps taken.
+    pub steps: u32,
+}
+
+/// One active piece: which shape (0 or 1) and which piece.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Active {
+    shape: usize,
+    id: u32,
+}
+
+/// A piece evaluated in the normalised world frame as a function of the world normal `n`:
+/// shape 1's `p(R₁ᵀn)/ℓ`, shape 2's `p(−R₂ᵀn)/ℓ`.
+struct WorldPiece {
+    value: Real,
+    /// Gradient in n: shape 1's point `a`, or minus shape 2's point `−b`.
+    grad: Vec3,
+    hess: Mat3,
+}
+
+fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<WorldPiece> {
+    let posed = if act.shape == 0 { &pair.one } else { &pair.two };
+    let sign = if act.shape == 0 { 1.0 } else { -1.0 };
+    let m = posed.rot.tr_mul(n) * sign;
+    let e = posed.shape.piece(act.id, &m)?;
+    let s = posed.inv_scale;
+    Some(WorldPiece {
+        value: e.value * s,
+        grad: posed.rot * e.grad * (s * sign),
+        hess: posed.rot * e.hess * posed.rot.transpose() * s,
+    })
+}
+
+/// Tries a flat face of either shape whose normal is within a small angle of `normal`: its
+/// normal is the exact optimum's if the ray meets K's face there, which the certificate checks.
+pub(crate) fn snap_to_face<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    normal: &Vec3,
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    const COS_MIN: Real = 1.0 - 1e-6;
+    for shape in 0..2 {
+        let (posed, sign) = if shape == 0 {
+            (&pair.one, 1.0)
+        } else {
+            (&pair.two, -1.0)
+        };
+        let m = posed.rot.tr_mul(normal) * sign;
+        let Some(f) = posed.shape.flat_face(&m, COS_MIN) else {
+            continue;
+        };
+        let n = posed.rot * f * sign;
+        let nr = n.dot(r);
+        if !(nr > 0.0) {
+            continue;
+        }
+        let v = pair.support(&n);
+        let h = v.w.dot(&n);
+        let lo = nr / h;
+        // The other shape's support point is taken as it is; this shape's point is then the
+        // one that puts u − v on the ray, r/α' = u − v. It lies in this shape's face plane; the
+        // certificate needs it inside the shape, i.e. inside the face.
+        let target = r * (1.0 / lo);
+        let (a, b) = if shape == 0 {
+            (target + v.b, v.b)
+        } else {
+            (v.a, v.a - target)
+        };
+        let own = if shape == 0 { a } else { b };
+        let g = posed.shape_gauge(&own);
+        if !(g.is_finite() && g > 0.0) {
+            continue;
+        }
+        let (a, b) = if g <= 1.0 {
+            (a, b)
+        } else if shape == 0 {
+            (a / g, b)
+        } else {
+            (a, b / g)
+        };
+        let hi = upper_from_point(&(a - b), r, iota);
+        if hi - lo <= rel_tol * lo {
+            return Some(Polished {
+                alpha_lo: lo,
+                alpha_hi: hi.max(lo),
+                normal: n / nr,
+                a,
+                b,
+                steps: 0,
+            });
+        }
+    }
+    None
+}
+
+/// Newton on the KKT system of the pieces active in the cast's portal (dropping a piece whose
+/// multiplier turns negative), then the certificate.
+pub(crate) fn newton<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    cast: &Cast,
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    // Active pieces and their starting multipliers from the portal's barycentric weights.
+    let mut act = [Active { shape: 0, id: 0 }; 2 * MAX_PIECES];
+    let mut lam = [0.0; 2 * MAX_PIECES];
+    let mut p = 0;
+    for j in 0..3 {
+        for shape in 0..2 {
+            let id = cast.portal[j].id[shape];
+            let w = cast.bary[j].max(0.0);
+            match act[..p].iter().position(|a| a.shape == shape && a.id == id) {
+                Some(k) => lam[k] += w,
+                None => {
+                    act[p] = Active { shape, id };
+                    lam[p] = w;
+                    p += 1;
+                }
+            }
+        }
+    }
+    let alpha0 = 0.5 * (cast.alpha_lo + cast.alpha_hi.min(2.0 * cast.alpha_lo));
+    let n0 = cast.normal / cast.normal.dot(r);
+    let mut steps = 0;
+    for _attempt in 0..4 {
+        normalise_multipliers(&act[..p], &mut lam[..p]);
+        let mut n = n0;
+        let mut mu = 1.0 / alpha0;
+        let mut l = lam;
+        let ok = solve_kkt(pair, r, &act[..p], &mut n, &mut mu, &mut l[..p], &mut steps);
+        if ok {
+            // A negative multiplier: that piece is not active at the optimum.
+            let (kmin, lmin) = (0..p).fold((0, Real::INFINITY), |acc, k| {
+                if l[k] < acc.1 {
+                    (k, l[k])
+                } else {
+                    acc
+                }
+            });
+            if lmin >= -1e-12 {
+                if let Some(out) = certify(pair, r, &act[..p], &n, &l[..p], iota, rel_tol) {
+                    return Some(Polished { steps, ..out });
+                }
+                return None;
+            }
+            if !drop_piece(&mut act, &mut lam, &mut p, kmin) {
+                return None;
+            }
+        } else {
+            // Singular or not converging: drop the piece with the least weight in the portal
+            // from a shape that has more than one.
+            let k = (0..p)
+                .filter(|&k| act[..p].iter().filter(|a| a.shape == act[k].shape).count() > 1)
+                .min_by(|&i, &j| lam[i].total_cmp(&lam[j]))?;
+            if !drop_piece(&mut act, &mut lam, &mut p, k) {
+                return None;
+            }
+        }
+    }
+    None
+}
+
+/// Removes piece `k` unless it is its shape's last one.
+fn drop_piece(act: &mut [Active], lam: &mut [Real], p: &mut usize, k: usize) -> bool {
+    let shape = act[k].shape;
+    if act[..*p].iter().filter(|a| a.shape == shape).count() <= 1 {
+        return false;
+    }
+    for i in k..*p - 1 {
+        act[i] = act[i + 1];
+        lam[i] = lam[i + 1];
+    }
+    *p -= 1;
+    true
+}
+
+/// Makes each shape's multipliers sum to one (equal shares where they sum to zero).
+fn normalise_multipliers(act: &[Active], lam: &mut [Real]) {
+    for shape in 0..2 {
+        let (mut sum, mut count) = (0.0, 0);
+        for (a, l) in act.iter().zip(lam.iter()) {
+            if a.shape == shape {
+                sum += *l;
+                count += 1;
+            }
+        }
+        for (a, l) in act.iter().zip(lam.iter_mut()) {
+            if a.shape == shape {
+                *l = if sum > 0.0 {
+                    *l / sum
+                } else {
+                    1.0 / count as Real
+                };
+            }
+        }
+    }
+}
+
+/// Newton's method on the KKT system; true when the step converged to rounding.
+fn solve_kkt<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    act: &[Active],
+    n: &mut Vec3,
+    mu: &mut Real,
+    lam: &mut [Real],
+    steps: &mut u32,
+) -> bool {
+    let p = act.len();
+    let dim = 4 + p;
+    // The first piece of each shape: the others are tied to it.
+    let first = |shape: usize| act.iter().position(|a| a.shape == shape);
+    let (Some(f0), Some(f1)) = (first(0), first(1)) else {
+        return false;
+    };
+    let mut pieces: [Option<WorldPiece>; 2 * MAX_PIECES] = Default::default();
+    for _ in 0..MAX_NEWTON {
+        *steps += 1;
+        for k in 0..p {
+            pieces[k] = eval(pair, act[k], n);
+            if pieces[k].is_none() {
+                return false;
+            }
+        }
+        let pc = |k: usize| pieces[k].as_ref().unwrap();
+        let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
+        let mut rhs = [0.0; MAX_DIM];
+        // Rows 0..3: Σ λ_k g_k − μ r.
+        let mut hsum = Mat3::zeros();
+        let mut gsum = Vec3::zeros();
+        for k in 0..p {
+            hsum += pc(k).hess * lam[k];
+            gsum += pc(k).grad * lam[k];
+        }
+        let ra = gsum - r * *mu;
+        for i in 0..3 {
+            for j in 0..3 {
+                jac[i][j] = hsum[(i, j)];
+            }
+            jac[i][3] = -r[i];
+            for k in 0..p {
+                jac[i][4 + k] = pc(k).grad[i];
+            }
+            rhs[i] = -ra[i];
+        }
+        // Row 3: n·r − 1.
+        for j in 0..3 {
+            jac[3][j] = r[j];
+        }
+        rhs[3] = -(n.dot(r) - 1.0);
+        // Rows 4..: the multipliers' sums (one row per shape, at its first piece's slot) and the
+        // ties of the other pieces to the first.
+        let mut scale = ra.norm() + rhs[3].abs();
+        for k in 0..p {
+            let row = 4 + k;
+            let shape = act[k].shape;
+            let f = if shape == 0 { f0 } else { f1 };
+            if k == f {
+                let mut sum = 0.0;
+                for (i, a) in act.iter().enumerate() {
+                    if a.shape == shape {
+                        jac[row][4 + i] = 1.0;
+                        sum += lam[i];
+                    }
+                }
+                rhs[row] = -(sum - 1.0);
+            } else {
+                let g = pc(k).grad - pc(f).grad;
+                for j in 0..3 {
+                    jac[row][j] = g[j];
+                }
+                rhs[row] = -(pc(k).value - pc(f).value);
+            }
+            scale += rhs[row].abs();
+        }
+        if scale <= 1e-15 {
+            return true;
+        }
+        if !solve_dense(&mut jac, &mut rhs, dim) {
+            return false;
+        }
+        let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
+        *n += dn;
+        *mu += rhs[3];
+        for k in 0..p {
+            lam[k] += rhs[4 + k];
+        }
+        let step = dn.norm() / n.norm() + rhs[3].abs() / mu.abs();
+        if !step.is_finite() {
+            return false;
+        }
+        if step <= 1e-14 {
+            return true;
+        }
+    }
+    false
+}
+
+/// The certificate of a Newton solution: the full support maps at `n` for the lower bound, the
+/// primal point `Σ λ_k ∇p_k` (a point of K when λ ≥ 0) for the upper bound.
+fn certify<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    act: &[Active],
+    n: &Vec3,
+    lam: &[Real],
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    let nr = n.dot(r);
+    let v = pair.support(n);
+    let lo = nr / v.w.dot(n);
+    let mut a = Vec3::zeros();
+    let mut b = Vec3::zeros();
+    let mut sums = [0.0; 2];
+    for (k, piece) in act.iter().enumerate() {
+        let l = lam[k].max(0.0);
+        let g = eval(pair, *piece, n)?.grad;
+        sums[piece.shape] += l;
+        if piece.shape == 0 {
+            a += g * l;
+        } else {
+            b -= g * l;
+        }
+    }
+    if !(sums[0] > 0.0 && sums[1] > 0.0) {
+        return None;
+    }
+    let (a, b) = (a / sums[0], b / sums[1]);
+    let hi = upper_from_point(&(a - b), r, iota);
+    (lo.is_finite() && hi - lo <= rel_tol * lo).then_some(Polished {
+        alpha_lo: lo,
+        alpha_hi: hi.max(lo),
+        normal: n / nr,
+        a,
+        b,
+        steps: 0,
+    })
+}
+
+/// Solves `A x = b` in place (the first `dim` rows and columns) by Gaussian elimination with
+/// partial pivoting; false when a pivot is negligible.
+fn solve_dense(a: &mut [[Real; MAX_DIM]; MAX_DIM], b: &mut [Real; MAX_DIM], dim: usize) -> bool {
+    let mut amax: Real = 0.0;
+    for row in a.iter().take(dim) {
+        for v in row.iter().take(dim) {
+            amax = amax.max(v.abs());
+        }
+    }
+    let floor = 1e-13 * amax;
+    for c in 0..dim {
+        let (mut piv, mut best) = (c, a[c][c].abs());
+        for rr in (c + 1)..dim {
+            if a[rr][c].abs() > best {
+                best = a[rr][c].abs();
+                piv = rr;
+            }
+        }
+        if !(best > floor) {
+            return false;
+        }
+        a.swap(c, piv);
+        b.swap(c, piv);
+        let inv = 1.0 / a[c][c];
+        for rr in (c + 1)..dim {
+            let f = a[rr][c] * inv;
+            if f != 0.0 {
+                for k in c..dim {
+                    a[rr][k] -= f * a[c][k];
+                }
+                b[rr] -= f * b[c];
+            }
+        }
+    }
+    for c in (0..dim).rev() {
+        let mut s = b[c];
+        for k in (c + 1)..dim {
+            s -= a[c][k] * b[k];
+        }
+        b[c] = s / a[c][c];
+    }
+    true
+}
