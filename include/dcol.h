@@ -45,6 +45,36 @@
 #define DCOL_VERSION_STRING "0.1.0"
 
 /**
+ * dcol_options.method: closed forms and the certified ray cast, interior point as fallback.
+ */
+#define DCOL_METHOD_AUTO 0
+
+/**
+ * dcol_options.method: the interior-point solver only.
+ */
+#define DCOL_METHOD_INTERIOR_POINT 1
+
+/**
+ * dcol_proximity_result.solver: the interior-point solver.
+ */
+#define DCOL_SOLVER_INTERIOR_POINT 0
+
+/**
+ * dcol_proximity_result.solver: the certified ray cast on support maps.
+ */
+#define DCOL_SOLVER_RAY_CAST 1
+
+/**
+ * dcol_proximity_result.solver: the ray cast and a Newton polish on the contact features.
+ */
+#define DCOL_SOLVER_POLISH 2
+
+/**
+ * dcol_proximity_result.solver: a closed form for the pair.
+ */
+#define DCOL_SOLVER_CLOSED_FORM 3
+
+/**
  * The most threads one dcol_proximity_batch call uses, the calling thread included; a larger
  * `threads` argument is treated as this value.
  */
@@ -118,6 +148,14 @@ typedef struct dcol_options {
    * Interior-point iteration limit, at least 1. The default is in dcol_options_default().
    */
   uint32_t max_iterations;
+  /**
+   * Which solvers a query may use: DCOL_METHOD_AUTO (0, the default: closed forms and the
+   * certified ray cast on support maps, with the interior-point solver as the fallback) or
+   * DCOL_METHOD_INTERIOR_POINT (1: the interior-point solver only). Other values are
+   * rejected with DCOL_ERROR_INVALID_OPTIONS. (Appended after the two original fields, so an
+   * initializer that sets only those two selects DCOL_METHOD_AUTO.)
+   */
+  uint32_t method;
 } dcol_options;
 
 /**
@@ -162,9 +200,16 @@ typedef struct dcol_proximity_result {
    */
   double contact2[3];
   /**
-   * Interior-point iterations used.
+   * Interior-point iterations used (0 when another solver answered: see `solver`).
    */
   uint32_t iterations;
+  /**
+   * Which solver answered: DCOL_SOLVER_INTERIOR_POINT (0), DCOL_SOLVER_RAY_CAST (1, the ray
+   * cast on support maps closed its certified bracket), DCOL_SOLVER_POLISH (2, the ray cast
+   * then a Newton polish on the contact features it identified) or DCOL_SOLVER_CLOSED_FORM
+   * (3). (Appended after the original fields.)
+   */
+  uint32_t solver;
 } dcol_proximity_result;
 
 /**

@@ -310,6 +310,7 @@ fn jacobian_finite_at_huge_tolerance_and_quaternion() {
         let opts = Options {
             tolerance: tol,
             max_iterations: 399,
+            ..Options::default()
         };
         let (p, j) = dcol::jacobian(&poly, &p1, &cap, &p2, &opts).unwrap();
         assert!(

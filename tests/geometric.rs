@@ -76,3 +76,39 @@ fn fallback_share_per_pair_type() {
         "fallback share on the stress group {stress_ipm}/{stress}"
     );
 }
+
+#[test]
+fn debug_gradient_vs_ipm() {
+    let Some(dir) = reference_dir() else { return };
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..Options::default()
+    };
+    let mut worst = Vec::new();
+    for file in all_files(&dir) {
+        for case in load(&file) {
+            let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
+            let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
+            let (p, g) = dcol::gradient(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+            let (_, gi) = dcol::gradient(&s1, &p1, &s2, &p2, &ipm).unwrap();
+            let e = g
+                .iter()
+                .zip(&gi)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+                / gi.iter().map(|v| v.abs()).fold(1.0, f64::max);
+            if case["x_unique"].as_bool() == Some(true) {
+                worst.push((
+                    e,
+                    case["id"].to_string(),
+                    p.solver,
+                    case["x_unique"].clone(),
+                ));
+            }
+        }
+    }
+    worst.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for w in worst.iter().take(25) {
+        println!("{:.2e} {} {:?} {}", w.0, w.1, w.2, w.3);
+    }
+}

@@ -8,10 +8,10 @@
 //! offset, so no precision is lost at tiny or huge offsets).
 
 use super::proximity::{Options, Proximity};
-use crate::math::{Pose, Real, Vec3};
-use crate::shapes::Shape;
-use crate::solver::polish::{newton, snap_to_face};
-use crate::solver::raycast::{cast, CastEnd, Pair, Posed};
+use crate::math::{rotation_derivatives, Pose, Real, Vec3};
+use crate::shapes::{Shape, ShapeKind};
+use crate::solver::polish::polish;
+use crate::solver::raycast::{cast, Cast, CastEnd, Pair, Posed, Stop};
 use crate::solver::{SolveStatus, Solver};
 
 /// Portal refinements before the polish takes over.
@@ -26,17 +26,31 @@ const CAST_RESCUE: u32 = 200;
 /// far below to give the same accuracy for the same setting.
 const MARGIN: Real = 1e-3;
 
+/// What the geometric path concluded.
+pub(crate) enum Outcome {
+    /// The certified bracket excluded the threshold: α* is below it (`true`) or above it;
+    /// `alpha` is the bracket's end on that side (world units).
+    Decided { below: bool, alpha: Real },
+    /// The full answer, with `∂α*/∂(r₂ − r₁)` (the optimal normal `n*/h_K(n*)`, world units).
+    Answer(Proximity, Vec3),
+    /// The geometric solvers could not certify an answer: run the interior-point solver.
+    Fallback,
+}
+
 /// The geometric answer in the normalised frame.
 struct Answer {
     alpha: Real,
+    /// The optimal normal, scaled so that `n·r = 1`.
+    normal: Vec3,
     /// Points of shape 1 and 2, relative to their origins (normalised units).
     a: Vec3,
     b: Vec3,
     solver: Solver,
 }
 
-/// Proximity by the geometric solvers, or `None` when they cannot certify the answer to the
-/// requested tolerance (the caller then runs the interior-point solver). `dist = ‖r₂ − r₁‖ > 0`.
+/// Proximity by the geometric solvers, stopping early once α* is proven above `threshold.0`
+/// (or below it, when `threshold.1`); [`Outcome::Fallback`] when they cannot certify the
+/// answer to the requested tolerance. `dist = ‖r₂ − r₁‖ > 0`.
 pub(crate) fn proximity(
     shape1: &Shape,
     pose1: &Pose,
@@ -44,7 +58,8 @@ pub(crate) fn proximity(
     pose2: &Pose,
     options: &Options,
     dist: Real,
-) -> Option<Proximity> {
+    threshold: Option<(Real, bool)>,
+) -> Outcome {
     let r1 = *pose1.position();
     let r2 = *pose2.position();
     let ray = (r2 - r1) / dist;
@@ -63,9 +78,24 @@ pub(crate) fn proximity(
             inv_scale: inv,
         },
     };
-    let ans = solve(&pair, &ray, iota, options.tolerance)?;
-    // α* = α'·dist/ℓ; the touching point x* = r₁ + α*·ℓ·a; contact points r₁ + ℓa, r₂ + ℓb.
-    let alpha = ans.alpha * (dist * inv);
+    // α* = α'·dist/ℓ.
+    let world = dist * inv;
+    let stop = threshold.map(|(t, stop_below)| Stop {
+        value: t / world,
+        stop_below,
+    });
+    let ans = match solve(&pair, &ray, iota, options.tolerance, stop) {
+        Ok(Some(ans)) => ans,
+        Ok(None) => return Outcome::Fallback,
+        Err((below, alpha)) => {
+            return Outcome::Decided {
+                below,
+                alpha: alpha * world,
+            }
+        }
+    };
+    // The touching point x* = r₁ + α*·ℓ·a; contact points r₁ + ℓa, r₂ + ℓb.
+    let alpha = ans.alpha * world;
     let contact1 = r1 + ans.a * ell;
     let contact2 = r2 + ans.b * ell;
     let point = r1 + ans.a * (alpha * ell);
@@ -73,54 +103,118 @@ pub(crate) fn proximity(
         && point.iter().all(|v| v.is_finite())
         && contact1.iter().all(|v| v.is_finite())
         && contact2.iter().all(|v| v.is_finite());
-    finite.then_some(Proximity {
-        alpha,
-        point,
-        contact1,
-        contact2,
-        iterations: 0,
-        status: SolveStatus::Converged,
-        solver: ans.solver,
-    })
+    if !finite {
+        return Outcome::Fallback;
+    }
+    // ∂α*/∂d = n/h_K(n) (world): with n·r = 1 and h_K'(n) = 1/α' in the normalised lengths,
+    // n·α'/ℓ.
+    let dalpha_dd = ans.normal * (ans.alpha * inv);
+    Outcome::Answer(
+        Proximity {
+            alpha,
+            point,
+            contact1,
+            contact2,
+            iterations: 0,
+            status: SolveStatus::Converged,
+            solver: ans.solver,
+        },
+        dalpha_dd,
+    )
 }
 
-fn solve(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tolerance: Real) -> Option<Answer> {
+/// `∂α*/∂(r₁, q₁, r₂, q₂)` from the geometric solution by the envelope theorem
+/// (`../shared/ALGORITHMS.md` §4): with `ñ = n*/h_K(n*)`, `∂α*/∂r₂ = ñ = −∂α*/∂r₁`; a change of
+/// `qᵢ` moves shape i's support function at `n*` through its support point `bᵢ*` (body frame),
+/// `∂h₁(n)/∂q₁ₖ = n·(∂R₁/∂q₁ₖ) b₁*` and `∂h₂(−n)/∂q₂ₖ = −n·(∂R₂/∂q₂ₖ) b₂*`, and
+/// `∂α*/∂h_K = −α*/h_K`. Exact wherever the optimal normal and support points are unique. A
+/// sphere's support function does not depend on its attitude: its columns are exactly zero.
+pub(crate) fn gradient(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    pose1: &Pose,
+    pose2: &Pose,
+) -> [Real; 14] {
+    let mut g = [0.0; 14];
+    for j in 0..3 {
+        g[j] = -dalpha_dd[j];
+        g[7 + j] = dalpha_dd[j];
+    }
+    // Body-frame support points.
+    let b1 = pose1.rotation().tr_mul(&(prox.contact1 - pose1.position()));
+    let b2 = pose2.rotation().tr_mul(&(prox.contact2 - pose2.position()));
+    let d1 = rotation_derivatives(pose1.quaternion());
+    let d2 = rotation_derivatives(pose2.quaternion());
+    let round = shapes.map(|s| s.kind() == ShapeKind::Sphere);
+    for k in 0..4 {
+        if !round[0] {
+            g[3 + k] = -prox.alpha * dalpha_dd.dot(&(d1[k] * b1));
+        }
+        if !round[1] {
+            g[10 + k] = prox.alpha * dalpha_dd.dot(&(d2[k] * b2));
+        }
+    }
+    g
+}
+
+/// The answer (`Ok(None)`: fall back), or `Err((below, bound))` when the bracket decided the
+/// threshold first.
+type Solved = Result<Option<Answer>, (bool, Real)>;
+
+fn solve(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tolerance: Real,
+    stop: Option<Stop>,
+) -> Solved {
     let tol = tolerance * MARGIN;
-    let c = cast(pair, ray, tol.max(HANDOVER), CAST_BUDGET);
-    // A portal in a flat face of K gives the exit point exactly; elsewhere a closed bracket
-    // pins α' but not the point (the portal's vertices spread across a curved patch), so the
-    // polish runs unless the requested tolerance is looser than the hand-over.
-    if c.end == CastEnd::Flat || (tol >= HANDOVER && c.end == CastEnd::Closed) {
-        let (a, b) = c.points();
-        return Some(Answer {
-            alpha: c.alpha_hi,
-            a,
-            b,
-            solver: Solver::RayCast,
-        });
+    let c = cast(pair, ray, tol.max(HANDOVER), CAST_BUDGET, stop);
+    if let CastEnd::Decided(below) = c.end {
+        return Err((below, if below { c.alpha_hi } else { c.alpha_lo }));
     }
-    if c.end == CastEnd::Degenerate {
-        return None;
-    }
-    let polished =
-        snap_to_face(pair, ray, &c.normal, iota, tol).or_else(|| newton(pair, ray, &c, iota, tol));
-    if let Some(p) = polished {
-        return Some(Answer {
-            alpha: p.alpha_lo,
-            a: p.a,
-            b: p.b,
-            solver: Solver::Polish,
-        });
-    }
-    // The polish could not certify: refine the portal further.
-    let c = cast(pair, ray, tol, CAST_RESCUE);
-    (c.alpha_hi - c.alpha_lo <= tol * c.alpha_lo).then(|| {
+    let from_cast = |c: &Cast| {
         let (a, b) = c.points();
         Answer {
             alpha: c.alpha_hi,
+            normal: c.normal / c.normal.dot(ray),
             a,
             b,
             solver: Solver::RayCast,
         }
-    })
+    };
+    // A loose tolerance is met by the cast alone.
+    if tol >= HANDOVER && matches!(c.end, CastEnd::Closed | CastEnd::Flat) {
+        return Ok(Some(from_cast(&c)));
+    }
+    if c.end == CastEnd::Degenerate {
+        return Ok(None);
+    }
+    // Two polytopes: a portal in a facet of K gives the exit point and normal exactly.
+    let polyhedral = [pair.one.shape, pair.two.shape]
+        .iter()
+        .all(|s| s.kind() == ShapeKind::Polytope);
+    if c.end == CastEnd::Flat && polyhedral {
+        return Ok(Some(from_cast(&c)));
+    }
+    // Elsewhere a portal pins α' (to second order) but not the normal or the point: a tiny
+    // portal on a curved patch also ends "flat" to rounding, with its normal and point only as
+    // good as the portal is small. The polish finishes both.
+    if let Some(p) = polish(pair, ray, &c, iota, tol) {
+        return Ok(Some(Answer {
+            alpha: p.alpha_lo,
+            normal: p.normal,
+            a: p.a,
+            b: p.b,
+            solver: Solver::Polish,
+        }));
+    }
+    if c.end == CastEnd::Flat {
+        // A flat face of K the polish cannot describe (a disc against a facet, say).
+        return Ok(Some(from_cast(&c)));
+    }
+    // The polish could not certify: refine the portal further.
+    let c = cast(pair, ray, tol, CAST_RESCUE, None);
+    Ok((c.alpha_hi - c.alpha_lo <= tol * c.alpha_lo).then(|| from_cast(&c)))
 }

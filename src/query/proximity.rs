@@ -10,6 +10,7 @@
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::derivatives;
+use super::geometric;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
@@ -258,15 +259,49 @@ pub(crate) fn query_until(
             "the distance between the two origins overflows a double",
         )));
     }
-    if want == Want::Proximity && threshold.is_none() && options.method == Method::Auto {
-        if let Some(prox) = super::geometric::proximity(shape1, pose1, shape2, pose2, options, dist)
-        {
-            return Ok(Full {
-                prox,
-                gradient: [0.0; 14],
-                jacobian: [[0.0; 14]; 4],
-                decided: None,
-            });
+    // The geometric solvers answer α*, x* and the gradient; the Jacobian of x* still comes from
+    // the interior-point solve, whose α* and ∂α* then give way to the geometric ones (so that
+    // every query reports the same α* and ∂α*).
+    let mut geometric_answer = None;
+    if options.method == Method::Auto {
+        match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
+            geometric::Outcome::Answer(prox, dalpha_dd) => {
+                let g = if want >= Want::Gradient {
+                    geometric::gradient(&prox, &dalpha_dd, [shape1, shape2], pose1, pose2)
+                } else {
+                    [0.0; 14]
+                };
+                if g.iter().all(|v| v.is_finite()) {
+                    if want <= Want::Gradient {
+                        return Ok(Full {
+                            prox,
+                            gradient: g,
+                            jacobian: [[0.0; 14]; 4],
+                            decided: None,
+                        });
+                    }
+                    geometric_answer = Some((prox, g));
+                }
+            }
+            geometric::Outcome::Decided { below, alpha } => {
+                // Only the decision is used; the bound that made it stands in for α*.
+                let prox = Proximity {
+                    alpha,
+                    point: r1,
+                    contact1: r1,
+                    contact2: r2,
+                    iterations: 0,
+                    status: SolveStatus::Converged,
+                    solver: Solver::RayCast,
+                };
+                return Ok(Full {
+                    prox,
+                    gradient: [0.0; 14],
+                    jacobian: [[0.0; 14]; 4],
+                    decided: Some(below),
+                });
+            }
+            geometric::Outcome::Fallback => {}
         }
     }
     let (rho1, rho2) = (shape1.bounding_radius(), shape2.bounding_radius());
@@ -317,6 +352,16 @@ pub(crate) fn query_until(
         },
     )
     .ok_or(Error::Internal("proximity: variable count out of range"))?;
+    if let Some((prox, gradient)) = geometric_answer {
+        // α* and its gradient are the geometric ones (the same as every other query reports);
+        // x* and the contact points stay the interior-point solve's, which the Jacobian's rows
+        // differentiate (they differ only where x* is not unique, a flat contact, where the
+        // Jacobian is the smoothed one of the central path's point).
+        full.prox.alpha = prox.alpha;
+        full.prox.solver = prox.solver;
+        full.gradient = gradient;
+        full.jacobian[3] = gradient;
+    }
     if want >= Want::Gradient {
         // (The Jacobian is all zeros unless it was asked for.)
         let finite = full.gradient.iter().all(|v| v.is_finite())

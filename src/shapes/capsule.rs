@@ -1,7 +1,7 @@
 //! Capsule: points within `R` of the segment `±L/2 e_x`. Scaled, with the slack γ (position
 //! along the axis): the cone `[αR; u − γ e_x]` and the rows `αL/2 ∓ γ ≥ 0`.
 
-use super::support::{PieceEval, Round, SupportMap};
+use super::support::{ball_normal, PieceEval, Round, SupportMap};
 use super::{positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
@@ -56,6 +56,9 @@ impl SupportMap for Capsule {
     fn gauge(&self, p: &Vec3) -> Real {
         // The inscribed cylinder of radius R between the end centres.
         (p.x.abs() / (0.5 * self.length)).max(p.y.hypot(p.z) / self.radius)
+    }
+    fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
+        ball_normal(&self.end(id), p)
     }
 }
 

@@ -108,6 +108,9 @@ impl SupportMap for Ellipsoid {
     fn gauge(&self, p: &Vec3) -> Real {
         p.dot(&(self.p * p)).max(0.0).sqrt()
     }
+    fn normal_at(&self, _id: u32, p: &Vec3) -> Option<Vec3> {
+        (self.p * p).try_normalize(0.0)
+    }
 }
 
 impl ConicShape for Ellipsoid {

@@ -285,6 +285,9 @@ impl SupportMap for Shape {
     fn gauge(&self, p: &Vec3) -> Real {
         dispatch!(self, s => s.gauge(p))
     }
+    fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
+        dispatch!(self, s => s.normal_at(id, p))
+    }
 }
 
 pub(crate) fn positive_finite(name: &'static str, v: Real) -> Result<(), Error> {

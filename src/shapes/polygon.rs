@@ -1,7 +1,7 @@
 //! Padded polygon: points within `R` of the plane polygon `{ (y, 0) : C y ≤ d }`. Scaled, with
 //! the slack `y ∈ R²`: the cone `[αR; u − (y, 0)]` and the rows `α d_i − c_i·y ≥ 0`.
 
-use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
+use super::support::{argmax_dot, ball_normal, nearest_normal, PieceEval, Round, SupportMap};
 use super::{check_halfspaces, positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
@@ -139,6 +139,9 @@ impl SupportMap for Polygon {
             .fold(p.z.abs() / self.radius, |g: Real, (c, d)| {
                 g.max((c[0] * p.x + c[1] * p.y) / d)
             })
+    }
+    fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
+        ball_normal(self.vertices.get(id as usize)?, p)
     }
 }
 

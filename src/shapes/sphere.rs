@@ -1,6 +1,6 @@
 //! Sphere: `‖b‖ ≤ R`. Scaled: the second-order cone `[αR; u]`.
 
-use super::support::{PieceEval, Round, SupportMap};
+use super::support::{ball_normal, PieceEval, Round, SupportMap};
 use super::{positive_finite, BodyRow, ConicShape, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
@@ -37,6 +37,9 @@ impl SupportMap for Sphere {
     }
     fn gauge(&self, p: &Vec3) -> Real {
         p.norm() / self.radius
+    }
+    fn normal_at(&self, _id: u32, p: &Vec3) -> Option<Vec3> {
+        ball_normal(&Vec3::zeros(), p)
     }
 }
 

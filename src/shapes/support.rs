@@ -140,6 +140,18 @@ pub(crate) trait SupportMap {
     /// that `p/g` lies in the shape: exact for the sphere, ellipsoid, polytope, cylinder and
     /// cone; for the capsule and padded polygon the gauge of an inscribed cylinder or prism.
     fn gauge(&self, p: &Vec3) -> Real;
+    /// The outward unit normal at point `p` of piece `id` when the piece is strictly convex
+    /// there (a ball or ellipsoid patch: its support point determines its direction); `None`
+    /// for flat pieces and rims.
+    fn normal_at(&self, _id: u32, _p: &Vec3) -> Option<Vec3> {
+        None
+    }
+}
+
+/// The normal of a ball piece about `center` at `p`.
+#[inline]
+pub(crate) fn ball_normal(center: &Vec3, p: &Vec3) -> Option<Vec3> {
+    (p - center).try_normalize(0.0)
 }
 
 /// The best of a set of points in direction `m`: `(index, m·point)`.
@@ -182,7 +194,8 @@ pub(crate) mod tests {
                 let t = i as Real * 0.618_033_988_75;
                 let z = 1.0 - 2.0 * ((i as Real + 0.5) / 400.0);
                 let r = (1.0 - z * z).sqrt();
-                Vec3::new(r * (t * 6.283).cos(), r * (t * 6.283).sin(), z)
+                let phi = t * std::f64::consts::TAU;
+                Vec3::new(r * phi.cos(), r * phi.sin(), z)
             })
             .collect();
         let pts: Vec<Vec3> = dirs.iter().map(|m| shape.support(m).0).collect();

@@ -30,19 +30,19 @@ const MAX_PIECES: usize = 3;
 const MAX_DIM: usize = 4 + 2 * MAX_PIECES;
 /// Newton steps per active set.
 const MAX_NEWTON: usize = 10;
+/// How far (relative gauge) outside its shape a snapped face point may lie and still count as
+/// on the face: rounding in forming it, not a contact beyond the face's rim.
+const SNAP_SLACK: Real = 1e-12;
 
 /// A polished answer in the normalised frame.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Polished {
     pub alpha_lo: Real,
-    pub alpha_hi: Real,
     /// The optimal normal (scaled so that `n·r = 1`).
     pub normal: Vec3,
     /// The point of shape 1 and of shape 2 (relative to their origins, normalised units).
     pub a: Vec3,
     pub b: Vec3,
-    /// Newton steps taken.
-    pub steps: u32,
 }
 
 /// One active piece: which shape (0 or 1) and which piece.
@@ -76,14 +76,14 @@ fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<Worl
 
 /// Tries a flat face of either shape whose normal is within a small angle of `normal`: its
 /// normal is the exact optimum's if the ray meets K's face there, which the certificate checks.
-pub(crate) fn snap_to_face<S: SupportMap>(
+fn snap_to_face<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     normal: &Vec3,
     iota: Real,
     rel_tol: Real,
 ) -> Option<Polished> {
-    const COS_MIN: Real = 1.0 - 1e-6;
+    const COS_MIN: Real = 1.0 - 1e-3;
     for shape in 0..2 {
         let (posed, sign) = if shape == 0 {
             (&pair.one, 1.0)
@@ -111,36 +111,41 @@ pub(crate) fn snap_to_face<S: SupportMap>(
         } else {
             (v.a, v.a - target)
         };
+        // Inside the face (to rounding), u − v lies on the ray and in K: the bracket closes
+        // exactly, and the face's normal is the optimal one. Outside it, the face's normal is
+        // only near the optimum (a contact by the face's rim): α would pass the certificate to
+        // second order, but the normal (and with it the gradient) would not; the Newton polish
+        // takes those.
         let own = if shape == 0 { a } else { b };
         let g = posed.shape_gauge(&own);
-        if !(g.is_finite() && g > 0.0) {
+        if !(g <= 1.0 + SNAP_SLACK) {
             continue;
         }
-        let (a, b) = if g <= 1.0 {
-            (a, b)
-        } else if shape == 0 {
-            (a / g, b)
-        } else {
-            (a, b / g)
+        // Rounding can leave the point a hair outside the face's plane: pull it in (p/g lies
+        // in the shape) so that the upper bound stays rigorous.
+        let (a, b) = match (g > 1.0, shape) {
+            (false, _) => (a, b),
+            (true, 0) => (a / g, b),
+            (true, _) => (a, b / g),
         };
         let hi = upper_from_point(&(a - b), r, iota);
         if hi - lo <= rel_tol * lo {
             return Some(Polished {
                 alpha_lo: lo,
-                alpha_hi: hi.max(lo),
                 normal: n / nr,
                 a,
                 b,
-                steps: 0,
             });
         }
     }
     None
 }
 
-/// Newton on the KKT system of the pieces active in the cast's portal (dropping a piece whose
-/// multiplier turns negative), then the certificate.
-pub(crate) fn newton<S: SupportMap>(
+/// The polish of a cast: a flat face near the cast's normal (or near the normal of a strictly
+/// convex piece at its portal point), else Newton on the KKT system of the pieces active in the
+/// portal from each of those normals (dropping a piece whose multiplier turns negative), each
+/// ending in the certificate.
+pub(crate) fn polish<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     cast: &Cast,
@@ -166,14 +171,59 @@ pub(crate) fn newton<S: SupportMap>(
         }
     }
     let alpha0 = 0.5 * (cast.alpha_lo + cast.alpha_hi.min(2.0 * cast.alpha_lo));
-    let n0 = cast.normal / cast.normal.dot(r);
-    let mut steps = 0;
+    // Starting normals: the cast's best one; then, for a shape whose one active piece is
+    // strictly convex (a ball or ellipsoid patch), the normal at its portal point, which is
+    // the better start where the other shape's piece is a rim seen almost along its axis (its
+    // support point then swings round the rim for small changes of n).
+    let mut starts = [None; 3];
+    starts[0] = Some(cast.normal);
+    let (pa, pb) = cast.points();
+    for (shape, posed, point, sign) in [(0, &pair.one, pa, 1.0), (1, &pair.two, pb, -1.0)] {
+        let mut ids = act[..p].iter().filter(|a| a.shape == shape);
+        if let (Some(only), None) = (ids.next(), ids.next()) {
+            let body = posed.rot.tr_mul(&point) / posed.inv_scale;
+            if let Some(m) = posed.shape.normal_at(only.id, &body) {
+                starts[1 + shape] = Some(posed.rot * m * sign);
+            }
+        }
+    }
+    // A flat face near any of those normals fixes the normal outright.
+    for start in starts.iter().flatten() {
+        if let Some(out) = snap_to_face(pair, r, start, iota, rel_tol) {
+            return Some(out);
+        }
+    }
+    for start in starts.iter().flatten() {
+        if !(start.dot(r) > 0.0) {
+            continue;
+        }
+        let n0 = start / start.dot(r);
+        if let Some(out) = from_start(pair, r, n0, 1.0 / alpha0, act, lam, p, iota, rel_tol) {
+            return Some(out);
+        }
+    }
+    None
+}
+
+/// Newton from `n0`, dropping pieces as their multipliers turn negative, then the certificate.
+#[allow(clippy::too_many_arguments)]
+fn from_start<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    n0: Vec3,
+    mu0: Real,
+    mut act: [Active; 2 * MAX_PIECES],
+    mut lam: [Real; 2 * MAX_PIECES],
+    mut p: usize,
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
     for _attempt in 0..4 {
         normalise_multipliers(&act[..p], &mut lam[..p]);
         let mut n = n0;
-        let mut mu = 1.0 / alpha0;
+        let mut mu = mu0;
         let mut l = lam;
-        let ok = solve_kkt(pair, r, &act[..p], &mut n, &mut mu, &mut l[..p], &mut steps);
+        let ok = solve_kkt(pair, r, &act[..p], &mut n, &mut mu, &mut l[..p]);
         if ok {
             // A negative multiplier: that piece is not active at the optimum.
             let (kmin, lmin) = (0..p).fold((0, Real::INFINITY), |acc, k| {
@@ -184,10 +234,7 @@ pub(crate) fn newton<S: SupportMap>(
                 }
             });
             if lmin >= -1e-12 {
-                if let Some(out) = certify(pair, r, &act[..p], &n, &l[..p], iota, rel_tol) {
-                    return Some(Polished { steps, ..out });
-                }
-                return None;
+                return certify(pair, r, &act[..p], &n, &l[..p], iota, rel_tol);
             }
             if !drop_piece(&mut act, &mut lam, &mut p, kmin) {
                 return None;
@@ -242,7 +289,10 @@ fn normalise_multipliers(act: &[Active], lam: &mut [Real]) {
     }
 }
 
-/// Newton's method on the KKT system; true when the step converged to rounding.
+/// Newton's method on the KKT system, damped by halving the step until the residual
+/// decreases (a rim seen almost along its axis moves its support point far for a small change
+/// of n, and an undamped step can throw the iterate out of the region where the pieces hold);
+/// true when the step converged to rounding.
 fn solve_kkt<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
@@ -250,75 +300,15 @@ fn solve_kkt<S: SupportMap>(
     n: &mut Vec3,
     mu: &mut Real,
     lam: &mut [Real],
-    steps: &mut u32,
 ) -> bool {
     let p = act.len();
     let dim = 4 + p;
-    // The first piece of each shape: the others are tied to it.
-    let first = |shape: usize| act.iter().position(|a| a.shape == shape);
-    let (Some(f0), Some(f1)) = (first(0), first(1)) else {
+    let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
+    let mut rhs = [0.0; MAX_DIM];
+    let Some(mut scale) = kkt_system(pair, r, act, n, *mu, lam, Some(&mut jac), &mut rhs) else {
         return false;
     };
-    let mut pieces: [Option<WorldPiece>; 2 * MAX_PIECES] = Default::default();
     for _ in 0..MAX_NEWTON {
-        *steps += 1;
-        for k in 0..p {
-            pieces[k] = eval(pair, act[k], n);
-            if pieces[k].is_none() {
-                return false;
-            }
-        }
-        let pc = |k: usize| pieces[k].as_ref().unwrap();
-        let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
-        let mut rhs = [0.0; MAX_DIM];
-        // Rows 0..3: Σ λ_k g_k − μ r.
-        let mut hsum = Mat3::zeros();
-        let mut gsum = Vec3::zeros();
-        for k in 0..p {
-            hsum += pc(k).hess * lam[k];
-            gsum += pc(k).grad * lam[k];
-        }
-        let ra = gsum - r * *mu;
-        for i in 0..3 {
-            for j in 0..3 {
-                jac[i][j] = hsum[(i, j)];
-            }
-            jac[i][3] = -r[i];
-            for k in 0..p {
-                jac[i][4 + k] = pc(k).grad[i];
-            }
-            rhs[i] = -ra[i];
-        }
-        // Row 3: n·r − 1.
-        for j in 0..3 {
-            jac[3][j] = r[j];
-        }
-        rhs[3] = -(n.dot(r) - 1.0);
-        // Rows 4..: the multipliers' sums (one row per shape, at its first piece's slot) and the
-        // ties of the other pieces to the first.
-        let mut scale = ra.norm() + rhs[3].abs();
-        for k in 0..p {
-            let row = 4 + k;
-            let shape = act[k].shape;
-            let f = if shape == 0 { f0 } else { f1 };
-            if k == f {
-                let mut sum = 0.0;
-                for (i, a) in act.iter().enumerate() {
-                    if a.shape == shape {
-                        jac[row][4 + i] = 1.0;
-                        sum += lam[i];
-                    }
-                }
-                rhs[row] = -(sum - 1.0);
-            } else {
-                let g = pc(k).grad - pc(f).grad;
-                for j in 0..3 {
-                    jac[row][j] = g[j];
-                }
-                rhs[row] = -(pc(k).value - pc(f).value);
-            }
-            scale += rhs[row].abs();
-        }
         if scale <= 1e-15 {
             return true;
         }
@@ -326,20 +316,121 @@ fn solve_kkt<S: SupportMap>(
             return false;
         }
         let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
-        *n += dn;
-        *mu += rhs[3];
-        for k in 0..p {
-            lam[k] += rhs[4 + k];
-        }
-        let step = dn.norm() / n.norm() + rhs[3].abs() / mu.abs();
+        let dmu = rhs[3];
+        let mut dl = [0.0; 2 * MAX_PIECES];
+        dl[..p].copy_from_slice(&rhs[4..4 + p]);
+        let step = dn.norm() / n.norm() + dmu.abs() / mu.abs();
         if !step.is_finite() {
             return false;
         }
-        if step <= 1e-14 {
+        let mut t = 1.0;
+        let accepted = loop {
+            let nt = *n + dn * t;
+            let mut lt = [0.0; 2 * MAX_PIECES];
+            for k in 0..p {
+                lt[k] = lam[k] + dl[k] * t;
+            }
+            let mt = *mu + dmu * t;
+            let st = kkt_system(pair, r, act, &nt, mt, &lt[..p], Some(&mut jac), &mut rhs);
+            if let Some(st) = st {
+                if st < scale || (t == 1.0 && step <= 1e-14) {
+                    *n = nt;
+                    *mu = mt;
+                    lam.copy_from_slice(&lt[..p]);
+                    scale = st;
+                    break true;
+                }
+            }
+            t *= 0.5;
+            if t < 1.0 / 1024.0 {
+                break false;
+            }
+        };
+        if !accepted {
+            return false;
+        }
+        if t == 1.0 && step <= 1e-14 {
             return true;
         }
     }
     false
+}
+
+/// The KKT residual (negated, into `rhs`) and, when asked, its Jacobian, at `(n, μ, λ)`; the
+/// residual's 1-norm, or `None` where a piece is not differentiable.
+#[allow(clippy::too_many_arguments)]
+fn kkt_system<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    act: &[Active],
+    n: &Vec3,
+    mu: Real,
+    lam: &[Real],
+    jac: Option<&mut [[Real; MAX_DIM]; MAX_DIM]>,
+    rhs: &mut [Real; MAX_DIM],
+) -> Option<Real> {
+    let p = act.len();
+    // The first piece of each shape: the others are tied to it.
+    let first = |shape: usize| act.iter().position(|a| a.shape == shape);
+    let (f0, f1) = (first(0)?, first(1)?);
+    let mut pieces: [Option<WorldPiece>; 2 * MAX_PIECES] = Default::default();
+    for k in 0..p {
+        pieces[k] = Some(eval(pair, act[k], n)?);
+    }
+    let pc = |k: usize| pieces[k].as_ref().unwrap();
+    let mut dummy = [[0.0; MAX_DIM]; MAX_DIM];
+    let jac = jac.unwrap_or(&mut dummy);
+    *jac = [[0.0; MAX_DIM]; MAX_DIM];
+    *rhs = [0.0; MAX_DIM];
+    // Rows 0..3: Σ λ_k g_k − μ r.
+    let mut hsum = Mat3::zeros();
+    let mut gsum = Vec3::zeros();
+    for k in 0..p {
+        hsum += pc(k).hess * lam[k];
+        gsum += pc(k).grad * lam[k];
+    }
+    let ra = gsum - r * mu;
+    for i in 0..3 {
+        for j in 0..3 {
+            jac[i][j] = hsum[(i, j)];
+        }
+        jac[i][3] = -r[i];
+        for k in 0..p {
+            jac[i][4 + k] = pc(k).grad[i];
+        }
+        rhs[i] = -ra[i];
+    }
+    // Row 3: n·r − 1.
+    for j in 0..3 {
+        jac[3][j] = r[j];
+    }
+    rhs[3] = -(n.dot(r) - 1.0);
+    // Rows 4..: the multipliers' sums (one row per shape, at its first piece's slot) and the
+    // ties of the other pieces to the first.
+    let mut scale = ra.norm() + rhs[3].abs();
+    for k in 0..p {
+        let row = 4 + k;
+        let shape = act[k].shape;
+        let f = if shape == 0 { f0 } else { f1 };
+        if k == f {
+            let mut sum = 0.0;
+            for (i, a) in act.iter().enumerate() {
+                if a.shape == shape {
+                    jac[row][4 + i] = 1.0;
+                    sum += lam[i];
+                }
+            }
+            rhs[row] = -(sum - 1.0);
+        } else {
+            let g = pc(k).grad - pc(f).grad;
+            for j in 0..3 {
+                jac[row][j] = g[j];
+            }
+            rhs[row] = -(pc(k).value - pc(f).value);
+        }
+        scale += rhs[row].abs();
+    }
+    scale.is_finite().then_some(scale)
 }
 
 /// The certificate of a Newton solution: the full support maps at `n` for the lower bound, the
@@ -376,11 +467,9 @@ fn certify<S: SupportMap>(
     let hi = upper_from_point(&(a - b), r, iota);
     (lo.is_finite() && hi - lo <= rel_tol * lo).then_some(Polished {
         alpha_lo: lo,
-        alpha_hi: hi.max(lo),
         normal: n / nr,
         a,
         b,
-        steps: 0,
     })
 }
 

@@ -79,7 +79,7 @@ impl<S: SupportMap> Pair<'_, S> {
     }
 
     /// `h_K(n) = h₁(n) + h₂(−n)`.
-    #[inline]
+    #[cfg(test)]
     pub fn h(&self, n: &Vec3) -> Real {
         self.support(n).w.dot(n)
     }
@@ -97,6 +97,16 @@ pub(crate) enum CastEnd {
     Budget,
     /// A degenerate portal (no usable normal): the bracket is whatever was reached.
     Degenerate,
+    /// The bracket excludes the threshold: α' is proven below it (`true`) or above it.
+    Decided(bool),
+}
+
+/// Stop as soon as the bracket excludes `value` (α' in the cast's units): when it lies above,
+/// or, with `stop_below`, below.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Stop {
+    pub value: Real,
+    pub stop_below: bool,
 }
 
 /// The result of a ray cast: a certified bracket on α', the last portal and where the ray
@@ -142,7 +152,18 @@ pub(crate) fn cast<S: SupportMap>(
     r: &Vec3,
     rel_tol: Real,
     max_iter: u32,
+    stop: Option<Stop>,
 ) -> Cast {
+    let decided = |lo: Real, hi: Real| {
+        let s = stop?;
+        if lo > s.value {
+            Some(false)
+        } else if s.stop_below && hi < s.value {
+            Some(true)
+        } else {
+            None
+        }
+    };
     let mut supports = 1;
     let v1 = pair.support(r);
     let h1 = v1.w.dot(r);
@@ -161,6 +182,10 @@ pub(crate) fn cast<S: SupportMap>(
     if off.norm() <= 1e-15 * v1.w.norm() {
         out.alpha_hi = 1.0 / h1;
         out.end = CastEnd::Flat;
+        return out;
+    }
+    if let Some(below) = decided(out.alpha_lo, out.alpha_hi) {
+        out.end = CastEnd::Decided(below);
         return out;
     }
     // Portal discovery (XenoCollide with the interior point 0 and the target at infinity
@@ -244,6 +269,10 @@ pub(crate) fn cast<S: SupportMap>(
             out.end = CastEnd::Closed;
             break;
         }
+        if let Some(below) = decided(best_lo, out.alpha_hi) {
+            out.end = CastEnd::Decided(below);
+            break;
+        }
         // The new support point adds nothing beyond the portal's plane (to rounding): the
         // portal lies in a face of K.
         if h - off <= 4.0 * Real::EPSILON * h {
@@ -309,14 +338,14 @@ mod tests {
         let a = Shape::sphere(1.0).unwrap();
         let b = Shape::sphere(0.5).unwrap();
         let r = Vec3::new(1.0, 2.0, -0.5).normalize();
-        let c = cast(&pair(&a, &id, &b, &id), &r, 1e-12, 50);
+        let c = cast(&pair(&a, &id, &b, &id), &r, 1e-12, 50, None);
         assert!((c.alpha_lo - 1.0 / 1.5).abs() < 1e-15 && (c.alpha_hi - 1.0 / 1.5).abs() < 1e-15);
         // Box against box, rotated: the exit point of a polytope pair is found exactly.
         let bx = Shape::cuboid(1.0, 0.5, 0.25).unwrap();
         let rot = *Pose::new([0.0; 3], [0.9, 0.1, -0.3, 0.2])
             .unwrap()
             .rotation();
-        let c = cast(&pair(&bx, &id, &bx, &rot), &r, 1e-14, 60);
+        let c = cast(&pair(&bx, &id, &bx, &rot), &r, 1e-14, 60, None);
         assert!(c.alpha_hi - c.alpha_lo <= 1e-14 * c.alpha_lo, "{c:?}");
         // The exit point lies on K's boundary: h_K(n) at the exit normal equals n·(r/α).
         let p = r / c.alpha_hi;
@@ -332,7 +361,7 @@ mod tests {
             .unwrap()
             .rotation();
         let r = Vec3::new(0.3, -1.0, 0.4).normalize();
-        let c = cast(&pair(&e, &id, &e, &rot), &r, 1e-6, 100);
+        let c = cast(&pair(&e, &id, &e, &rot), &r, 1e-6, 100, None);
         assert_eq!(c.end, CastEnd::Closed, "{c:?}");
         assert!(c.alpha_hi >= c.alpha_lo && c.alpha_hi - c.alpha_lo <= 1e-6 * c.alpha_lo);
     }
