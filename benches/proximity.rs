@@ -41,6 +41,16 @@ const METHODS: &[(&str, Method)] = &[
     ("proximity", |a, pa, b, pb, o| {
         proximity(a, pa, b, pb, o).map(|r| black_box(r).iterations)
     }),
+    ("proximity_ipm", |a, pa, b, pb, o| {
+        let o = Options {
+            method: dcol::Method::InteriorPoint,
+            ..*o
+        };
+        proximity(a, pa, b, pb, &o).map(|r| black_box(r).iterations)
+    }),
+    ("intersect", |a, pa, b, pb, o| {
+        dcol::intersect(a, pa, b, pb, o).map(|r| black_box(r).iterations)
+    }),
     ("gradient", |a, pa, b, pb, o| {
         gradient(a, pa, b, pb, o).map(|r| black_box(r).0.iterations)
     }),

@@ -170,7 +170,13 @@ fn solve(
     stop: Option<Stop>,
 ) -> Solved {
     let tol = tolerance * MARGIN;
-    let c = cast(pair, ray, tol.max(HANDOVER), CAST_BUDGET, stop);
+    // Two polytopes: the cast ends exactly, in a facet of K, within a few refinements; curved
+    // pairs hand over to the polish once the bracket is narrow enough to identify the pieces.
+    let polyhedral = [pair.one.shape, pair.two.shape]
+        .iter()
+        .all(|s| s.kind() == ShapeKind::Polytope);
+    let cast_tol = if polyhedral { tol } else { tol.max(HANDOVER) };
+    let c = cast(pair, ray, cast_tol, CAST_BUDGET, stop);
     if let CastEnd::Decided(below) = c.end {
         return Err((below, if below { c.alpha_hi } else { c.alpha_lo }));
     }
@@ -184,19 +190,14 @@ fn solve(
             solver: Solver::RayCast,
         }
     };
-    // A loose tolerance is met by the cast alone.
-    if tol >= HANDOVER && matches!(c.end, CastEnd::Closed | CastEnd::Flat) {
+    // A loose tolerance is met by the cast alone; a support point on the ray is exact.
+    if c.end == CastEnd::Exact
+        || ((tol >= HANDOVER || polyhedral) && matches!(c.end, CastEnd::Closed | CastEnd::Flat))
+    {
         return Ok(Some(from_cast(&c)));
     }
     if c.end == CastEnd::Degenerate {
         return Ok(None);
-    }
-    // Two polytopes: a portal in a facet of K gives the exit point and normal exactly.
-    let polyhedral = [pair.one.shape, pair.two.shape]
-        .iter()
-        .all(|s| s.kind() == ShapeKind::Polytope);
-    if c.end == CastEnd::Flat && polyhedral {
-        return Ok(Some(from_cast(&c)));
     }
     // Elsewhere a portal pins α' (to second order) but not the normal or the point: a tiny
     // portal on a curved patch also ends "flat" to rounding, with its normal and point only as

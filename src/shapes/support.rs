@@ -60,7 +60,7 @@ impl Round<'_> {
                 }
             }
             Round::Circle(r) => {
-                let n = m.y.hypot(m.z);
+                let n = (m.y * m.y + m.z * m.z).sqrt();
                 if n > ROUND_EPS {
                     Vec3::new(0.0, m.y * (r / n), m.z * (r / n))
                 } else {
@@ -97,7 +97,7 @@ impl Round<'_> {
                 )
             }
             Round::Circle(r) => {
-                let n = m.y.hypot(m.z);
+                let n = (m.y * m.y + m.z * m.z).sqrt();
                 if !(n > ROUND_EPS * m.norm().max(ROUND_EPS)) {
                     return None;
                 }

@@ -30,6 +30,9 @@ const MAX_PIECES: usize = 3;
 const MAX_DIM: usize = 4 + 2 * MAX_PIECES;
 /// Newton steps per active set.
 const MAX_NEWTON: usize = 10;
+/// A full Newton step of this relative size ends the iteration: convergence is quadratic, so
+/// the iterate it leads to is within about its square (rounding); the certificate checks.
+const CONVERGED_STEP: Real = 1e-8;
 /// How far (relative gauge) outside its shape a snapped face point may lie and still count as
 /// on the face: rounding in forming it, not a contact beyond the face's rim.
 const SNAP_SLACK: Real = 1e-12;
@@ -305,7 +308,7 @@ fn solve_kkt<S: SupportMap>(
     let dim = 4 + p;
     let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
     let mut rhs = [0.0; MAX_DIM];
-    let Some(mut scale) = kkt_system(pair, r, act, n, *mu, lam, Some(&mut jac), &mut rhs) else {
+    let Some(mut scale) = kkt_system(pair, r, act, n, *mu, lam, &mut jac, &mut rhs) else {
         return false;
     };
     for _ in 0..MAX_NEWTON {
@@ -319,7 +322,9 @@ fn solve_kkt<S: SupportMap>(
         let dmu = rhs[3];
         let mut dl = [0.0; 2 * MAX_PIECES];
         dl[..p].copy_from_slice(&rhs[4..4 + p]);
-        let step = dn.norm() / n.norm() + dmu.abs() / mu.abs();
+        let step = dn.norm() / n.norm()
+            + dmu.abs() / mu.abs()
+            + dl[..p].iter().fold(0.0, |m: Real, v| m.max(v.abs()));
         if !step.is_finite() {
             return false;
         }
@@ -331,9 +336,9 @@ fn solve_kkt<S: SupportMap>(
                 lt[k] = lam[k] + dl[k] * t;
             }
             let mt = *mu + dmu * t;
-            let st = kkt_system(pair, r, act, &nt, mt, &lt[..p], Some(&mut jac), &mut rhs);
+            let st = kkt_system(pair, r, act, &nt, mt, &lt[..p], &mut jac, &mut rhs);
             if let Some(st) = st {
-                if st < scale || (t == 1.0 && step <= 1e-14) {
+                if st < scale || (t == 1.0 && step <= CONVERGED_STEP) {
                     *n = nt;
                     *mu = mt;
                     lam.copy_from_slice(&lt[..p]);
@@ -349,14 +354,14 @@ fn solve_kkt<S: SupportMap>(
         if !accepted {
             return false;
         }
-        if t == 1.0 && step <= 1e-14 {
+        if t == 1.0 && step <= CONVERGED_STEP {
             return true;
         }
     }
     false
 }
 
-/// The KKT residual (negated, into `rhs`) and, when asked, its Jacobian, at `(n, μ, λ)`; the
+/// The KKT residual (negated, into `rhs`) and its Jacobian at `(n, μ, λ)`; the
 /// residual's 1-norm, or `None` where a piece is not differentiable.
 #[allow(clippy::too_many_arguments)]
 fn kkt_system<S: SupportMap>(
@@ -366,7 +371,7 @@ fn kkt_system<S: SupportMap>(
     n: &Vec3,
     mu: Real,
     lam: &[Real],
-    jac: Option<&mut [[Real; MAX_DIM]; MAX_DIM]>,
+    jac: &mut [[Real; MAX_DIM]; MAX_DIM],
     rhs: &mut [Real; MAX_DIM],
 ) -> Option<Real> {
     let p = act.len();
@@ -378,10 +383,10 @@ fn kkt_system<S: SupportMap>(
         pieces[k] = Some(eval(pair, act[k], n)?);
     }
     let pc = |k: usize| pieces[k].as_ref().unwrap();
-    let mut dummy = [[0.0; MAX_DIM]; MAX_DIM];
-    let jac = jac.unwrap_or(&mut dummy);
-    *jac = [[0.0; MAX_DIM]; MAX_DIM];
-    *rhs = [0.0; MAX_DIM];
+    let dim = 4 + p;
+    for row in jac.iter_mut().take(dim) {
+        row[..dim].fill(0.0);
+    }
     // Rows 0..3: Σ λ_k g_k − μ r.
     let mut hsum = Mat3::zeros();
     let mut gsum = Vec3::zeros();

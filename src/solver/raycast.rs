@@ -95,6 +95,9 @@ pub(crate) enum CastEnd {
     Flat,
     /// The iteration budget ran out.
     Budget,
+    /// The support point along the ray itself lies on the ray: it is the exit point, and the
+    /// ray's direction the optimal normal (two spheres, a vertex or face straight ahead).
+    Exact,
     /// A degenerate portal (no usable normal): the bracket is whatever was reached.
     Degenerate,
     /// The bracket excludes the threshold: α' is proven below it (`true`) or above it.
@@ -181,7 +184,7 @@ pub(crate) fn cast<S: SupportMap>(
     let off = v1.w.cross(r);
     if off.norm() <= 1e-15 * v1.w.norm() {
         out.alpha_hi = 1.0 / h1;
-        out.end = CastEnd::Flat;
+        out.end = CastEnd::Exact;
         return out;
     }
     if let Some(below) = decided(out.alpha_lo, out.alpha_hi) {
