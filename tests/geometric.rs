@@ -77,38 +77,166 @@ fn fallback_share_per_pair_type() {
     );
 }
 
+/// On every reference case with a unique x*, the envelope-theorem gradient of the geometric
+/// path agrees with the interior-point path's KKT gradient (relative to max(1, |g|)).
 #[test]
-fn debug_gradient_vs_ipm() {
+fn gradient_matches_the_interior_point_gradient() {
     let Some(dir) = reference_dir() else { return };
     let ipm = Options {
         method: Method::InteriorPoint,
         ..Options::default()
     };
-    let mut worst = Vec::new();
+    let mut bad = Vec::new();
+    let mut compared = 0;
     for file in all_files(&dir) {
         for case in load(&file) {
+            if case["x_unique"].as_bool() != Some(true) {
+                continue;
+            }
             let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
             let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
             let (p, g) = dcol::gradient(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
-            let (_, gi) = dcol::gradient(&s1, &p1, &s2, &p2, &ipm).unwrap();
+            let (q, gi) = dcol::gradient(&s1, &p1, &s2, &p2, &ipm).unwrap();
+            if !q.status.is_converged() {
+                continue;
+            }
+            compared += 1;
+            let scale = gi.iter().fold(1.0, |m: f64, v| m.max(v.abs()));
             let e = g
                 .iter()
                 .zip(&gi)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max)
-                / gi.iter().map(|v| v.abs()).fold(1.0, f64::max);
-            if case["x_unique"].as_bool() == Some(true) {
-                worst.push((
-                    e,
-                    case["id"].to_string(),
-                    p.solver,
-                    case["x_unique"].clone(),
-                ));
+                .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
+                / scale;
+            if e > 1e-6 {
+                bad.push(format!("{}: {e:e} ({:?})", case["id"], p.solver));
             }
         }
     }
-    worst.sort_by(|a, b| b.0.total_cmp(&a.0));
-    for w in worst.iter().take(25) {
-        println!("{:.2e} {} {:?} {}", w.0, w.1, w.2, w.3);
+    println!("{compared} unique-x* reference cases compared");
+    assert!(compared > 4000);
+    assert!(bad.is_empty(), "{bad:#?}");
+}
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
     }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.next()
+    }
+    /// 10^U(lo, hi).
+    fn log(&mut self, lo: f64, hi: f64) -> f64 {
+        10f64.powf(self.range(lo, hi))
+    }
+    fn quat(&mut self) -> [f64; 4] {
+        [0; 4].map(|_| self.range(-1.0, 1.0))
+    }
+}
+
+/// A random shape of kind `k` (0..7) with size `size`.
+fn random_shape(rng: &mut Rng, k: usize, size: f64) -> dcol::Shape {
+    use dcol::Shape;
+    let u = |rng: &mut Rng| size * rng.range(0.3, 1.0);
+    match k {
+        0 => Shape::sphere(u(rng)).unwrap(),
+        1 => {
+            let (a, b, c) = (u(rng), u(rng), u(rng));
+            Shape::ellipsoid([
+                [1.0 / (a * a), 0.0, 0.0],
+                [0.0, 1.0 / (b * b), 0.0],
+                [0.0, 0.0, 1.0 / (c * c)],
+            ])
+            .unwrap()
+        }
+        2 => {
+            // A random 12-facet polytope around a ball: unit normals, offsets in [0.5, 1]·size.
+            let a: Vec<[f64; 3]> = (0..12)
+                .map(|i| {
+                    let z = 1.0 - 2.0 * (i as f64 + 0.5) / 12.0;
+                    let t = i as f64 * 2.399963 + rng.range(-0.2, 0.2);
+                    let r = (1.0 - z * z).sqrt();
+                    [r * t.cos(), r * t.sin(), z]
+                })
+                .collect();
+            let b: Vec<f64> = (0..12).map(|_| u(rng)).collect();
+            Shape::polytope(&a, &b).unwrap()
+        }
+        3 => Shape::capsule(u(rng), u(rng)).unwrap(),
+        4 => Shape::cylinder(u(rng), u(rng)).unwrap(),
+        5 => Shape::cone(u(rng) * 2.0, rng.range(0.2, 1.2)).unwrap(),
+        _ => {
+            let c = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [0.7, 0.7]];
+            let d: Vec<f64> = (0..5).map(|_| u(rng)).collect();
+            Shape::polygon(&c, &d, u(rng) * 0.3).unwrap()
+        }
+    }
+}
+
+/// The geometric path against the interior-point solver on random pairs over all 49 ordered
+/// type pairs, with sizes and offsets spanning 1e-3..1e3: α* agrees to 1e-10·max(1, α*) on
+/// every pair the interior-point solver converges on (`DCOL_RANDOM_PAIRS`, default 100 000).
+#[test]
+fn geometric_path_agrees_with_the_interior_point_solver_on_random_pairs() {
+    let n: usize = std::env::var("DCOL_RANDOM_PAIRS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(100_000);
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..Options::default()
+    };
+    let mut rng = Rng(0x5EED_0DC0);
+    let mut disagree = Vec::new();
+    let (mut ipm_failed, mut fallback) = (0, 0);
+    for i in 0..n {
+        let (k1, k2) = ((i / 7) % 7, i % 7);
+        let scale = rng.log(-3.0, 3.0);
+        let (z1, z2) = (scale * rng.log(-0.5, 0.5), scale * rng.log(-0.5, 0.5));
+        let s1 = random_shape(&mut rng, k1, z1);
+        let s2 = random_shape(&mut rng, k2, z2);
+        let reach = s1.bounding_radius() + s2.bounding_radius();
+        // Offsets from deep overlap to well apart: α* roughly in [0.05, 5].
+        let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
+        let len = reach * rng.log(-1.3, 0.7);
+        let dn = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+        let r1 = [0; 3].map(|_| scale * rng.range(-10.0, 10.0));
+        let r2 = [0, 1, 2].map(|j| r1[j] + dir[j] * len / dn);
+        let p1 = dcol::Pose::new(r1, rng.quat()).unwrap();
+        let p2 = dcol::Pose::new(r2, rng.quat()).unwrap();
+        let g = proximity(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        let q = proximity(&s1, &p1, &s2, &p2, &ipm).unwrap();
+        if g.solver == Solver::InteriorPoint {
+            fallback += 1;
+        }
+        if !q.status.is_converged() {
+            ipm_failed += 1;
+            continue;
+        }
+        let e = (g.alpha - q.alpha).abs() / q.alpha.max(1.0);
+        if !(e <= 1e-10) {
+            disagree.push(format!(
+                "#{i} {:?}-{:?}: {} vs interior point {} ({e:e}, {:?})",
+                s1.kind(),
+                s2.kind(),
+                g.alpha,
+                q.alpha,
+                g.solver
+            ));
+        }
+    }
+    println!(
+        "{n} random pairs: {} disagree, {fallback} by the fallback, {ipm_failed} interior-point \
+         solves did not converge (left out)",
+        disagree.len()
+    );
+    assert!(
+        disagree.is_empty(),
+        "{:#?}",
+        &disagree[..disagree.len().min(20)]
+    );
 }

@@ -10,6 +10,7 @@
 use super::proximity::{Options, Proximity};
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
+use crate::solver::closed_form::{rounded_segments, RoundedSegment};
 use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, Cast, CastEnd, Pair, Posed, Stop};
 use crate::solver::{SolveStatus, Solver};
@@ -162,6 +163,27 @@ pub(crate) fn gradient(
 /// threshold first.
 type Solved = Result<Option<Answer>, (bool, Real)>;
 
+/// Sphere and capsule pairs in closed form ([`rounded_segments`]).
+fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
+    let seg = |posed: &Posed<'_, Shape>| {
+        let (half, radius) = posed.shape.rounded_segment()?;
+        Some(RoundedSegment {
+            axis: posed.rot.column(0).into_owned(),
+            half: half * posed.inv_scale,
+            radius: radius * posed.inv_scale,
+        })
+    };
+    let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
+    let hit = rounded_segments(ray, &one, &two)?;
+    Some(Answer {
+        alpha: hit.alpha,
+        normal: hit.normal / hit.normal.dot(ray),
+        a: one.axis * hit.s + hit.normal * one.radius,
+        b: two.axis * hit.t - hit.normal * two.radius,
+        solver: Solver::ClosedForm,
+    })
+}
+
 fn solve(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
@@ -169,6 +191,9 @@ fn solve(
     tolerance: Real,
     stop: Option<Stop>,
 ) -> Solved {
+    if let Some(ans) = closed_form(pair, ray) {
+        return Ok(Some(ans));
+    }
     let tol = tolerance * MARGIN;
     // Two polytopes: the cast ends exactly, in a facet of K, within a few refinements; curved
     // pairs hand over to the polish once the bracket is narrow enough to identify the pieces.

@@ -217,6 +217,16 @@ impl Shape {
         Shape::wrap(Geometry::Polygon(p), rho, iota)
     }
 
+    /// `(half-length, radius)` when the shape is a segment along body x padded by a radius: a
+    /// capsule, or a sphere (length zero). The closed forms take those pairs.
+    pub(crate) fn rounded_segment(&self) -> Option<(Real, Real)> {
+        match &self.geometry {
+            Geometry::Sphere(s) => Some((0.0, s.radius())),
+            Geometry::Capsule(c) => Some((0.5 * c.length(), c.radius())),
+            _ => None,
+        }
+    }
+
     /// Which primitive this is (a box reports [`ShapeKind::Polytope`]).
     pub fn kind(&self) -> ShapeKind {
         match &self.geometry {

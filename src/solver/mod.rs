@@ -12,6 +12,7 @@
 //! and the predictor's right-hand side, once for the predictor's `ds`, `dλ`, twice for the
 //! corrector. It knows nothing of shapes.
 
+pub(crate) mod closed_form;
 pub mod cones;
 pub mod kkt;
 pub(crate) mod polish;
