@@ -218,7 +218,7 @@ fn geometric_path_agrees_with_the_interior_point_solver_on_random_pairs() {
             continue;
         }
         let e = (g.alpha - q.alpha).abs() / q.alpha.max(1.0);
-        if !(e <= 1e-10) {
+        if e.is_nan() || e > 1e-10 {
             disagree.push(format!(
                 "#{i} {:?}-{:?}: {} vs interior point {} ({e:e}, {:?})",
                 s1.kind(),
