@@ -1176,11 +1176,19 @@ fn check_identities(case: &Case, index: usize, out: &mut IdResult) {
     }
     out.record(id, 10, e, String::new);
 
-    // The single-purpose entry points return exactly what derivatives() does.
+    // jacobian() returns exactly what derivatives() does (one interior-point solve); gradient()
+    // runs the geometric path (the envelope theorem at the polished normal) and agrees with
+    // derivatives().dalpha to the two solvers' accuracy.
     if index % 8 == 0 {
         let (_, g1) = gradient(s1, &p1, s2, &p2, &opts).expect("gradient");
         let (_, j1) = jacobian(s1, &p1, s2, &p2, &opts).expect("jacobian");
-        if g1 != d.dalpha || j1 != d.jacobian {
+        let scale = d.dalpha.iter().fold(1.0, |m: f64, v| m.max(v.abs()));
+        let gerr = g1
+            .iter()
+            .zip(&d.dalpha)
+            .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
+            / scale;
+        if j1 != d.jacobian || gerr > 1e-6 {
             out.api_mismatch += 1;
         }
     }
@@ -1281,7 +1289,10 @@ fn mrp_matches_finite_differences() {
         let (p1, p2) = case.poses();
         // The quaternion query with the same options: the MRP variants must give its α exactly.
         let direct = gradient(s1, &p1, s2, &p2, &opts).expect("gradient").0;
-        if !(pg.status.is_converged() && pg.alpha == direct.alpha && pj.alpha == direct.alpha) {
+        // gradient_mrp is gradient() on the converted pose (the geometric path), jacobian_mrp
+        // the interior-point path: the same α to the solvers' accuracy.
+        let close = |a: f64| (a - direct.alpha).abs() <= 1e-10 * direct.alpha.max(1.0);
+        if !(pg.status.is_converged() && pg.alpha == direct.alpha && close(pj.alpha)) {
             out.fail(
                 &case.id,
                 "MRP query differs from the quaternion one".into(),

@@ -259,11 +259,10 @@ pub(crate) fn query_until(
             "the distance between the two origins overflows a double",
         )));
     }
-    // The geometric solvers answer α*, x* and the gradient; the Jacobian of x* still comes from
-    // the interior-point solve, whose α* and ∂α* then give way to the geometric ones (so that
-    // every query reports the same α* and ∂α*).
-    let mut geometric_answer = None;
-    if options.method == Method::Auto {
+    // The geometric solvers answer α*, x* and the gradient; the Jacobian (x* included) still
+    // comes from the interior-point solve alone, whose α* agrees with theirs to the solvers'
+    // rounding (running both would cost the Jacobian the geometric solve on top).
+    if options.method == Method::Auto && want <= Want::Gradient {
         match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
             geometric::Outcome::Answer(prox, dalpha_dd) => {
                 let g = if want >= Want::Gradient {
@@ -272,15 +271,12 @@ pub(crate) fn query_until(
                     [0.0; 14]
                 };
                 if g.iter().all(|v| v.is_finite()) {
-                    if want <= Want::Gradient {
-                        return Ok(Full {
-                            prox,
-                            gradient: g,
-                            jacobian: [[0.0; 14]; 4],
-                            decided: None,
-                        });
-                    }
-                    geometric_answer = Some((prox, g));
+                    return Ok(Full {
+                        prox,
+                        gradient: g,
+                        jacobian: [[0.0; 14]; 4],
+                        decided: None,
+                    });
                 }
             }
             geometric::Outcome::Decided { below, alpha } => {
@@ -352,16 +348,6 @@ pub(crate) fn query_until(
         },
     )
     .ok_or(Error::Internal("proximity: variable count out of range"))?;
-    if let Some((prox, gradient)) = geometric_answer {
-        // α* and its gradient are the geometric ones (the same as every other query reports);
-        // x* and the contact points stay the interior-point solve's, which the Jacobian's rows
-        // differentiate (they differ only where x* is not unique, a flat contact, where the
-        // Jacobian is the smoothed one of the central path's point).
-        full.prox.alpha = prox.alpha;
-        full.prox.solver = prox.solver;
-        full.gradient = gradient;
-        full.jacobian[3] = gradient;
-    }
     if want >= Want::Gradient {
         // (The Jacobian is all zeros unless it was asked for.)
         let finite = full.gradient.iter().all(|v| v.is_finite())
