@@ -240,3 +240,69 @@ fn geometric_path_agrees_with_the_interior_point_solver_on_random_pairs() {
         &disagree[..disagree.len().min(20)]
     );
 }
+
+/// The boolean on near-contact poses (α* = 1 ± 10^U(−9, −2), placed by rescaling the offset
+/// with the interior-point α*, α* being homogeneous in it): no wrong answer outside a 1e-9 band
+/// about α* = 1 (`DCOL_NEAR_PAIRS` cases, default 100 000).
+#[test]
+fn intersect_is_right_outside_a_1e9_band_on_near_contact_poses() {
+    let n: usize = std::env::var("DCOL_NEAR_PAIRS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(100_000);
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..Options::default()
+    };
+    let mut rng = Rng(0x0B0_01EA);
+    let (mut wrong, mut checked) = (Vec::new(), 0);
+    for i in 0..n {
+        let (k1, k2) = ((i / 7) % 7, i % 7);
+        let scale = rng.log(-3.0, 3.0);
+        let (z1, z2) = (scale * rng.log(-0.5, 0.5), scale * rng.log(-0.5, 0.5));
+        let s1 = random_shape(&mut rng, k1, z1);
+        let s2 = random_shape(&mut rng, k2, z2);
+        let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
+        let dn = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+        let r1 = [0; 3].map(|_| scale * rng.range(-10.0, 10.0));
+        let (q1, q2) = (rng.quat(), rng.quat());
+        let trial = s1.bounding_radius() + s2.bounding_radius();
+        let place = |len: f64| {
+            let r2 = [0, 1, 2].map(|j| r1[j] + dir[j] * len / dn);
+            (
+                dcol::Pose::new(r1, q1).unwrap(),
+                dcol::Pose::new(r2, q2).unwrap(),
+            )
+        };
+        let (p1, p2) = place(trial);
+        let a0 = proximity(&s1, &p1, &s2, &p2, &ipm).unwrap();
+        if !a0.status.is_converged() {
+            continue;
+        }
+        let sign = if rng.next() < 0.5 { -1.0 } else { 1.0 };
+        let target = 1.0 + sign * rng.log(-9.0, -2.0);
+        let (p1, p2) = place(trial * target / a0.alpha);
+        let truth = proximity(&s1, &p1, &s2, &p2, &ipm).unwrap();
+        if !truth.status.is_converged() || (truth.alpha - 1.0).abs() < 1e-9 {
+            continue;
+        }
+        checked += 1;
+        let d = dcol::intersect(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        if d.below != (truth.alpha < 1.0) {
+            wrong.push(format!(
+                "#{i} {:?}-{:?}: alpha {} but below = {} ({:?})",
+                s1.kind(),
+                s2.kind(),
+                truth.alpha,
+                d.below,
+                d.decided_by
+            ));
+        }
+    }
+    println!(
+        "{checked} near-contact cases outside the 1e-9 band: {} wrong",
+        wrong.len()
+    );
+    assert!(checked > n / 2);
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}
