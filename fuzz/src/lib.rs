@@ -357,6 +357,15 @@ impl ShapeInput {
 }
 
 /// Checks a constructor's outcome against the invariants; returns the shape if accepted.
+/// Either solver path: the geometric default or the interior-point solver alone.
+fn fuzz_method(byte: u8) -> dcol::Method {
+    if byte % 2 == 0 {
+        dcol::Method::Auto
+    } else {
+        dcol::Method::InteriorPoint
+    }
+}
+
 fn check_constructor(input: &ShapeInput) -> Option<Shape> {
     let result = input.build();
     if input.must_accept() {
@@ -524,10 +533,12 @@ pub fn queries(data: &[u8]) {
         0 => Options {
             tolerance: b.f64(),
             max_iterations: b.u32() % (MAX_ITERATIONS_CAP + 1),
+            method: fuzz_method(b.u8()),
         },
         1 => Options {
             tolerance: Options::default().tolerance,
             max_iterations: b.u8() as u32 % 8,
+            method: fuzz_method(b.u8()),
         },
         _ => Options::default(),
     };
@@ -709,10 +720,7 @@ pub fn queries(data: &[u8]) {
         quaternion: p.quaternion(),
     };
     let (c1, c2) = (pose(&p1), pose(&p2));
-    let copts = ffi::dcol_options {
-        tolerance: options.tolerance,
-        max_iterations: options.max_iterations,
-    };
+    let copts = ffi::dcol_options::from(options);
     let mut res = ffi::dcol_proximity_result::default();
     // SAFETY: all pointers are valid for the duration of the call.
     let st = unsafe { ffi::dcol_proximity(f1, &c1, f2, &c2, &copts, &mut res) };

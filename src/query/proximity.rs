@@ -270,14 +270,26 @@ pub(crate) fn query_until(
                 } else {
                     [0.0; 14]
                 };
-                if g.iter().all(|v| v.is_finite()) {
-                    return Ok(Full {
-                        prox,
-                        gradient: g,
-                        jacobian: [[0.0; 14]; 4],
-                        decided: None,
-                    });
-                }
+                // As on the interior-point path: a gradient that overflows (a quaternion so
+                // small that derivatives with respect to it, ~1/|q|, are not representable) is
+                // an error or a numerical failure with zeros, never a different solve.
+                let finite = g.iter().all(|v| v.is_finite());
+                derivatives::check_representable(finite, pose1, pose2)?;
+                let (prox, gradient) = if finite {
+                    (prox, g)
+                } else {
+                    let failed = Proximity {
+                        status: SolveStatus::NumericalFailure,
+                        ..prox
+                    };
+                    (failed, [0.0; 14])
+                };
+                return Ok(Full {
+                    prox,
+                    gradient,
+                    jacobian: [[0.0; 14]; 4],
+                    decided: None,
+                });
             }
             geometric::Outcome::Decided { below, alpha } => {
                 // Only the decision is used; the bound that made it stands in for α*.
