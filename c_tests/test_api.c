@@ -243,7 +243,19 @@ static void test_proximity_values(void) {
   CHECK_MSG(near(r.alpha, 2.0, 1e-9), "alpha %.17g", r.alpha);
   CHECK(near(r.contact1[0], 1.0, 1e-6) && near(r.contact2[0], 2.5, 1e-6));
   CHECK(near(r.point[0], 2.0, 1e-6));
-  CHECK(r.iterations >= 1 && r.iterations <= o.max_iterations);
+  /* Two spheres are a closed form: no interior-point iterations. */
+  CHECK(r.iterations == 0 && r.solver == DCOL_SOLVER_CLOSED_FORM);
+  {
+    dcol_options ipm = dcol_options_default();
+    ipm.method = DCOL_METHOD_INTERIOR_POINT;
+    CHECK(dcol_proximity(a, &p1, b, &p2, &ipm, &r) == DCOL_OK);
+    CHECK_MSG(near(r.alpha, 2.0, 1e-9), "alpha %.17g", r.alpha);
+    CHECK(r.iterations >= 1 && r.iterations <= o.max_iterations);
+    CHECK(r.solver == DCOL_SOLVER_INTERIOR_POINT);
+    ipm.method = 7;
+    CHECK(dcol_proximity(a, &p1, b, &p2, &ipm, &r) == DCOL_ERROR_INVALID_OPTIONS);
+    CHECK(contains(dcol_last_error_message(), "method"));
+  }
 
   /* The same with explicit default options, and with a non-unit quaternion. */
   p2.quaternion[0] = 3.0;
@@ -447,6 +459,7 @@ static void test_not_converged(void) {
   CHECK(dcol_shape_new_cone(1.0, 0.4, &s) == DCOL_OK);
   CHECK(dcol_shape_new_capsule(0.5, 1.0, &c) == DCOL_OK);
   o.max_iterations = 1;
+  o.method = DCOL_METHOD_INTERIOR_POINT; /* The iteration limit is the interior-point solver's: ask for that solver. */
   memset(&r, SENTINEL, sizeof r);
   st = dcol_proximity(s, &p1, c, &p2, &o, &r);
   CHECK_MSG(st == DCOL_ERROR_NOT_CONVERGED, "status %d", (int)st);

@@ -197,6 +197,7 @@ void test_derivatives() {
   // NOT_CONVERGED throws (the C function has the last iterate).
   dcol_options one = dcol_options_default();
   one.max_iterations = 1;
+  one.method = DCOL_METHOD_INTERIOR_POINT;  // the iteration limit is the interior-point solver's
   dcol_derivatives_result C;
   const dcol_status st = dcol_derivatives(box.get(), &pb, cap.get(), &pc, &one, &C);
   CHECK_MSG(st == DCOL_ERROR_NOT_CONVERGED, "status %d", static_cast<int>(st));
@@ -327,6 +328,7 @@ void test_batch() {
   // Per-pair NOT_CONVERGED is returned with the last iterate, as the C call gives it.
   dcol_options one = dcol_options_default();
   one.max_iterations = 1;
+  one.method = DCOL_METHOD_INTERIOR_POINT;  // the iteration limit is the interior-point solver's
   const dcol::BatchResult nc = dcol::proximity_batch(a, pa, b, pb, &one, 2);
   std::size_t not_converged = 0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -252,6 +252,7 @@ static void test_alpha_below_errors(void) {
     CHECK(dcol_proximity(cone, &good, c, &p2, NULL, &r) == DCOL_OK);
     bad_o = o;
     bad_o.max_iterations = 1;
+    bad_o.method = DCOL_METHOD_INTERIOR_POINT; /* The iteration limit is the interior-point solver's: ask for that solver. */
     memset(&below, SENTINEL, sizeof below);
     st = dcol_alpha_below(cone, &good, c, &p2, r.alpha * (1.0 + 1e-9), &bad_o, &below);
     CHECK_MSG(st == DCOL_ERROR_NOT_CONVERGED, "status %d", (int)st);
@@ -374,11 +375,26 @@ static void test_derivatives(void) {
     q2.position[0] += 2.0;
     CHECK_MSG(dcol_derivatives(s1, &q1, s2, &q2, NULL, &D) == DCOL_OK, "%s",
               dcol_last_error_message());
-    /* The same proximity, gradient and Jacobian as the single calls, bit for bit. */
-    CHECK(dcol_proximity(s1, &q1, s2, &q2, NULL, &r) == DCOL_OK);
-    CHECK_MSG(same_result(&D.proximity, &r), "kind %d: proximity differs", i);
-    CHECK(dcol_gradient(s1, &q1, s2, &q2, NULL, &r, g) == DCOL_OK);
-    CHECK_MSG(same_doubles(D.gradient, g, 14), "kind %d: gradient differs", i);
+    /* dcol_derivatives and dcol_jacobian are one interior-point solve: the same proximity,
+       gradient and Jacobian, bit for bit. dcol_proximity and dcol_gradient run the geometric
+       solvers by default: the same alpha and gradient to the solvers' accuracy, and bit for bit
+       with the interior-point method. */
+    {
+      dcol_options ipm = dcol_options_default();
+      double gi[14];
+      int k;
+      ipm.method = DCOL_METHOD_INTERIOR_POINT;
+      CHECK(dcol_proximity(s1, &q1, s2, &q2, &ipm, &r) == DCOL_OK);
+      CHECK_MSG(same_result(&D.proximity, &r), "kind %d: proximity differs", i);
+      CHECK(dcol_gradient(s1, &q1, s2, &q2, &ipm, &r, gi) == DCOL_OK);
+      CHECK_MSG(same_doubles(D.gradient, gi, 14), "kind %d: gradient differs", i);
+      CHECK(dcol_gradient(s1, &q1, s2, &q2, NULL, &r, g) == DCOL_OK);
+      CHECK_MSG(near(r.alpha, D.proximity.alpha, 1e-10 * fmax(1.0, r.alpha)),
+                "kind %d: geometric alpha %.17g vs %.17g", i, r.alpha, D.proximity.alpha);
+      for (k = 0; k < 14; k++)
+        CHECK_MSG(near(g[k], D.gradient[k], 1e-6 * fmax(1.0, fabs(D.gradient[k]))),
+                  "kind %d: geometric gradient[%d] %.17g vs %.17g", i, k, g[k], D.gradient[k]);
+    }
     CHECK(dcol_jacobian(s1, &q1, s2, &q2, NULL, &r, J) == DCOL_OK);
     CHECK_MSG(same_doubles(&D.jacobian[0][0], J, 56), "kind %d: Jacobian differs", i);
     /* The contact Jacobians follow from the chain rule on p_i = r_i + (x - r_i) / alpha. */
@@ -458,6 +474,7 @@ static void test_derivatives(void) {
           "`options->max_iterations`", "= 0:");
 #undef BAD_D
     o.max_iterations = 1;
+    o.method = DCOL_METHOD_INTERIOR_POINT; /* The iteration limit is the interior-point solver's: ask for that solver. */
     far = pose_at(2.5, 0.3, -0.2);
     memset(&D, SENTINEL, sizeof D);
     st = dcol_derivatives(shapes[6], &good, shapes[4], &far, &o, &D);
@@ -626,6 +643,7 @@ static void test_mrp(void) {
       o = dcol_options_default();
       /* Not converged: the result holds the last iterate. */
       o.max_iterations = 1;
+      o.method = DCOL_METHOD_INTERIOR_POINT; /* The iteration limit is the interior-point solver's: ask for that solver. */
       memset(&out, SENTINEL, sizeof out);
       st = MRP_CALL(shapes[6], r1, m1, shapes[4], r2, m2, &o, &out.r, out.a);
       CHECK_MSG(st == DCOL_ERROR_NOT_CONVERGED, "%s: status %d", F, (int)st);
@@ -716,6 +734,7 @@ static void test_batch(void) {
 
   /* Per-pair NOT_CONVERGED, with the last iterate written; options apply to every pair. */
   o.max_iterations = 1;
+  o.method = DCOL_METHOD_INTERIOR_POINT; /* The iteration limit is the interior-point solver's: ask for that solver. */
   memset(res, SENTINEL, BATCH * sizeof *res);
   CHECK(dcol_proximity_batch(s1, p1, s2, p2, BATCH, &o, 2, res, st) == DCOL_OK);
   for (i = 0; i < BATCH; i++) {
@@ -1015,6 +1034,7 @@ static void test_scene_errors(void) {
     CHECK(dcol_scene_add(s2, cone, &good, &id) == DCOL_OK);
     CHECK(dcol_scene_add(s2, cap, &pc, &id) == DCOL_OK);
     o.max_iterations = 1;
+    o.method = DCOL_METHOD_INTERIOR_POINT; /* The iteration limit is the interior-point solver's: ask for that solver. */
     st = dcol_scene_pairs_within(s2, 1.0, &o, pairs, 4, &count, &stats);
     CHECK_MSG(st == DCOL_OK, "%s", dcol_last_error_message());
     for (k = 0; k < count; k++) {
