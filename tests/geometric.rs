@@ -306,3 +306,53 @@ fn intersect_is_right_outside_a_1e9_band_on_near_contact_poses() {
     assert!(checked > n / 2);
     assert!(wrong.is_empty(), "{wrong:#?}");
 }
+
+/// The tolerance knob: on random pairs, the answer at tolerance 1e-12 agrees with the default
+/// answer and with the interior-point solver at 1e-12 to 1e-12·max(1, α*) (a portal shrunk to a
+/// sliver once gave an upper bound 5e-11 below α* at 1e-12; this caught it).
+#[test]
+fn tight_tolerance_agrees_with_the_default_and_the_interior_point_solver() {
+    let mut rng = Rng(0x1234);
+    let tight = Options {
+        tolerance: 1e-12,
+        ..Options::default()
+    };
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..tight
+    };
+    let mut bad = Vec::new();
+    for i in 0..20_000 {
+        let (k1, k2) = ((i / 7) % 7, i % 7);
+        let (z1, z2) = (rng.log(-0.5, 0.5), rng.log(-0.5, 0.5));
+        let s1 = random_shape(&mut rng, k1, z1);
+        let s2 = random_shape(&mut rng, k2, z2);
+        let reach = s1.bounding_radius() + s2.bounding_radius();
+        let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
+        let len = reach * rng.log(-1.3, 0.7);
+        let dn = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+        let r1 = [0; 3].map(|_| rng.range(-10.0, 10.0));
+        let r2 = [0, 1, 2].map(|j| r1[j] + dir[j] * len / dn);
+        let p1 = dcol::Pose::new(r1, rng.quat()).unwrap();
+        let p2 = dcol::Pose::new(r2, rng.quat()).unwrap();
+        let a = proximity(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        let b = proximity(&s1, &p1, &s2, &p2, &tight).unwrap();
+        let c = proximity(&s1, &p1, &s2, &p2, &ipm).unwrap();
+        let scale = a.alpha.max(1.0);
+        let e1 = (a.alpha - b.alpha).abs() / scale;
+        let e2 = (b.alpha - c.alpha).abs() / scale;
+        if e1 > 1e-12 || (c.status.is_converged() && e2 > 1e-12) {
+            bad.push(format!(
+                "#{i} {:?}-{:?}: default {} ({:?}), 1e-12 {} ({:?}), interior point {}",
+                s1.kind(),
+                s2.kind(),
+                a.alpha,
+                a.solver,
+                b.alpha,
+                b.solver,
+                c.alpha
+            ));
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}

@@ -21,6 +21,8 @@ const CAST_BUDGET: u32 = 40;
 const HANDOVER: Real = 1e-5;
 /// Portal refinements allowed after a failed polish, before the interior-point fallback.
 const CAST_RESCUE: u32 = 200;
+/// The narrowest relative bracket asked of the geometric solvers (a few roundings of the bounds).
+const TOL_FLOOR: Real = 1e-14;
 /// The certified bracket is closed to this fraction of the requested tolerance. The
 /// interior-point solver's tolerance bounds its duality measure, and its polish lands about
 /// three orders of magnitude below it; a bracket is the error bound itself, so it is closed as
@@ -194,14 +196,15 @@ fn solve(
     if let Some(ans) = closed_form(pair, ray) {
         return Ok(Some(ans));
     }
-    let tol = tolerance * MARGIN;
+    // No bracket can be certified much below the rounding of the bounds themselves.
+    let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     // Two polytopes: the cast ends exactly, in a facet of K, within a few refinements; curved
     // pairs hand over to the polish once the bracket is narrow enough to identify the pieces.
     let polyhedral = [pair.one.shape, pair.two.shape]
         .iter()
         .all(|s| s.kind() == ShapeKind::Polytope);
     let cast_tol = if polyhedral { tol } else { tol.max(HANDOVER) };
-    let c = cast(pair, ray, cast_tol, CAST_BUDGET, stop);
+    let c = cast(pair, ray, iota, cast_tol, CAST_BUDGET, stop);
     if let CastEnd::Decided(below) = c.end {
         return Err((below, if below { c.alpha_hi } else { c.alpha_lo }));
     }
@@ -241,6 +244,6 @@ fn solve(
         return Ok(Some(from_cast(&c)));
     }
     // The polish could not certify: refine the portal further.
-    let c = cast(pair, ray, tol, CAST_RESCUE, None);
+    let c = cast(pair, ray, iota, tol, CAST_RESCUE, None);
     Ok((c.alpha_hi - c.alpha_lo <= tol * c.alpha_lo).then(|| from_cast(&c)))
 }

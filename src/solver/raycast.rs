@@ -142,17 +142,22 @@ impl Cast {
     }
 }
 
+/// How far outside its portal (relative barycentric weight) the ray point may fall to rounding
+/// before the portal counts as having lost the ray.
+const BARY_SLACK: Real = 1e-13;
+
 #[inline]
 fn det(a: &Vec3, b: &Vec3, c: &Vec3) -> Real {
     a.cross(b).dot(c)
 }
 
 /// Casts the unit ray `r` against K; stops when `α_hi − α_lo ≤ rel_tol·α_lo` or after
-/// `max_iter` refinements. K must contain the origin in its interior (both shapes' origins are
-/// interior points).
+/// `max_iter` refinements. K must contain the ball of radius `iota` about the origin (the two
+/// inscribed balls' radii summed).
 pub(crate) fn cast<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
+    iota: Real,
     rel_tol: Real,
     max_iter: u32,
     stop: Option<Stop>,
@@ -244,17 +249,32 @@ pub(crate) fn cast<S: SupportMap>(
             out.end = CastEnd::Degenerate;
             break;
         }
-        let hi = nr / off;
+        // Barycentric coordinates of the ray point t·r on the portal's plane, t = off/nr. On a
+        // portal shrunk to a sliver the plane's normal carries rounding, and its point need not
+        // lie in K (seen: α = nr/off below α* by 5e-11 relative on a curved pair cast to 1e-15);
+        // so the bound is taken from the convex combination of the vertices with these weights,
+        // which lies in K whatever their rounding, corrected for its distance from the ray.
+        let p = r * (off / nr);
+        let d1 = det(&(q2.w - p), &(q3.w - p), &n);
+        let d2 = det(&(q3.w - p), &(q1.w - p), &n);
+        let d3 = det(&(q1.w - p), &(q2.w - p), &n);
+        if !([d1, d2, d3]
+            .iter()
+            .all(|b| *b >= -BARY_SLACK * (d1 + d2 + d3).abs()))
+        {
+            // The portal lost the ray (rounding in the choice of sub-triangle).
+            out.end = CastEnd::Degenerate;
+            break;
+        }
+        let (d1, d2, d3) = (d1.max(0.0), d2.max(0.0), d3.max(0.0));
+        let s = d1 + d2 + d3;
+        let bary = [d1 / s, d2 / s, d3 / s];
+        let point = q1.w * bary[0] + q2.w * bary[1] + q3.w * bary[2];
+        let hi = upper_from_point(&point, r, iota);
         if hi < out.alpha_hi {
             out.alpha_hi = hi;
             out.portal = portal;
-            // Barycentric coordinates of the ray point t·r on the portal, t = off/nr.
-            let p = r * (off / nr);
-            let d1 = det(&(q2.w - p), &(q3.w - p), &n);
-            let d2 = det(&(q3.w - p), &(q1.w - p), &n);
-            let d3 = det(&(q1.w - p), &(q2.w - p), &n);
-            let s = d1 + d2 + d3;
-            out.bary = [d1 / s, d2 / s, d3 / s];
+            out.bary = bary;
         }
         if it == max_iter {
             out.end = CastEnd::Budget;
@@ -341,14 +361,14 @@ mod tests {
         let a = Shape::sphere(1.0).unwrap();
         let b = Shape::sphere(0.5).unwrap();
         let r = Vec3::new(1.0, 2.0, -0.5).normalize();
-        let c = cast(&pair(&a, &id, &b, &id), &r, 1e-12, 50, None);
+        let c = cast(&pair(&a, &id, &b, &id), &r, 0.5, 1e-12, 50, None);
         assert!((c.alpha_lo - 1.0 / 1.5).abs() < 1e-15 && (c.alpha_hi - 1.0 / 1.5).abs() < 1e-15);
         // Box against box, rotated: the exit point of a polytope pair is found exactly.
         let bx = Shape::cuboid(1.0, 0.5, 0.25).unwrap();
         let rot = *Pose::new([0.0; 3], [0.9, 0.1, -0.3, 0.2])
             .unwrap()
             .rotation();
-        let c = cast(&pair(&bx, &id, &bx, &rot), &r, 1e-14, 60, None);
+        let c = cast(&pair(&bx, &id, &bx, &rot), &r, 0.25, 1e-14, 60, None);
         assert!(c.alpha_hi - c.alpha_lo <= 1e-14 * c.alpha_lo, "{c:?}");
         // The exit point lies on K's boundary: h_K(n) at the exit normal equals n·(r/α).
         let p = r / c.alpha_hi;
@@ -364,7 +384,7 @@ mod tests {
             .unwrap()
             .rotation();
         let r = Vec3::new(0.3, -1.0, 0.4).normalize();
-        let c = cast(&pair(&e, &id, &e, &rot), &r, 1e-6, 100, None);
+        let c = cast(&pair(&e, &id, &e, &rot), &r, 0.3, 1e-6, 100, None);
         assert_eq!(c.end, CastEnd::Closed, "{c:?}");
         assert!(c.alpha_hi >= c.alpha_lo && c.alpha_hi - c.alpha_lo <= 1e-6 * c.alpha_lo);
     }
