@@ -73,7 +73,10 @@ fn main() {
     ];
     let mut c_kinds: Vec<*mut dcol_shape> = vec![std::ptr::null_mut(); 7];
     let p = [4.0, 0.0, 0.0, 0.0, 2.0, 0.3, 0.0, 0.3, 1.0];
-    let (c, d) = ([1.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0, -1.0], [0.5, 0.4, 0.5, 0.4]);
+    let (c, d) = (
+        [1.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0, -1.0],
+        [0.5, 0.4, 0.5, 0.4],
+    );
     // SAFETY: every pointer is a valid local; the shapes are freed at the end.
     let built = unsafe {
         [
