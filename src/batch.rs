@@ -83,7 +83,7 @@ where
 /// Proximity for every pair, written to `out[i]` (`out.len()` must equal `pairs.len()`).
 /// `threads` ≤ 1 runs on the calling thread; otherwise up to `threads` threads share the pairs:
 /// the calling thread and the threads of a pool created once (one thread per core) and reused
-/// by every call, taking [`CHUNK`]-pair chunks in turn. The results do not depend on `threads`.
+/// by every call, taking chunks of 16 pairs in turn. The results do not depend on `threads`.
 ///
 /// ```
 /// use dcol::batch::{proximity_batch, Pair};

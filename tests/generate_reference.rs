@@ -584,7 +584,7 @@ fn stress_cases() -> Vec<Record> {
             r: random_position(&mut rng),
             q: rng.quat(),
         };
-        let d = 10f64.powi(-6 + (4 * k / 5) as i32) * rng.range(1.0, 3.0);
+        let d = 10f64.powi(-6 + 4 * k / 5) * rng.range(1.0, 3.0);
         let b = Posed {
             spec: random_spec(kind(&mut rng), &mut rng),
             r: add(&a.r, &scale(&rng.unit(), d)),
