@@ -10,7 +10,7 @@ thread_local! {
     /// compare the two.
     pub(super) static FULL_SYSTEM_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
-use super::active_set::{kkt_matrix, soc_slack};
+use super::active_set::{eq_g, kkt_matrix, soc_slack};
 use super::lu::{lu_factor_in_place, lu_solve_transposed4};
 
 /// Identities every correct Jacobian satisfies, checked before the active-set one is trusted (a

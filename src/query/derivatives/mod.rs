@@ -19,8 +19,8 @@
 //! the physical system is the solver's `GᵀD'G dz = −dGᵀλ/t − GᵀD'ρ` with `D' = D/t`.
 //!
 //! The files: this one holds what they share (the active-set types, the rotation generators,
-//! the row layout) and [`compute`], which takes the gradient from the Lagrangian (envelope
-//! theorem) and picks the Jacobian's route; `active_set.rs` identifies the active set and
+//! the row layout) and [`compute`], which asks `gradient.rs` for the gradient from the
+//! Lagrangian (envelope theorem) and picks the Jacobian's route; `active_set.rs` identifies the active set and
 //! forms its KKT system; `refine.rs` refines the solution point on it near an active-set
 //! change; `jacobian.rs` solves the implicit-function systems on it; `smoothed.rs` is the
 //! barrier-smoothed fallback; `lu.rs` the small dense factorisations they use. The public
@@ -34,6 +34,7 @@ use crate::solver::cones::jprod;
 use crate::solver::{Outcome, Problem, SolveStatus};
 
 mod active_set;
+mod gradient;
 mod jacobian;
 mod lu;
 mod refine;
@@ -41,7 +42,7 @@ mod smoothed;
 #[cfg(test)]
 mod tests;
 
-use active_set::{eq_g, identify};
+use active_set::identify;
 use jacobian::{consistent, exact_jacobian};
 pub(crate) use refine::refine_solution;
 use smoothed::smoothed_jacobian;
@@ -184,48 +185,9 @@ pub(crate) fn compute<const N: usize>(
     // barrier-smoothed Jacobian); near an active-set change, the refined point.
     let polished = problem.polished;
     let refined = &refined.0;
-    // eᵢ and vᵢ = Σ λ̄ a over shape i's rows, with the polished multipliers λ̄ (all rows).
-    let z = &outcome.z;
-    let xi = Vec3::new(z[0], z[1], z[2]) / t;
-    let e = [xi, xi - frame.delta / t];
-    let mut v = [Vec3::zeros(); 2];
-    for (i, r) in ranges.iter().enumerate() {
-        for row in &problem.lp[r.lp.clone()] {
-            v[i] += gx(&row.g) * row.lam_polished;
-        }
-        if let Some(k) = r.soc {
-            let b = &problem.soc[k];
-            for (gr, l) in b.g.iter().zip(b.lam_polished.iter()) {
-                v[i] += gx(gr) * *l;
-            }
-        }
-    }
-    // At a refined point: its own eᵢ, and vᵢ over the active set only (the other multipliers
-    // are zero there).
-    let (er, vr) = match &refined {
-        Some((set, p)) => {
-            let xi = Vec3::new(p.z[0], p.z[1], p.z[2]) / t;
-            let mut vr = [Vec3::zeros(); 2];
-            for (qi, eq) in set.eqs[..set.n].iter().enumerate() {
-                vr[set.shape[qi]] += gx(eq_g(problem, *eq)) * p.lam[qi];
-            }
-            ([xi, xi - frame.delta / t], vr)
-        }
-        _ => (e, v),
-    };
-    let mut grad = [0.0; 14];
-    for i in 0..2 {
-        let base = 7 * i;
-        for j in 0..3 {
-            grad[base + j] = vr[i][j] / ell;
-        }
-        // −eᵢ·(M_k vᵢ) = −ω_k·(vᵢ × eᵢ).
-        let ve = vr[i].cross(&er[i]);
-        for k in 0..4 {
-            grad[base + 3 + k] = -axes[i][k].dot(&ve);
-        }
-    }
-    full.gradient = grad;
+    let lag = gradient::lagrangian(problem, &outcome.z, refined, &ranges, frame.delta, t);
+    full.gradient = gradient::gradient(&lag, &axes, ell);
+    let gradient::Lagrangian { e, v, er, vr } = lag;
     if want < Want::Jacobian {
         return;
     }

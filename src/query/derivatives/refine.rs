@@ -1,7 +1,7 @@
 //! The solution point refined on its active set by Newton's method, for points next to an
 //! active-set change (see [`refine_solution`]).
 
-use super::active_set::{ambiguity, kkt_matrix, lp_active, residual, soc_slack};
+use super::active_set::{ambiguity, eq_g, kkt_matrix, lp_active, residual, soc_slack};
 use super::lu::{lu_factor_in_place, lu_solve_one};
 use super::*;
 
