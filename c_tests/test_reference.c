@@ -1,9 +1,11 @@
-/* The C ABI against the shared reference cases (../shared/reference): the first few cases of
- * every pair file and of the stress file, with the tolerances of the reference README.
+/* The C ABI against the reference cases: the first few cases of every pair file and of the
+ * stress file, with the tolerances of the shared reference README, on the repository's own set
+ * (tests/data, always) and on ../shared/reference as a cross-check when it is present.
  *
- * Usage: test_reference REFERENCE_DIR [CASES_PER_FILE]
- * Exits 77 (skipped) when the folder is absent, unless the environment variable CI is set, in
- * which case its absence is a failure. */
+ * Usage: test_reference DATA_DIR [CASES_PER_FILE [SHARED_DIR]]
+ * A missing DATA_DIR fails the test, unless the environment variable DCOL_ALLOW_SKIP=1 asks for
+ * a skip (exit 77). A missing SHARED_DIR is noted and not checked, unless CI is set, in which
+ * case its absence is a failure. */
 #include "dcol.h"
 
 #include <math.h>
@@ -243,38 +245,27 @@ done:
   dcol_shape_free(s2);
 }
 
-int main(int argc, char **argv) {
+/* Checks the first `per_file` cases of each of the 50 files in `dir`; returns the number of
+ * files found, or -1 when the folder has no stress file. */
+static int check_dir(const char *dir, int per_file) {
   static const char *kinds[7] = {"capsule",  "cone",     "cylinder", "ellipsoid",
                                  "padded_polygon", "polytope", "sphere"};
   char path[4096];
   char *line = NULL;
   size_t cap = 0;
-  int per_file = argc > 2 ? atoi(argv[2]) : 3;
   int i, files = 0;
   FILE *f;
 
-  if (argc < 2) {
-    fprintf(stderr, "usage: %s REFERENCE_DIR [CASES_PER_FILE]\n", argv[0]);
-    return 2;
-  }
-  sprintf(path, "%.4000s/cases-stress.jsonl", argv[1]);
+  sprintf(path, "%.4000s/cases-stress.jsonl", dir);
   f = fopen(path, "r");
-  if (f == NULL) {
-    if (getenv("CI") != NULL) {
-      fprintf(stderr, "FAILED: %s is missing, and CI always has the reference cases\n", path);
-      return 1;
-    }
-    printf("SKIPPED: %s not found; the C reference test did not run\n", path);
-    return SKIP_CODE;
-  }
+  if (f == NULL) return -1;
   fclose(f);
-
   for (i = 0; i <= 7 * 7; i++) {
     int n = 0;
     if (i < 49)
-      sprintf(path, "%.4000s/cases-%s-%s.jsonl", argv[1], kinds[i / 7], kinds[i % 7]);
+      sprintf(path, "%.4000s/cases-%s-%s.jsonl", dir, kinds[i / 7], kinds[i % 7]);
     else
-      sprintf(path, "%.4000s/cases-stress.jsonl", argv[1]);
+      sprintf(path, "%.4000s/cases-stress.jsonl", dir);
     f = fopen(path, "r");
     CHECK_MSG(f != NULL, "cannot open %s", path);
     if (f == NULL) continue;
@@ -287,9 +278,47 @@ int main(int argc, char **argv) {
     fclose(f);
   }
   free(line);
-  printf("reference: %d files, %d cases, %d gradients, %d distances compared\n", files,
+  return files;
+}
+
+int main(int argc, char **argv) {
+  int per_file = argc > 2 ? atoi(argv[2]) : 3;
+  int files, before;
+  const char *allow = getenv("DCOL_ALLOW_SKIP");
+
+  if (argc < 2) {
+    fprintf(stderr, "usage: %s DATA_DIR [CASES_PER_FILE [SHARED_DIR]]\n", argv[0]);
+    return 2;
+  }
+  files = check_dir(argv[1], per_file);
+  if (files < 0) {
+    if (allow != NULL && strcmp(allow, "1") == 0) {
+      printf("SKIPPED (DCOL_ALLOW_SKIP=1): %s has no reference cases\n", argv[1]);
+      return SKIP_CODE;
+    }
+    fprintf(stderr, "FAILED: %s has no reference cases (set DCOL_ALLOW_SKIP=1 to skip)\n",
+            argv[1]);
+    return 1;
+  }
+  printf("own set: %d files, %d cases, %d gradients, %d distances compared\n", files,
          cases_checked, gradients_checked, distances_checked);
   CHECK(files == 50);
   CHECK(cases_checked >= 50 * (per_file < 1 ? 1 : per_file) - 5);
+
+  if (argc > 3) {
+    before = cases_checked;
+    files = check_dir(argv[3], per_file);
+    if (files < 0) {
+      if (getenv("CI") != NULL) {
+        fprintf(stderr, "FAILED: %s is missing, and CI always has the shared reference\n",
+                argv[3]);
+        return 1;
+      }
+      printf("(%s is not here: the cross-check against it did not run)\n", argv[3]);
+    } else {
+      printf("shared set: %d files, %d cases compared\n", files, cases_checked - before);
+      CHECK(files == 50);
+    }
+  }
   return check_summary("test_reference");
 }

@@ -698,13 +698,14 @@ enum dcol_status dcol_jacobian_mrp(const struct dcol_shape *shape1,
  * invalid, writing nothing (statuses included). With count == 0 nothing is read or written and
  * the arrays may be NULL. `options` may be NULL (defaults).
  *
- * `threads` <= 1 runs every pair on the calling thread. Otherwise the pairs are split into at
- * most min(threads, DCOL_BATCH_MAX_THREADS) contiguous chunks of equal size (the last may be
- * shorter): the calling thread runs the first and one new thread per other chunk runs the
- * rest; the call returns when all are done. Spawning those threads allocates (their stacks and
- * bookkeeping), and a shape with many facets makes each new thread allocate its scratch buffer
- * once; nothing is allocated per pair, and with threads <= 1 the call does not allocate (as
- * dcol_proximity). If a thread cannot be spawned, its chunk runs on the calling thread.
+ * `threads` <= 1 runs every pair on the calling thread. Otherwise at most
+ * min(threads, DCOL_BATCH_MAX_THREADS) threads share the pairs, taking small chunks in turn:
+ * the calling thread and the threads of a pool that the first such call creates (one thread
+ * per core) and every later call reuses; the call returns when all pairs are done. The first
+ * parallel call allocates the pool, each parallel call a few bytes per pool thread it uses,
+ * and a shape with many facets makes each pool thread allocate its scratch buffer once;
+ * nothing is allocated per pair, and with threads <= 1 the call does not allocate (as
+ * dcol_proximity). If the pool cannot be started, the pairs run on the calling thread.
  *
  * # Safety
  * Unless count == 0: `shapes1`, `poses1`, `shapes2`, `poses2` must each be NULL or valid for

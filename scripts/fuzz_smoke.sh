@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzz smoke run (issue 6): a short run of both fuzz targets (`shapes`: the shape constructors,
+# Fuzz smoke run: a short run of both fuzz targets (`shapes`: the shape constructors,
 # Rust and C; `queries`: proximity, gradient, jacobian, distance with arbitrary shapes, poses
 # and options), starting from the checked-in seeds in fuzz/seeds/. Exits non-zero if any input
 # crashes (panics, violates an invariant of fuzz/src/lib.rs) or if the build fails.

@@ -211,6 +211,15 @@ pub fn mrp_quaternion_jacobian(p: [Real; 3]) -> [[Real; 3]; 4] {
     j
 }
 
+/// Robust Euclidean norm (no underflow or overflow for finite input).
+pub(crate) fn robust_norm(v: &Vec3) -> Real {
+    let m = v.x.abs().max(v.y.abs()).max(v.z.abs());
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * (v / m).norm()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

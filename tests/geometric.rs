@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 
 #[test]
 fn fallback_share_per_pair_type() {
-    let Some(dir) = reference_dir() else { return };
+    let sets = reference_sets();
     // [closed form, ray cast, polish, interior point]
     let mut table: BTreeMap<String, [usize; 4]> = BTreeMap::new();
     let mut ipm_disagree = Vec::new();
@@ -18,7 +18,7 @@ fn fallback_share_per_pair_type() {
         method: Method::InteriorPoint,
         ..Options::default()
     };
-    for file in all_files(&dir) {
+    for file in sets.iter().flat_map(|set| all_files(&set.dir)) {
         for case in load(&file) {
             let stress = case["group"] == "stress";
             let key = if stress {
@@ -81,14 +81,14 @@ fn fallback_share_per_pair_type() {
 /// path agrees with the interior-point path's KKT gradient (relative to max(1, |g|)).
 #[test]
 fn gradient_matches_the_interior_point_gradient() {
-    let Some(dir) = reference_dir() else { return };
+    let sets = reference_sets();
     let ipm = Options {
         method: Method::InteriorPoint,
         ..Options::default()
     };
     let mut bad = Vec::new();
     let mut compared = 0;
-    for file in all_files(&dir) {
+    for file in sets.iter().flat_map(|set| all_files(&set.dir)) {
         for case in load(&file) {
             if case["x_unique"].as_bool() != Some(true) {
                 continue;
@@ -113,7 +113,7 @@ fn gradient_matches_the_interior_point_gradient() {
         }
     }
     println!("{compared} unique-x* reference cases compared");
-    assert!(compared > 4000);
+    assert!(compared > 300);
     assert!(bad.is_empty(), "{bad:#?}");
 }
 

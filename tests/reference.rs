@@ -1,4 +1,7 @@
-//! Proximity against every case of `../shared/reference` (49 pair files + stress).
+//! Proximity against every reference case (49 pair files + stress) of the repository's own set
+//! (`tests/data`, made by the independent oracle of `tests/generate_reference.rs`) and of
+//! `../shared/reference` when it is present. Both sets follow the shared set's schema and
+//! its README's suggested comparisons.
 //!
 //! The reference README suggests α to 1e-8·max(1, α_ref) and, where `x_unique`, x* to 1e-5·ℓ
 //! for a plain interior-point method, and 1e-8·ℓ for one that refines its solution. dcol
@@ -40,7 +43,10 @@ struct Worst {
 
 #[test]
 fn proximity_matches_reference() {
-    let Some(dir) = reference_dir() else { return };
+    let sets = reference_sets();
+    if sets.is_empty() {
+        return; // DCOL_ALLOW_SKIP=1 and no data (see `common::own_dir`)
+    }
     let opts = Options {
         tolerance: std::env::var("DCOL_TOL")
             .ok()
@@ -50,84 +56,96 @@ fn proximity_matches_reference() {
     };
     let default_tolerance = opts.tolerance == Options::default().tolerance;
     let mut table: BTreeMap<String, Worst> = BTreeMap::new();
-    let files = all_files(&dir);
-    assert_eq!(files.len(), 50, "49 pair files plus the stress file");
-    for file in files {
-        for case in load(&file) {
-            let key = if case["group"] == "stress" {
-                format!("stress/{}", case["category"].as_str().unwrap())
-            } else {
-                format!(
-                    "{}-{}",
-                    case["shape1"]["kind"].as_str().unwrap(),
-                    case["shape2"]["kind"].as_str().unwrap()
-                )
-            };
-            let w = table.entry(key).or_default();
-            let id = case["id"].as_str().unwrap().to_string();
-            let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
-            let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
-            let prox = proximity(&s1, &p1, &s2, &p2, &opts).expect("valid input");
-            w.cases += 1;
-            w.max_iter = w.max_iter.max(prox.iterations);
-            w.sum_iter += prox.iterations as u64;
-            let finite = prox.alpha.is_finite()
-                && prox.point.iter().all(|v| v.is_finite())
-                && prox.contact1.iter().all(|v| v.is_finite())
-                && prox.contact2.iter().all(|v| v.is_finite());
-            if !prox.status.is_converged() || !finite {
-                w.failures
-                    .push(format!("{id}: status {:?}, finite {finite}", prox.status));
-                continue;
-            }
-            let a_ref = f(&case["alpha"]);
-            let ell = length_scale(&case);
-            let coincident = case["category"] == "coincident";
-            let ea = if coincident {
-                (prox.alpha - a_ref).abs()
-            } else {
-                (prox.alpha - a_ref).abs() / a_ref.max(1.0)
-            };
-            w.alpha = w.alpha.max(ea);
-            if ea > ALPHA_TOL {
-                w.failures.push(format!(
-                    "{id}: alpha {} vs {a_ref} (err {ea:e})",
-                    prox.alpha
-                ));
-            }
-            if case["x_unique"].as_bool() == Some(true) {
-                let ex = dist3(&v3(&case["x"]), &prox.point) / ell;
-                w.x = w.x.max(ex);
-                if ex > POINT_TOL {
-                    w.failures.push(format!("{id}: x off by {ex:e} ℓ"));
-                } else if default_tolerance && ex > NEWTON_POINT_TOL {
+    for set in &sets {
+        let files = all_files(&set.dir);
+        assert_eq!(
+            files.len(),
+            50,
+            "{}: 49 pair files plus the stress file",
+            set.name
+        );
+        for file in files {
+            for case in load(&file) {
+                let key = if case["group"] == "stress" {
+                    format!(
+                        "{}: stress/{}",
+                        set.name,
+                        case["category"].as_str().unwrap()
+                    )
+                } else {
+                    format!(
+                        "{}: {}-{}",
+                        set.name,
+                        case["shape1"]["kind"].as_str().unwrap(),
+                        case["shape2"]["kind"].as_str().unwrap()
+                    )
+                };
+                let w = table.entry(key).or_default();
+                let id = case["id"].as_str().unwrap().to_string();
+                let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
+                let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
+                let prox = proximity(&s1, &p1, &s2, &p2, &opts).expect("valid input");
+                w.cases += 1;
+                w.max_iter = w.max_iter.max(prox.iterations);
+                w.sum_iter += prox.iterations as u64;
+                let finite = prox.alpha.is_finite()
+                    && prox.point.iter().all(|v| v.is_finite())
+                    && prox.contact1.iter().all(|v| v.is_finite())
+                    && prox.contact2.iter().all(|v| v.is_finite());
+                if !prox.status.is_converged() || !finite {
+                    w.failures
+                        .push(format!("{id}: status {:?}, finite {finite}", prox.status));
+                    continue;
+                }
+                let a_ref = f(&case["alpha"]);
+                let ell = length_scale(&case);
+                let coincident = case["category"] == "coincident";
+                let ea = if coincident {
+                    (prox.alpha - a_ref).abs()
+                } else {
+                    (prox.alpha - a_ref).abs() / a_ref.max(1.0)
+                };
+                w.alpha = w.alpha.max(ea);
+                if ea > ALPHA_TOL {
                     w.failures.push(format!(
-                        "{id}: x off by {ex:e} ℓ, beyond the polished point's {NEWTON_POINT_TOL:e}"
+                        "{id}: alpha {} vs {a_ref} (err {ea:e})",
+                        prox.alpha
                     ));
                 }
-                if !case["p1"].is_null() && !coincident {
-                    let k = a_ref.min(1.0);
-                    let ep = (dist3(&v3(&case["p1"]), &prox.contact1)
-                        .max(dist3(&v3(&case["p2"]), &prox.contact2)))
-                        / ell
-                        * k;
-                    w.p = w.p.max(ep);
-                    if ep > POINT_TOL {
-                        w.failures
-                            .push(format!("{id}: contact off by {ep:e} ℓ/min(1,α)"));
+                if case["x_unique"].as_bool() == Some(true) {
+                    let ex = dist3(&v3(&case["x"]), &prox.point) / ell;
+                    w.x = w.x.max(ex);
+                    if ex > POINT_TOL {
+                        w.failures.push(format!("{id}: x off by {ex:e} ℓ"));
+                    } else if default_tolerance && ex > NEWTON_POINT_TOL {
+                        w.failures.push(format!(
+                        "{id}: x off by {ex:e} ℓ, beyond the polished point's {NEWTON_POINT_TOL:e}"
+                    ));
+                    }
+                    if !case["p1"].is_null() && !coincident {
+                        let k = a_ref.min(1.0);
+                        let ep = (dist3(&v3(&case["p1"]), &prox.contact1)
+                            .max(dist3(&v3(&case["p2"]), &prox.contact2)))
+                            / ell
+                            * k;
+                        w.p = w.p.max(ep);
+                        if ep > POINT_TOL {
+                            w.failures
+                                .push(format!("{id}: contact off by {ep:e} ℓ/min(1,α)"));
+                        }
                     }
                 }
             }
         }
     }
     println!(
-        "{:<34} {:>5} {:>10} {:>10} {:>10} {:>6} {:>6}",
+        "{:<40} {:>5} {:>10} {:>10} {:>10} {:>6} {:>6}",
         "pair", "cases", "max|Δα|", "max|Δx|/ℓ", "max|Δp|", "iters", "max"
     );
     let mut failures = Vec::new();
     for (k, w) in &table {
         println!(
-            "{:<34} {:>5} {:>10.2e} {:>10.2e} {:>10.2e} {:>6.1} {:>6}",
+            "{:<40} {:>5} {:>10.2e} {:>10.2e} {:>10.2e} {:>6.1} {:>6}",
             k,
             w.cases,
             w.alpha,

@@ -14,6 +14,7 @@ use super::pose::{dcol_pose, read_pose};
 use super::proximity::dcol_proximity_result;
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
+use crate::batch::{for_each_parallel, CHUNK};
 use crate::query::{self, Options};
 
 /// The most threads one dcol_proximity_batch call uses, the calling thread included; a larger
@@ -33,9 +34,9 @@ struct Arrays {
 
 // SAFETY: the workers only read the input arrays and the shapes (immutable once built and
 // documented as shareable between threads), and write `results[i]`, `statuses[i]` for indices
-// `i` in disjoint ranges, so sharing the pointers between the scoped threads is free of data
-// races; the caller's contract keeps the memory valid for the whole call, which outlives the
-// scope.
+// `i` in disjoint ranges, so sharing the pointers between the pool's threads is free of data
+// races; the caller's contract keeps the memory valid for the whole call, and the call returns
+// only once every task on the pool has finished.
 unsafe impl Sync for Arrays {}
 
 impl Arrays {
@@ -108,13 +109,14 @@ impl Arrays {
 /// invalid, writing nothing (statuses included). With count == 0 nothing is read or written and
 /// the arrays may be NULL. `options` may be NULL (defaults).
 ///
-/// `threads` <= 1 runs every pair on the calling thread. Otherwise the pairs are split into at
-/// most min(threads, DCOL_BATCH_MAX_THREADS) contiguous chunks of equal size (the last may be
-/// shorter): the calling thread runs the first and one new thread per other chunk runs the
-/// rest; the call returns when all are done. Spawning those threads allocates (their stacks and
-/// bookkeeping), and a shape with many facets makes each new thread allocate its scratch buffer
-/// once; nothing is allocated per pair, and with threads <= 1 the call does not allocate (as
-/// dcol_proximity). If a thread cannot be spawned, its chunk runs on the calling thread.
+/// `threads` <= 1 runs every pair on the calling thread. Otherwise at most
+/// min(threads, DCOL_BATCH_MAX_THREADS) threads share the pairs, taking small chunks in turn:
+/// the calling thread and the threads of a pool that the first such call creates (one thread
+/// per core) and every later call reuses; the call returns when all pairs are done. The first
+/// parallel call allocates the pool, each parallel call a few bytes per pool thread it uses,
+/// and a shape with many facets makes each pool thread allocate its scratch buffer once;
+/// nothing is allocated per pair, and with threads <= 1 the call does not allocate (as
+/// dcol_proximity). If the pool cannot be started, the pairs run on the calling thread.
 ///
 /// # Safety
 /// Unless count == 0: `shapes1`, `poses1`, `shapes2`, `poses2` must each be NULL or valid for
@@ -162,33 +164,17 @@ pub unsafe extern "C" fn dcol_proximity_batch(
             statuses,
             options,
         };
-        let threads = threads.min(DCOL_BATCH_MAX_THREADS) as usize;
-        if threads <= 1 || count < 2 {
-            // SAFETY: `0..count` is in bounds; this thread is the only worker.
-            unsafe { arrays.run_range(0..count) };
-            return Ok(());
-        }
-        let chunk = count.div_ceil(threads);
-        let arrays = &arrays;
-        std::thread::scope(|scope| {
-            let mut start = chunk;
-            while start < count {
-                let range = start..start.saturating_add(chunk).min(count);
-                let spawned = std::thread::Builder::new().spawn_scoped(scope, {
-                    let range = range.clone();
-                    // SAFETY: `range` is within `0..count` and disjoint from every other
-                    // worker's (the chunks partition `0..count`).
-                    move || unsafe { arrays.run_range(range) }
-                });
-                if spawned.is_err() {
-                    // SAFETY: as above; the closure that was not spawned never ran.
-                    unsafe { arrays.run_range(range) };
-                }
-                start = start.saturating_add(chunk);
-            }
-            // SAFETY: the first chunk, disjoint from the spawned ones.
-            unsafe { arrays.run_range(0..chunk.min(count)) };
-        });
+        let threads = if count < 2 {
+            1
+        } else {
+            threads.min(DCOL_BATCH_MAX_THREADS) as usize
+        };
+        let chunks = (0..count)
+            .step_by(CHUNK)
+            .map(|start| start..start.saturating_add(CHUNK).min(count));
+        // SAFETY: every range is within `0..count`, and the ranges are disjoint (the chunks
+        // partition `0..count` and each is handed to exactly one thread).
+        for_each_parallel(chunks, threads, |range| unsafe { arrays.run_range(range) });
         Ok(())
     })
 }

@@ -1,7 +1,7 @@
 //! The C ABI (`include/dcol.h`), the only place in the crate with `unsafe` code.
 //!
-//! One module per C type, in the style of rustls-ffi: [`status`] (`dcol_status`, the last error
-//! message, the version), [`shape`] (`dcol_shape` and its constructors), [`pose`] (`dcol_pose`),
+//! One module per C type, in the style of rustls-ffi: [`status`] (`dcol_status`), [`info`] (its text, the
+//! last error message, the version), [`shape`] (`dcol_shape` and its constructors), [`pose`] (`dcol_pose`),
 //! [`options`] (`dcol_options`), [`proximity`] (`dcol_proximity_result`, `dcol_proximity`,
 //! `dcol_gradient`, `dcol_jacobian`), [`distance`] (`dcol_distance_result`, `dcol_distance`,
 //! `dcol_distance_gradient`), [`early_exit`] (`dcol_alpha_below`, `dcol_intersect`),
@@ -31,6 +31,8 @@
 // rustfmt from sorting them.
 pub mod status;
 
+pub mod info;
+
 pub mod shape;
 
 pub mod pose;
@@ -57,6 +59,7 @@ pub use derivatives::{
 };
 pub use distance::{dcol_distance, dcol_distance_gradient, dcol_distance_result};
 pub use early_exit::{dcol_alpha_below, dcol_intersect};
+pub use info::{dcol_last_error_message, dcol_status_string, dcol_version};
 pub use options::{dcol_options, dcol_options_default};
 pub use pose::dcol_pose;
 pub use proximity::{dcol_gradient, dcol_jacobian, dcol_proximity, dcol_proximity_result};
@@ -69,4 +72,4 @@ pub use shape::{
     dcol_shape_new_cylinder, dcol_shape_new_ellipsoid, dcol_shape_new_polygon,
     dcol_shape_new_polytope, dcol_shape_new_sphere,
 };
-pub use status::{dcol_last_error_message, dcol_status, dcol_status_string, dcol_version};
+pub use status::dcol_status;

@@ -22,10 +22,10 @@
 //! `eᵢ = Qᵢuᵢ* = (yᵢ* − rᵢ)/ℓ`.
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
+use super::context::Options;
 use super::derivatives::{rotation_generators, row_ranges};
-use super::proximity::{robust_norm, Options};
 use crate::error::{Error, ErrorDetail};
-use crate::math::{Mat3, Pose, Real, Vec3};
+use crate::math::{robust_norm, Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
 use crate::solver::{LpRow, Problem, SolveStatus, Threshold};
 

@@ -7,9 +7,10 @@
 //! - During the solve: the primal iterate is feasible from the start, so its objective is an
 //!   upper bound; the dual objective corrected by the dual residual is a lower bound.
 
-use super::proximity::{query_until, robust_norm, Options, Want};
+use super::context::{Options, Want};
+use super::proximity::query_until;
 use crate::error::{Error, ErrorDetail};
-use crate::math::{Pose, Real};
+use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::Shape;
 use crate::solver::SolveStatus;
 

@@ -7,7 +7,7 @@
 //! gauge of the normalised Minkowski difference at `r` (α* is homogeneous of degree one in the
 //! offset, so no precision is lost at tiny or huge offsets).
 
-use super::proximity::{Options, Proximity};
+use super::context::{Options, Proximity};
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, RoundedSegment};

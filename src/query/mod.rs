@@ -2,15 +2,19 @@
 //! and the exact distance.
 
 mod assemble;
+mod context;
 mod derivatives;
+mod differentiate;
 mod distance;
 mod early_exit;
 mod geometric;
 mod proximity;
 
-pub use derivatives::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
+pub(crate) use context::Want;
+pub use context::{Options, Proximity};
+pub use differentiate::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
 pub use distance::{distance, distance_gradient, distance_within, Distance};
 pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
-pub use proximity::{proximity, Options, Proximity};
-pub(crate) use proximity::{query_until, robust_norm, Want};
+pub use proximity::proximity;
+pub(crate) use proximity::query_until;

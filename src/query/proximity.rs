@@ -9,90 +9,13 @@
 //! from the inscribed radii.
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
+use super::context::{Context, Frame, Full, Options, Proximity, Want};
 use super::derivatives;
 use super::geometric;
 use crate::error::{Error, ErrorDetail};
-use crate::math::{Pose, Real, Vec3};
+use crate::math::{robust_norm, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{LpRow, Method, Problem, Settings, SolveStatus, Solver, Threshold};
-
-/// Query options: the solver's stopping tolerance and iteration limit.
-pub type Options = Settings;
-
-/// The result of a proximity query.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Proximity {
-    /// α*: > 1 separated, < 1 interpenetrating, 0 only when the origins coincide.
-    pub alpha: Real,
-    /// x*, an optimal intersection point of the scaled shapes (world).
-    pub point: Vec3,
-    /// `p₁ = r₁ + (x* − r₁)/α*`, on the boundary of shape 1 (world). When α* = 0 this is `r₁`.
-    pub contact1: Vec3,
-    /// `p₂ = r₂ + (x* − r₂)/α*`, on the boundary of shape 2 (world). When α* = 0 this is `r₂`.
-    pub contact2: Vec3,
-    /// Interior-point iterations used.
-    pub iterations: u32,
-    /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
-    pub status: SolveStatus,
-    /// Which solver answered.
-    pub solver: Solver,
-}
-
-/// The normalisation between world and solver coordinates.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Frame {
-    /// Length scale ℓ (world units).
-    pub ell: Real,
-    /// ‖r₂ − r₁‖ (world units).
-    pub dist: Real,
-    /// Normalised offset length κ.
-    pub kappa: Real,
-    /// Normalised offset Δ' = κ (r₂ − r₁)/‖r₂ − r₁‖.
-    pub delta: Vec3,
-}
-
-impl Frame {
-    /// α = α' · dist/(κ ℓ).
-    pub fn alpha_factor(&self) -> Real {
-        self.dist / (self.kappa * self.ell)
-    }
-    /// x − r₁ = ξ' · dist/κ.
-    pub fn point_factor(&self) -> Real {
-        self.dist / self.kappa
-    }
-}
-
-/// Which outputs a query needs (each includes the ones before it).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub(crate) enum Want {
-    Proximity,
-    Gradient,
-    Jacobian,
-}
-
-/// Everything a proximity query can produce; fields beyond what was asked for are zero.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Full {
-    pub prox: Proximity,
-    pub gradient: [Real; 14],
-    pub jacobian: [[Real; 14]; 4],
-    /// With a threshold: whether α* was proven below (true) or above (false) it early.
-    pub decided: Option<bool>,
-}
-
-/// The inputs of one proximity solve, in solver coordinates.
-#[derive(Clone, Copy)]
-pub(crate) struct Context<'q> {
-    pub shape1: &'q Shape,
-    pub shape2: &'q Shape,
-    pub pose1: &'q Pose,
-    pub pose2: &'q Pose,
-    pub options: &'q Options,
-    pub frame: Frame,
-    pub place1: Placement,
-    pub place2: Placement,
-    pub inv_scale: Real,
-}
+use crate::solver::{LpRow, Method, Problem, SolveStatus, Solver, Threshold};
 
 struct ProximityTask<'q> {
     ctx: Context<'q>,
@@ -191,15 +114,6 @@ fn start_alpha_factor() -> Real {
     {
         START_ALPHA_FACTOR
     }
-}
-
-/// Robust Euclidean norm (no underflow or overflow for finite input).
-pub(crate) fn robust_norm(v: &Vec3) -> Real {
-    let m = v.x.abs().max(v.y.abs()).max(v.z.abs());
-    if m == 0.0 || !m.is_finite() {
-        return m;
-    }
-    m * (v / m).norm()
 }
 
 /// Solves the proximity problem and computes what `want` asks for. Never allocates when both

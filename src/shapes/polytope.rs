@@ -90,7 +90,7 @@ impl Polytope {
                     let v =
                         (n[j].cross(&n[k]) * off[i] + n[k].cross(&n[i]) * off[j] + cij * off[k])
                             / det;
-                    let vn = crate::query::robust_norm(&v);
+                    let vn = crate::math::robust_norm(&v);
                     let feasible = n
                         .iter()
                         .zip(&off)

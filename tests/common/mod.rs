@@ -1,22 +1,65 @@
-//! Shared test helpers: reading `../shared/reference` and building shapes and poses from it.
+//! Shared test helpers: the reference sets (the repository's own `tests/data`, and
+//! `../shared/reference` when it is present), reading their records, and building shapes and
+//! poses from them.
+//!
+//! Skips: a test that cannot check what it promises fails, unless the environment variable
+//! `DCOL_ALLOW_SKIP=1` asks for a skip. The repository's own data is always there, so on a
+//! plain clone every accuracy test runs in full; `../shared/reference` is an extra cross-check
+//! (required when `CI` is set).
 #![allow(dead_code)]
 
 use dcol::{Pose, Shape};
 use serde_json::Value;
 use std::path::PathBuf;
 
-/// The reference folder, or `None` (with a message) when it is absent outside CI.
-/// Under CI (`CI` set) its absence is a failure.
-pub fn reference_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference");
-    if dir.is_dir() {
+/// One set of reference cases: its name (for the tables) and its folder of `cases-*.jsonl`.
+pub struct RefSet {
+    pub name: &'static str,
+    pub dir: PathBuf,
+}
+
+/// Whether `DCOL_ALLOW_SKIP=1` allows a test to skip what it cannot run.
+pub fn skip_allowed() -> bool {
+    std::env::var("DCOL_ALLOW_SKIP").is_ok_and(|v| v == "1")
+}
+
+/// The repository's own reference cases (`tests/data`, made by `tests/generate_reference.rs`).
+/// Missing data fails the test unless `DCOL_ALLOW_SKIP=1`, which gives `None`.
+pub fn own_dir() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    if dir.join("cases-stress.jsonl").is_file() {
         return Some(dir);
     }
-    if std::env::var_os("CI").is_some() {
-        panic!("../shared/reference is missing, and CI always has it");
+    if skip_allowed() {
+        eprintln!("SKIPPED (DCOL_ALLOW_SKIP=1): {} is missing", dir.display());
+        return None;
     }
-    eprintln!("SKIPPED: ../shared/reference not found; reference tests did not run");
-    None
+    panic!(
+        "{} is missing: regenerate it with `cargo test --release --test generate_reference -- --ignored` (or set DCOL_ALLOW_SKIP=1 to skip)",
+        dir.display()
+    );
+}
+
+/// The sets an accuracy test asserts on: the repository's own, then `../shared/reference` when
+/// present. Under CI (`CI` set) the shared set must be there. Never empty unless
+/// `DCOL_ALLOW_SKIP=1` allowed skipping the missing own data.
+pub fn reference_sets() -> Vec<RefSet> {
+    let mut sets = Vec::new();
+    if let Some(dir) = own_dir() {
+        sets.push(RefSet { name: "own", dir });
+    }
+    let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference");
+    if shared.is_dir() {
+        sets.push(RefSet {
+            name: "shared",
+            dir: shared,
+        });
+    } else if std::env::var_os("CI").is_some() {
+        panic!("../shared/reference is missing, and CI always has it");
+    } else {
+        println!("(../shared/reference is not here: the cross-check against it did not run; the repository's own cases did)");
+    }
+    sets
 }
 
 /// All records of one JSON Lines file.
@@ -28,7 +71,7 @@ pub fn load(path: &std::path::Path) -> Vec<Value> {
         .collect()
 }
 
-/// Every reference file: the 49 ordered pair files then `cases-stress.jsonl`.
+/// Every reference file of a set: the 49 ordered pair files then `cases-stress.jsonl`.
 pub fn all_files(dir: &std::path::Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()

@@ -20,7 +20,7 @@ pub struct Settings {
     /// Which solvers a query may use (the default: the geometric solvers with the
     /// interior-point fallback). Derivatives, the exact distance and the scene's early exits
     /// run the interior-point solver whatever this says.
-    pub method: super::Method,
+    pub method: crate::solver::Method,
 }
 
 impl Default for Settings {
@@ -28,7 +28,7 @@ impl Default for Settings {
         Settings {
             tolerance: DEFAULT_TOLERANCE,
             max_iterations: DEFAULT_MAX_ITERATIONS,
-            method: super::Method::Auto,
+            method: crate::solver::Method::Auto,
         }
     }
 }

@@ -3,7 +3,7 @@
 //! Prints the markdown tables quoted in `docs/derivatives.md`:
 //!
 //! ```text
-//! cargo run --release --example tolerance_table
+//! cargo bench --bench tolerance_table
 //! ```
 //!
 //! Geometry (everything has a closed form, so errors are measured against exact values):

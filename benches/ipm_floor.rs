@@ -1,4 +1,4 @@
-// Development aid for issue 2 (the speed bar): how fast can the solver's algorithm run at best?
+// Development aid (the speed bar of `docs/performance-notes.md`): how fast can the solver's algorithm run at best?
 // This is the same Nesterov–Todd / Mehrotra predictor-corrector iteration as `solver::Problem`
 // (same start, centring, step rule and tolerance), specialised by hand to exactly two
 // 4-dimensional cones and four variables (the sphere–sphere problem in proximity's normalised
@@ -10,7 +10,7 @@
 // from `solver::cones` and `solver::kkt` instead, the floor is 7–10% slower
 // (2.62 against 2.37–2.43 µs).
 //
-//     cargo run --release --example ipm_floor
+//     cargo bench --bench ipm_floor
 // Index loops over fixed sizes and NaN-aware negated comparisons, as in the solver itself.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 use std::hint::black_box;

@@ -1,4 +1,5 @@
-// Development aid for solver work: `trace_case FILE INDEX` solves one reference case and
+// Development aid for solver work: `cargo bench --bench trace_case -- FILE INDEX` solves one
+// reference case (`tests/data/*.jsonl` or `../shared/reference/*.jsonl`) and
 // prints the result beside the reference α* (`DCOL_TOL` sets the tolerance); `trace_case time FILE...` (or `timejac`) prints the
 // median time of proximity (or jacobian, `timegrad`: gradient) over reference files. Pair it with
 // `valgrind --tool=callgrind` for instruction counts that do not depend on machine load.
@@ -6,7 +7,8 @@ use serde_json::Value;
 #[path = "../tests/common/mod.rs"]
 mod common;
 fn main() {
-    let a: Vec<String> = std::env::args().collect();
+    // `cargo bench` appends `--bench` to the arguments.
+    let a: Vec<String> = std::env::args().filter(|s| s != "--bench").collect();
     if a[1] == "time" || a[1] == "timejac" || a[1] == "timegrad" {
         let jac = a[1] == "timejac";
         let grad = a[1] == "timegrad";

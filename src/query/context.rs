@@ -1,0 +1,86 @@
+//! What every query shares, one floor below the queries: the options, the proximity result,
+//! the normalisation between world and solver coordinates ([`Frame`]), what a query asks for
+//! ([`Want`]) and gets ([`Full`]), and the inputs of one solve ([`Context`]).
+
+use super::assemble::Placement;
+use crate::math::{Pose, Real, Vec3};
+use crate::shapes::Shape;
+use crate::solver::{Settings, SolveStatus, Solver};
+
+/// Query options: the solver's stopping tolerance and iteration limit.
+pub type Options = Settings;
+
+/// The result of a proximity query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Proximity {
+    /// α*: > 1 separated, < 1 interpenetrating, 0 only when the origins coincide.
+    pub alpha: Real,
+    /// x*, an optimal intersection point of the scaled shapes (world).
+    pub point: Vec3,
+    /// `p₁ = r₁ + (x* − r₁)/α*`, on the boundary of shape 1 (world). When α* = 0 this is `r₁`.
+    pub contact1: Vec3,
+    /// `p₂ = r₂ + (x* − r₂)/α*`, on the boundary of shape 2 (world). When α* = 0 this is `r₂`.
+    pub contact2: Vec3,
+    /// Interior-point iterations used (0 when another solver answered: see `solver`).
+    pub iterations: u32,
+    /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
+    pub status: SolveStatus,
+    /// Which solver answered.
+    pub solver: Solver,
+}
+
+/// The normalisation between world and solver coordinates.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Frame {
+    /// Length scale ℓ (world units).
+    pub ell: Real,
+    /// ‖r₂ − r₁‖ (world units).
+    pub dist: Real,
+    /// Normalised offset length κ.
+    pub kappa: Real,
+    /// Normalised offset Δ' = κ (r₂ − r₁)/‖r₂ − r₁‖.
+    pub delta: Vec3,
+}
+
+impl Frame {
+    /// α = α' · dist/(κ ℓ).
+    pub fn alpha_factor(&self) -> Real {
+        self.dist / (self.kappa * self.ell)
+    }
+    /// x − r₁ = ξ' · dist/κ.
+    pub fn point_factor(&self) -> Real {
+        self.dist / self.kappa
+    }
+}
+
+/// Which outputs a query needs (each includes the ones before it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Want {
+    Proximity,
+    Gradient,
+    Jacobian,
+}
+
+/// Everything a proximity query can produce; fields beyond what was asked for are zero.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Full {
+    pub prox: Proximity,
+    pub gradient: [Real; 14],
+    pub jacobian: [[Real; 14]; 4],
+    /// With a threshold: whether α* was proven below (true) or above (false) it early.
+    pub decided: Option<bool>,
+}
+
+/// The inputs of one proximity solve, in solver coordinates.
+#[derive(Clone, Copy)]
+pub(crate) struct Context<'q> {
+    pub shape1: &'q Shape,
+    pub shape2: &'q Shape,
+    pub pose1: &'q Pose,
+    pub pose2: &'q Pose,
+    pub options: &'q Options,
+    pub frame: Frame,
+    pub place1: Placement,
+    pub place2: Placement,
+    pub inv_scale: Real,
+}

@@ -1,0 +1,147 @@
+//! The derivative queries: the gradient of α*, the Jacobian of (x*, α*), both with contact-point
+//! Jacobians, and their forms over modified Rodrigues parameters. Each is one proximity solve
+//! ([`super::proximity`]) asking for more outputs; the computation is in `derivatives/`.
+
+use super::context::{Options, Proximity, Want};
+use super::proximity::query;
+use crate::error::Error;
+use crate::math::{Pose, Real};
+use crate::shapes::Shape;
+
+/// ∂α*/∂(r₁, q₁, r₂, q₂): 14 numbers, `q` as given (through the normalisation), from the
+/// Lagrangian at the primal-dual solution. Costs little beyond [`super::proximity()`].
+///
+/// ```
+/// use dcol::{gradient, Options, Pose, Shape};
+/// let a = Shape::sphere(1.0).unwrap();
+/// let pa = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+/// let pb = Pose::from_position([4.0, 0.0, 0.0]).unwrap();
+/// let (prox, g) = gradient(&a, &pa, &a, &pb, &Options::default()).unwrap();
+/// // α = ‖r₂ − r₁‖/2, so ∂α/∂r₂ = (1/2, 0, 0) and ∂α/∂r₁ = −(1/2, 0, 0).
+/// assert!((prox.alpha - 2.0).abs() < 1e-9);
+/// assert!((g[7] - 0.5).abs() < 1e-8 && (g[0] + 0.5).abs() < 1e-8);
+/// ```
+pub fn gradient(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<(Proximity, [Real; 14]), Error> {
+    let f = query(shape1, pose1, shape2, pose2, options, Want::Gradient)?;
+    Ok((f.prox, f.gradient))
+}
+
+/// ∂(x*, α*)/∂(r₁, q₁, r₂, q₂): 4×14, rows (x₁, x₂, x₃, α), by the implicit function theorem
+/// on the KKT conditions, reusing the solver's final scaling and factorisation.
+pub fn jacobian(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<(Proximity, [[Real; 14]; 4]), Error> {
+    let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
+    Ok((f.prox, f.jacobian))
+}
+
+/// Everything differentiable about a proximity query, in one solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Derivatives {
+    /// The proximity result.
+    pub proximity: Proximity,
+    /// ∂α*/∂(r₁, q₁, r₂, q₂).
+    pub dalpha: [Real; 14],
+    /// ∂(x*, α*)/∂(r₁, q₁, r₂, q₂), rows (x₁, x₂, x₃, α).
+    pub jacobian: [[Real; 14]; 4],
+    /// ∂p₁/∂(r₁, q₁, r₂, q₂) (3×14) for `p₁ = r₁ + (x* − r₁)/α*`; zero when α* = 0.
+    pub dcontact1: [[Real; 14]; 3],
+    /// ∂p₂/∂(r₁, q₁, r₂, q₂) (3×14); zero when α* = 0.
+    pub dcontact2: [[Real; 14]; 3],
+}
+
+/// The Jacobian of (x*, α*) and, by the chain rule, of both contact points:
+/// `∂pᵢ = ∂rᵢ + (∂x* − ∂rᵢ)/α* − (x* − rᵢ) ∂α*/α*²`.
+pub fn derivatives(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<Derivatives, Error> {
+    let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
+    let p = f.prox;
+    let mut d = Derivatives {
+        proximity: p,
+        dalpha: f.gradient,
+        jacobian: f.jacobian,
+        dcontact1: [[0.0; 14]; 3],
+        dcontact2: [[0.0; 14]; 3],
+    };
+    if p.alpha > 0.0 {
+        let inv = 1.0 / p.alpha;
+        let r = [*pose1.position(), *pose2.position()];
+        for (i, out) in [&mut d.dcontact1, &mut d.dcontact2].into_iter().enumerate() {
+            let rel = p.point - r[i];
+            for row in 0..3 {
+                for col in 0..14 {
+                    let dr = if col == 7 * i + row { 1.0 } else { 0.0 };
+                    out[row][col] = dr + (f.jacobian[row][col] - dr) * inv
+                        - rel[row] * f.jacobian[3][col] * inv * inv;
+                }
+            }
+        }
+    }
+    Ok(d)
+}
+
+/// Maps 14 quaternion-parameter columns to 12 MRP-parameter columns (`J_q · ∂q/∂p` per pose).
+fn to_mrp_columns(row: &[Real; 14], mrp: [[Real; 3]; 2]) -> [Real; 12] {
+    let mut out = [0.0; 12];
+    for i in 0..2 {
+        let dq = crate::math::mrp_quaternion_jacobian(mrp[i]);
+        for j in 0..3 {
+            out[6 * i + j] = row[7 * i + j];
+        }
+        for c in 0..3 {
+            out[6 * i + 3 + c] = (0..4).map(|k| row[7 * i + 3 + k] * dq[k][c]).sum();
+        }
+    }
+    out
+}
+
+/// ∂α*/∂(r₁, p₁, r₂, p₂) for attitudes given as modified Rodrigues parameters (12 numbers).
+pub fn gradient_mrp(
+    shape1: &Shape,
+    position1: [Real; 3],
+    mrp1: [Real; 3],
+    shape2: &Shape,
+    position2: [Real; 3],
+    mrp2: [Real; 3],
+    options: &Options,
+) -> Result<(Proximity, [Real; 12]), Error> {
+    let pose1 = Pose::from_mrp(position1, mrp1)?;
+    let pose2 = Pose::from_mrp(position2, mrp2)?;
+    let (p, g) = gradient(shape1, &pose1, shape2, &pose2, options)?;
+    Ok((p, to_mrp_columns(&g, [mrp1, mrp2])))
+}
+
+/// ∂(x*, α*)/∂(r₁, p₁, r₂, p₂), 4×12, for attitudes given as modified Rodrigues parameters.
+pub fn jacobian_mrp(
+    shape1: &Shape,
+    position1: [Real; 3],
+    mrp1: [Real; 3],
+    shape2: &Shape,
+    position2: [Real; 3],
+    mrp2: [Real; 3],
+    options: &Options,
+) -> Result<(Proximity, [[Real; 12]; 4]), Error> {
+    let pose1 = Pose::from_mrp(position1, mrp1)?;
+    let pose2 = Pose::from_mrp(position2, mrp2)?;
+    let (p, j) = jacobian(shape1, &pose1, shape2, &pose2, options)?;
+    let mut out = [[0.0; 12]; 4];
+    for r in 0..4 {
+        out[r] = to_mrp_columns(&j[r], [mrp1, mrp2]);
+    }
+    Ok((p, out))
+}
