@@ -177,15 +177,42 @@ fn random_shape(rng: &mut Rng, k: usize, size: f64) -> dcol::Shape {
     }
 }
 
+/// The shapes of random pair `i` (the kinds cycle over the 49 ordered type pairs), sizes within
+/// a factor 3 of `scale`.
+fn random_shapes(rng: &mut Rng, i: usize, scale: f64) -> (dcol::Shape, dcol::Shape) {
+    let (z1, z2) = (scale * rng.log(-0.5, 0.5), scale * rng.log(-0.5, 0.5));
+    let s1 = random_shape(rng, (i / 7) % 7, z1);
+    let s2 = random_shape(rng, i % 7, z2);
+    (s1, s2)
+}
+
+/// Random attitudes, shape 1 somewhere within 10·`scale` of the origin, and the two origins
+/// `len` apart in a random direction.
+fn random_poses(rng: &mut Rng, scale: f64, len: f64) -> (dcol::Pose, dcol::Pose) {
+    let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
+    let dn = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+    let r1 = [0; 3].map(|_| scale * rng.range(-10.0, 10.0));
+    let r2 = [0, 1, 2].map(|j| r1[j] + dir[j] * len / dn);
+    (
+        dcol::Pose::new(r1, rng.quat()).unwrap(),
+        dcol::Pose::new(r2, rng.quat()).unwrap(),
+    )
+}
+
+/// A case count from the environment, or `default`.
+fn count_from_env(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
 /// The geometric path against the interior-point solver on random pairs over all 49 ordered
 /// type pairs, with sizes and offsets spanning 1e-3..1e3: α* agrees to 1e-10·max(1, α*) on
 /// every pair the interior-point solver converges on (`DCOL_RANDOM_PAIRS`, default 100 000).
 #[test]
 fn geometric_path_agrees_with_the_interior_point_solver_on_random_pairs() {
-    let n: usize = std::env::var("DCOL_RANDOM_PAIRS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(100_000);
+    let n = count_from_env("DCOL_RANDOM_PAIRS", 100_000);
     let ipm = Options {
         method: Method::InteriorPoint,
         ..Options::default()
@@ -194,20 +221,12 @@ fn geometric_path_agrees_with_the_interior_point_solver_on_random_pairs() {
     let mut disagree = Vec::new();
     let (mut ipm_failed, mut fallback) = (0, 0);
     for i in 0..n {
-        let (k1, k2) = ((i / 7) % 7, i % 7);
         let scale = rng.log(-3.0, 3.0);
-        let (z1, z2) = (scale * rng.log(-0.5, 0.5), scale * rng.log(-0.5, 0.5));
-        let s1 = random_shape(&mut rng, k1, z1);
-        let s2 = random_shape(&mut rng, k2, z2);
-        let reach = s1.bounding_radius() + s2.bounding_radius();
+        let (s1, s2) = random_shapes(&mut rng, i, scale);
         // Offsets from deep overlap to well apart: α* roughly in [0.05, 5].
-        let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
+        let reach = s1.bounding_radius() + s2.bounding_radius();
         let len = reach * rng.log(-1.3, 0.7);
-        let dn = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-        let r1 = [0; 3].map(|_| scale * rng.range(-10.0, 10.0));
-        let r2 = [0, 1, 2].map(|j| r1[j] + dir[j] * len / dn);
-        let p1 = dcol::Pose::new(r1, rng.quat()).unwrap();
-        let p2 = dcol::Pose::new(r2, rng.quat()).unwrap();
+        let (p1, p2) = random_poses(&mut rng, scale, len);
         let g = proximity(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
         let q = proximity(&s1, &p1, &s2, &p2, &ipm).unwrap();
         if g.solver == Solver::InteriorPoint {
@@ -246,10 +265,7 @@ fn geometric_path_agrees_with_the_interior_point_solver_on_random_pairs() {
 /// about α* = 1 (`DCOL_NEAR_PAIRS` cases, default 100 000).
 #[test]
 fn intersect_is_right_outside_a_1e9_band_on_near_contact_poses() {
-    let n: usize = std::env::var("DCOL_NEAR_PAIRS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(100_000);
+    let n = count_from_env("DCOL_NEAR_PAIRS", 100_000);
     let ipm = Options {
         method: Method::InteriorPoint,
         ..Options::default()
@@ -257,24 +273,19 @@ fn intersect_is_right_outside_a_1e9_band_on_near_contact_poses() {
     let mut rng = Rng(0x0B0_01EA);
     let (mut wrong, mut checked) = (Vec::new(), 0);
     for i in 0..n {
-        let (k1, k2) = ((i / 7) % 7, i % 7);
         let scale = rng.log(-3.0, 3.0);
-        let (z1, z2) = (scale * rng.log(-0.5, 0.5), scale * rng.log(-0.5, 0.5));
-        let s1 = random_shape(&mut rng, k1, z1);
-        let s2 = random_shape(&mut rng, k2, z2);
-        let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
-        let dn = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-        let r1 = [0; 3].map(|_| scale * rng.range(-10.0, 10.0));
-        let (q1, q2) = (rng.quat(), rng.quat());
+        let (s1, s2) = random_shapes(&mut rng, i, scale);
         let trial = s1.bounding_radius() + s2.bounding_radius();
+        let (p1, p2) = random_poses(&mut rng, scale, trial);
+        // Moves shape 2 along the offset so that the origins are `len` apart (α* scales with it).
         let place = |len: f64| {
-            let r2 = [0, 1, 2].map(|j| r1[j] + dir[j] * len / dn);
+            let (r1, r2) = (p1.position(), p2.position());
+            let r = r1 + (r2 - r1) * (len / trial);
             (
-                dcol::Pose::new(r1, q1).unwrap(),
-                dcol::Pose::new(r2, q2).unwrap(),
+                p1,
+                dcol::Pose::new([r.x, r.y, r.z], p2.quaternion()).unwrap(),
             )
         };
-        let (p1, p2) = place(trial);
         let a0 = proximity(&s1, &p1, &s2, &p2, &ipm).unwrap();
         if !a0.status.is_converged() {
             continue;
@@ -323,18 +334,10 @@ fn tight_tolerance_agrees_with_the_default_and_the_interior_point_solver() {
     };
     let mut bad = Vec::new();
     for i in 0..20_000 {
-        let (k1, k2) = ((i / 7) % 7, i % 7);
-        let (z1, z2) = (rng.log(-0.5, 0.5), rng.log(-0.5, 0.5));
-        let s1 = random_shape(&mut rng, k1, z1);
-        let s2 = random_shape(&mut rng, k2, z2);
+        let (s1, s2) = random_shapes(&mut rng, i, 1.0);
         let reach = s1.bounding_radius() + s2.bounding_radius();
-        let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
         let len = reach * rng.log(-1.3, 0.7);
-        let dn = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-        let r1 = [0; 3].map(|_| rng.range(-10.0, 10.0));
-        let r2 = [0, 1, 2].map(|j| r1[j] + dir[j] * len / dn);
-        let p1 = dcol::Pose::new(r1, rng.quat()).unwrap();
-        let p2 = dcol::Pose::new(r2, rng.quat()).unwrap();
+        let (p1, p2) = random_poses(&mut rng, 1.0, len);
         let a = proximity(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
         let b = proximity(&s1, &p1, &s2, &p2, &tight).unwrap();
         let c = proximity(&s1, &p1, &s2, &p2, &ipm).unwrap();
