@@ -65,8 +65,7 @@ struct WorldPiece {
 }
 
 fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<WorldPiece> {
-    let posed = if act.shape == 0 { &pair.one } else { &pair.two };
-    let sign = if act.shape == 0 { 1.0 } else { -1.0 };
+    let (posed, sign) = pair.side(act.shape);
     let m = posed.rot.tr_mul(n) * sign;
     let e = posed.shape.piece(act.id, &m)?;
     let s = posed.inv_scale;
@@ -88,11 +87,7 @@ fn snap_to_face<S: SupportMap>(
 ) -> Option<Polished> {
     const COS_MIN: Real = 1.0 - 1e-3;
     for shape in 0..2 {
-        let (posed, sign) = if shape == 0 {
-            (&pair.one, 1.0)
-        } else {
-            (&pair.two, -1.0)
-        };
+        let (posed, sign) = pair.side(shape);
         let m = posed.rot.tr_mul(normal) * sign;
         let Some(f) = posed.shape.flat_face(&m, COS_MIN) else {
             continue;
@@ -181,7 +176,8 @@ pub(crate) fn polish<S: SupportMap>(
     let mut starts = [None; 3];
     starts[0] = Some(cast.normal);
     let (pa, pb) = cast.points();
-    for (shape, posed, point, sign) in [(0, &pair.one, pa, 1.0), (1, &pair.two, pb, -1.0)] {
+    for (shape, point) in [(0, pa), (1, pb)] {
+        let (posed, sign) = pair.side(shape);
         let mut ids = act[..p].iter().filter(|a| a.shape == shape);
         if let (Some(only), None) = (ids.next(), ids.next()) {
             let body = posed.rot.tr_mul(&point) / posed.inv_scale;

@@ -78,6 +78,17 @@ impl<S: SupportMap> Pair<'_, S> {
         }
     }
 
+    /// Shape `i` (0 or 1) and the sign its support map sees the world normal with: `+n` for
+    /// shape 1, `−n` for shape 2 (K = K₁ ⊕ (−K₂)).
+    #[inline]
+    pub fn side(&self, i: usize) -> (&Posed<'_, S>, Real) {
+        if i == 0 {
+            (&self.one, 1.0)
+        } else {
+            (&self.two, -1.0)
+        }
+    }
+
     /// `h_K(n) = h₁(n) + h₂(−n)`.
     #[cfg(test)]
     pub fn h(&self, n: &Vec3) -> Real {
