@@ -1,6 +1,6 @@
 //! Proximity on support maps: closed forms where the pair has one, else a ray cast (MPR) that
-//! identifies the contact features and a Newton polish on them, each certified; `None` sends the
-//! query to the interior-point solver.
+//! identifies the contact features and a Newton polish on them, each certified;
+//! `Outcome::Fallback` sends the query to the interior-point solver.
 //!
 //! The frame is the interior-point path's: origin at `r₁`, lengths divided by `ℓ = max(ρ₁, ρ₂)`;
 //! the ray is the unit vector `r = (r₂ − r₁)/‖r₂ − r₁‖`, and α* = α'·‖r₂ − r₁‖/ℓ with α' the
