@@ -138,7 +138,8 @@ impl Rng {
     }
 }
 
-/// A random shape of kind `k` (0..7) with size `size`.
+/// A random shape of kind `k` (0..8: sphere, ellipsoid, polytope, capsule, cylinder, cone,
+/// padded polygon, box) with size `size`.
 fn random_shape(rng: &mut Rng, k: usize, size: f64) -> dcol::Shape {
     use dcol::Shape;
     let u = |rng: &mut Rng| size * rng.range(0.3, 1.0);
@@ -169,6 +170,7 @@ fn random_shape(rng: &mut Rng, k: usize, size: f64) -> dcol::Shape {
         3 => Shape::capsule(u(rng), u(rng)).unwrap(),
         4 => Shape::cylinder(u(rng), u(rng)).unwrap(),
         5 => Shape::cone(u(rng) * 2.0, rng.range(0.2, 1.2)).unwrap(),
+        7 => Shape::cuboid(u(rng), u(rng), u(rng)).unwrap(),
         _ => {
             let c = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [0.7, 0.7]];
             let d: Vec<f64> = (0..5).map(|_| u(rng)).collect();
@@ -177,12 +179,12 @@ fn random_shape(rng: &mut Rng, k: usize, size: f64) -> dcol::Shape {
     }
 }
 
-/// The shapes of random pair `i` (the kinds cycle over the 49 ordered type pairs), sizes within
-/// a factor 3 of `scale`.
+/// The shapes of random pair `i` (the kinds cycle over the 64 ordered pairs of the eight kinds,
+/// the box included), sizes within a factor 3 of `scale`.
 fn random_shapes(rng: &mut Rng, i: usize, scale: f64) -> (dcol::Shape, dcol::Shape) {
     let (z1, z2) = (scale * rng.log(-0.5, 0.5), scale * rng.log(-0.5, 0.5));
-    let s1 = random_shape(rng, (i / 7) % 7, z1);
-    let s2 = random_shape(rng, i % 7, z2);
+    let s1 = random_shape(rng, (i / 8) % 8, z1);
+    let s2 = random_shape(rng, i % 8, z2);
     (s1, s2)
 }
 
@@ -207,8 +209,8 @@ fn count_from_env(name: &str, default: usize) -> usize {
         .unwrap_or(default)
 }
 
-/// The geometric path against the interior-point solver on random pairs over all 49 ordered
-/// type pairs, with sizes and offsets spanning 1e-3..1e3: α* agrees to 1e-10·max(1, α*) on
+/// The geometric path against the interior-point solver on random pairs over all 64 ordered
+/// pairs of the eight kinds, with sizes and offsets spanning 1e-3..1e3: α* agrees to 1e-10·max(1, α*) on
 /// every pair the interior-point solver converges on (`DCOL_RANDOM_PAIRS`, default 100 000).
 #[test]
 fn geometric_path_agrees_with_the_interior_point_solver_on_random_pairs() {

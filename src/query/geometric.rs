@@ -10,7 +10,7 @@
 use super::context::{Options, Proximity};
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
-use crate::solver::closed_form::{rounded_segments, RoundedSegment};
+use crate::solver::closed_form::{rounded_segments, sphere_box, RoundedSegment};
 use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, Cast, CastEnd, Pair, Posed, Stop};
 use crate::solver::{SolveStatus, Solver};
@@ -165,7 +165,7 @@ pub(crate) fn gradient(
 /// threshold first.
 type Solved = Result<Option<Answer>, (bool, Real)>;
 
-/// Sphere and capsule pairs in closed form ([`rounded_segments`]).
+/// Sphere and capsule pairs, and a sphere with a centred box, in closed form.
 fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
     let seg = |posed: &Posed<'_, Shape>| {
         let (half, radius) = posed.shape.rounded_segment()?;
@@ -175,6 +175,32 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
             radius: radius * posed.inv_scale,
         })
     };
+    let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+        Some((half, radius)) if half == 0.0 => Some(radius * posed.inv_scale),
+        _ => None,
+    };
+    let boxed = |posed: &Posed<'_, Shape>| Some(posed.shape.centred_box()? * posed.inv_scale);
+    // A sphere and a centred box, in either order (K = B ⊕ B(ρ) both ways).
+    if let (Some(h), Some(rho)) = (boxed(&pair.one), ball(&pair.two)) {
+        let hit = sphere_box(ray, pair.one.rot, &h, rho)?;
+        return Some(Answer {
+            alpha: hit.alpha,
+            normal: hit.normal / hit.normal.dot(ray),
+            a: hit.box_point,
+            b: -hit.normal * rho,
+            solver: Solver::ClosedForm,
+        });
+    }
+    if let (Some(rho), Some(h)) = (ball(&pair.one), boxed(&pair.two)) {
+        let hit = sphere_box(ray, pair.two.rot, &h, rho)?;
+        return Some(Answer {
+            alpha: hit.alpha,
+            normal: hit.normal / hit.normal.dot(ray),
+            a: hit.normal * rho,
+            b: -hit.box_point,
+            solver: Solver::ClosedForm,
+        });
+    }
     let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
     let hit = rounded_segments(ray, &one, &two)?;
     Some(Answer {

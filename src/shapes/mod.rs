@@ -227,6 +227,15 @@ impl Shape {
         }
     }
 
+    /// Half extents when the shape is a box centred at its origin and aligned with its axes
+    /// (a polytope with the rows `±e_i` and equal opposite offsets): the sphere–box closed form.
+    pub(crate) fn centred_box(&self) -> Option<Vec3> {
+        match &self.geometry {
+            Geometry::Polytope(p) => p.half_extents(),
+            _ => None,
+        }
+    }
+
     /// Which primitive this is (a box reports [`ShapeKind::Polytope`]).
     pub fn kind(&self) -> ShapeKind {
         match &self.geometry {

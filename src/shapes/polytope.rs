@@ -15,6 +15,8 @@ pub struct Polytope {
     vertices: Vec<Vec3>,
     /// The facets' outward unit normals.
     normals: Vec<Vec3>,
+    /// Half extents when the polytope is a box centred at its origin and aligned with its axes.
+    half_extents: Option<Vec3>,
     bounding_radius: Real,
     inscribed_radius: Real,
 }
@@ -106,10 +108,12 @@ impl Polytope {
         if !(rho.is_finite() && rho > 0.0) {
             return Err(unbounded());
         }
+        let half_extents = centred_box(&n, &off);
         Ok(Polytope {
             a: a.to_vec(),
             b: b.to_vec(),
             vertices,
+            half_extents,
             normals: n,
             bounding_radius: rho.max(iota),
             inscribed_radius: iota,
@@ -138,6 +142,44 @@ impl Polytope {
     pub fn vertices(&self) -> &[Vec3] {
         &self.vertices
     }
+
+    /// Half extents when this is a box centred at its origin and aligned with its axes.
+    pub(crate) fn half_extents(&self) -> Option<Vec3> {
+        self.half_extents
+    }
+}
+
+/// The half extents when the six unit normals are exactly `±e_x, ±e_y, ±e_z` and opposite
+/// facets are equally far from the origin (a box centred at its origin).
+fn centred_box(normals: &[Vec3], offsets: &[Real]) -> Option<Vec3> {
+    if normals.len() != 6 {
+        return None;
+    }
+    let mut plus = [None; 3];
+    let mut minus = [None; 3];
+    for (nrm, off) in normals.iter().zip(offsets) {
+        let axis = (0..3).find(|&j| nrm[j].abs() == 1.0)?;
+        if (0..3).any(|j| j != axis && nrm[j] != 0.0) {
+            return None;
+        }
+        let slot = if nrm[axis] > 0.0 {
+            &mut plus
+        } else {
+            &mut minus
+        };
+        if slot[axis].replace(*off).is_some() {
+            return None;
+        }
+    }
+    let mut h = Vec3::zeros();
+    for j in 0..3 {
+        let (p, m) = (plus[j]?, minus[j]?);
+        if p != m {
+            return None;
+        }
+        h[j] = p;
+    }
+    Some(h)
 }
 
 /// Adds `v` unless a vertex within rounding of it is already there (several facets through one

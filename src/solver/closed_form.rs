@@ -14,9 +14,14 @@
 //!   closest τ lies in `[−h, h]`;
 //! - the face: `α = |d·m̂|/ρ` (`m̂ ∥ a₁ × a₂`), valid when the projection of `d` lies in `αP`.
 //!
+//! A sphere against a box centred at its origin is one more: `K = B ⊕ B(ρ)` for either order
+//! (the box is symmetric), and in the box's axes `dist(d, αB) = ‖max(|d| − αh, 0)‖`, so α* is
+//! the root of `‖max(|d| − αh, 0)‖ = αρ`, a quadratic between consecutive breakpoints
+//! `|dᵢ|/hᵢ` (`sphere_box`).
+//!
 //! Everything is in the caller's normalised units (unit `d`, lengths over ℓ).
 
-use crate::math::{Real, Vec3};
+use crate::math::{Mat3, Real, Vec3};
 
 /// A rounded segment in the normalised world frame: unit axis, half-length, radius.
 #[derive(Clone, Copy, Debug)]
@@ -142,6 +147,62 @@ pub(crate) fn rounded_segments(
     })
 }
 
+/// The sphere–box answer: α' for the unit offset, the box's point (normalised world frame,
+/// relative to the box's centre, unscaled) and the unit normal along the offset's side of K.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoxHit {
+    pub alpha: Real,
+    pub box_point: Vec3,
+    pub normal: Vec3,
+}
+
+/// α* of a sphere of radius `rho` and a box (`rot`: world from box, half extents `half`) for
+/// the unit offset `d` between their centres, from the box to the sphere.
+pub(crate) fn sphere_box(d: &Vec3, rot: &Mat3, half: &Vec3, rho: Real) -> Option<BoxHit> {
+    let db = rot.tr_mul(d);
+    let a = db.abs();
+    let t = [a.x / half.x, a.y / half.y, a.z / half.z];
+    // φ(α) = ‖max(a − αh, 0)‖ − αρ decreases strictly; it is ≤ 0 once α ≥ max tᵢ.
+    let phi = |alpha: Real| {
+        let mut s = 0.0;
+        for j in 0..3 {
+            let e = (a[j] - alpha * half[j]).max(0.0);
+            s += e * e;
+        }
+        s.sqrt() - alpha * rho
+    };
+    let mut bps = t;
+    bps.sort_by(|x, y| x.total_cmp(y));
+    let mut lo = 0.0;
+    let mut alpha = Real::NAN;
+    for &hi in &bps {
+        if hi > lo && phi(hi) <= 0.0 {
+            // On (lo, hi) the axes with tᵢ ≥ hi are outside the scaled box: a quadratic.
+            let (mut hh, mut ah, mut aa) = (0.0, 0.0, 0.0);
+            for j in 0..3 {
+                if t[j] >= hi {
+                    hh += half[j] * half[j];
+                    ah += a[j] * half[j];
+                    aa += a[j] * a[j];
+                }
+            }
+            alpha = vertex_root(aa, ah, hh, rho).clamp(lo, hi);
+            break;
+        }
+        lo = lo.max(hi);
+    }
+    if !(alpha.is_finite() && alpha > 0.0) {
+        return None;
+    }
+    let p = Vec3::from_fn(|j, _| db[j].signum() * a[j].min(alpha * half[j]));
+    let nb = (db - p).try_normalize(0.0)?;
+    Some(BoxHit {
+        alpha,
+        box_point: rot * (p / alpha),
+        normal: rot * nb,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,6 +213,28 @@ mod tests {
             half,
             radius,
         }
+    }
+
+    #[test]
+    fn sphere_against_a_box_face_edge_and_corner() {
+        let id = Mat3::identity();
+        let h = Vec3::new(1.0, 0.5, 0.25);
+        // Face: along x, ‖d‖ = α(h_x + ρ).
+        let hit = sphere_box(&Vec3::new(1.0, 0.0, 0.0), &id, &h, 0.5).unwrap();
+        assert!((hit.alpha - 1.0 / 1.5).abs() < 1e-15 && (hit.normal.x - 1.0).abs() < 1e-15);
+        // Edge (x, y): the corner of the scaled box's x-y face, α solves
+        // (dx − αhx)² + (dy − αhy)² = α²ρ², checked by φ(α) = 0.
+        let d = Vec3::new(3.0, 2.0, 0.0).normalize();
+        let hit = sphere_box(&d, &id, &h, 0.2).unwrap();
+        let a = hit.alpha;
+        let r = ((d.x - a * h.x).powi(2) + (d.y - a * h.y).powi(2)).sqrt();
+        assert!((r - a * 0.2).abs() < 1e-15 && d.x > a * h.x && d.y > a * h.y);
+        // Corner: all three axes outside.
+        let d = Vec3::new(1.0, 0.5, 0.25).normalize();
+        let hit = sphere_box(&d, &id, &h, 0.3).unwrap();
+        let a = hit.alpha;
+        let e = Vec3::new(d.x - a * h.x, d.y - a * h.y, d.z - a * h.z);
+        assert!(e.iter().all(|v| *v > 0.0) && (e.norm() - a * 0.3).abs() < 1e-15);
     }
 
     #[test]
