@@ -176,7 +176,7 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
         })
     };
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
-        Some((half, radius)) if half == 0.0 => Some(radius * posed.inv_scale),
+        Some((0.0, radius)) => Some(radius * posed.inv_scale),
         _ => None,
     };
     let boxed = |posed: &Posed<'_, Shape>| Some(posed.shape.centred_box()? * posed.inv_scale);
