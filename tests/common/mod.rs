@@ -31,7 +31,7 @@ pub fn own_dir() -> Option<PathBuf> {
         return Some(dir);
     }
     if skip_allowed() {
-        eprintln!("SKIPPED (DCOL_ALLOW_SKIP=1): {} is missing", dir.display());
+        eprintln!("not run, as DCOL_ALLOW_SKIP=1 allows: {} is missing", dir.display());
         return None;
     }
     panic!(
