@@ -31,7 +31,10 @@ pub fn own_dir() -> Option<PathBuf> {
         return Some(dir);
     }
     if skip_allowed() {
-        eprintln!("not run, as DCOL_ALLOW_SKIP=1 allows: {} is missing", dir.display());
+        eprintln!(
+            "not run, as DCOL_ALLOW_SKIP=1 allows: {} is missing",
+            dir.display()
+        );
         return None;
     }
     panic!(
