@@ -12,6 +12,7 @@
 //! ([`Settings`]).
 
 pub(crate) mod closed_form;
+pub(crate) mod dense;
 mod ipm;
 pub(crate) mod polish;
 pub(crate) mod raycast;

@@ -11,7 +11,7 @@ thread_local! {
     pub(super) static FULL_SYSTEM_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 use super::active_set::{eq_g, kkt_matrix, soc_slack};
-use super::lu::{lu_factor_in_place, lu_solve_transposed4};
+use crate::solver::dense::{lu_factor_in_place, lu_solve_transposed4};
 
 /// Identities every correct Jacobian satisfies, checked before the active-set one is trusted (a
 /// misidentified active set, e.g. a facet whose multiplier and slack are both ~1e-5 at the

@@ -23,7 +23,7 @@
 //! Lagrangian (envelope theorem) and picks the Jacobian's route; `active_set.rs` identifies the active set and
 //! forms its KKT system; `refine.rs` refines the solution point on it near an active-set
 //! change; `jacobian.rs` solves the implicit-function systems on it; `smoothed.rs` is the
-//! barrier-smoothed fallback; `lu.rs` the small dense factorisations they use. The public
+//! barrier-smoothed fallback; `crate::solver::dense` holds the small dense factorisations they use. The public
 //! derivative queries built on these are in `query/differentiate.rs`.
 
 use super::context::{Context, Full, Want};
@@ -36,7 +36,6 @@ use crate::solver::{Outcome, Problem, SolveStatus};
 mod active_set;
 mod gradient;
 mod jacobian;
-mod lu;
 mod refine;
 mod smoothed;
 #[cfg(test)]

@@ -2,8 +2,8 @@
 //! active-set change (see [`refine_solution`]).
 
 use super::active_set::{ambiguity, eq_g, kkt_matrix, lp_active, residual, soc_slack};
-use super::lu::{lu_factor_in_place, lu_solve_one};
 use super::*;
+use crate::solver::dense::{lu_factor_in_place, lu_solve_one};
 
 /// The solution point near an active-set change. The polished point of a converged solve
 /// satisfies the KKT conditions of its active set to rounding, except next to an active-set

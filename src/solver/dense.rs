@@ -1,12 +1,13 @@
-//! Small dense LU factorisations with partial pivoting, in place, for the active-set systems.
+//! Small dense LU factorisations with partial pivoting, in place, for the active-set and
+//! feature systems of the derivatives.
 
-use super::*;
+use crate::math::Real;
 
 /// LU with partial pivoting, in place, of the leading `n×n` block of `a`; returns the pivot
 /// row chosen at each step (LAPACK's `ipiv`), or `None` when a pivot is below 1e-14 of the
 /// largest entry (a degenerate active set).
 #[inline(always)]
-pub(super) fn lu_factor_in_place<const M: usize>(
+pub(crate) fn lu_factor_in_place<const M: usize>(
     a: &mut [[Real; M]; M],
     n: usize,
 ) -> Option<[usize; M]> {
@@ -58,7 +59,7 @@ pub(super) fn lu_factor_in_place<const M: usize>(
 }
 
 /// Solves `A x = b` in place with the factor from [`lu_factor_in_place`].
-pub(super) fn lu_solve_one<const M: usize>(
+pub(crate) fn lu_solve_one<const M: usize>(
     a: &[[Real; M]; M],
     ipiv: &[usize; M],
     n: usize,
@@ -88,7 +89,7 @@ pub(super) fn lu_solve_one<const M: usize>(
 /// solve with `Uᵀ` and a backward one with the unit `Lᵀ` (both sweeping rows of the factor),
 /// then `Pᵀ`.
 #[inline(always)]
-pub(super) fn lu_solve_transposed4<const M: usize>(
+pub(crate) fn lu_solve_transposed4<const M: usize>(
     a: &[[Real; M]; M],
     ipiv: &[usize; M],
     n: usize,
