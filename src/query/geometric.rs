@@ -8,11 +8,13 @@
 //! offset, so no precision is lost at tiny or huge offsets).
 
 use super::context::{Options, Proximity};
-use crate::math::{rotation_derivatives, Pose, Real, Vec3};
+use super::derivatives::rotation_axes;
+use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, RoundedSegment};
 use crate::solver::polish::polish;
-use crate::solver::raycast::{cast, Cast, CastEnd, Pair, Posed, Stop};
+use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
+use crate::solver::sensitivity::{refine, sensitivity, Solution};
 use crate::solver::{SolveStatus, Solver};
 
 /// Portal refinements before the polish takes over.
@@ -144,21 +146,94 @@ pub(crate) fn gradient(
         g[j] = -dalpha_dd[j];
         g[7 + j] = dalpha_dd[j];
     }
-    // Body-frame support points.
-    let b1 = pose1.rotation().tr_mul(&(prox.contact1 - pose1.position()));
-    let b2 = pose2.rotation().tr_mul(&(prox.contact2 - pose2.position()));
-    let d1 = rotation_derivatives(pose1.quaternion());
-    let d2 = rotation_derivatives(pose2.quaternion());
-    let round = shapes.map(|s| s.kind() == ShapeKind::Sphere);
-    for k in 0..4 {
-        if !round[0] {
-            g[3 + k] = -prox.alpha * dalpha_dd.dot(&(d1[k] * b1));
+    // ∂Qᵢ/∂qᵢₖ bᵢ = ωᵢₖ × wᵢ with wᵢ = Qᵢbᵢ the support point relative to rᵢ (world), so
+    // n·(∂Qᵢ/∂qᵢₖ)bᵢ = ωᵢₖ·(wᵢ × n).
+    let alpha = prox.alpha;
+    if shapes[0].kind() != ShapeKind::Sphere {
+        let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
+        for (k, w) in rotation_axes(pose1).iter().enumerate() {
+            g[3 + k] = w.dot(&t);
         }
-        if !round[1] {
-            g[10 + k] = prox.alpha * dalpha_dd.dot(&(d2[k] * b2));
+    }
+    if shapes[1].kind() != ShapeKind::Sphere {
+        let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
+        for (k, w) in rotation_axes(pose2).iter().enumerate() {
+            g[10 + k] = w.dot(&t);
         }
     }
     g
+}
+
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution, by
+/// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
+/// `None` where x* is not unique or the features' system is singular.
+///
+/// With `s = ‖r₂ − r₁‖/ℓ`, α* = s·α'(r) for the unit ray r, and α' = 1/μ is homogeneous of
+/// degree one in the ray, so `∂α*/∂r₂ = ∇α'/ℓ` with `∇α' = −α'²∂μ/∂r`. The touching point is
+/// `x* = r₁ + ℓα*a` with the contact point `a` homogeneous of degree zero:
+/// `∂x*/∂r₂ = a∇α'ᵀ + α'∂a/∂r`, `∂x*/∂r₁ = I − ∂x*/∂r₂`, and along a rotation axis
+/// `∂x*/∂θ = ℓ(a ∂α*/∂θ + α* ∂a/∂θ)`.
+pub(crate) fn jacobian(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+) -> Option<[[Real; 14]; 4]> {
+    let (r1, r2) = (*poses[0].position(), *poses[1].position());
+    let dist = (r2 - r1).norm();
+    let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
+    let inv = 1.0 / ell;
+    let s = dist * inv;
+    let alpha_n = prox.alpha / s;
+    let pair = Pair {
+        one: Posed {
+            shape: shapes[0],
+            rot: poses[0].rotation(),
+            inv_scale: inv,
+        },
+        two: Posed {
+            shape: shapes[1],
+            rot: poses[1].rotation(),
+            inv_scale: inv,
+        },
+    };
+    let sol = Solution {
+        r: (r2 - r1) / dist,
+        // ∂α*/∂d = n·α'/ℓ with n·r = 1.
+        normal: dalpha_dd * (ell / alpha_n),
+        mu: 1.0 / alpha_n,
+        a: (prox.contact1 - r1) * inv,
+        b: (prox.contact2 - r2) * inv,
+    };
+    let axes = [rotation_axes(poses[0]), rotation_axes(poses[1])];
+    let sens = sensitivity(&pair, &sol, &axes)?;
+    let alpha_n = 1.0 / sens.mu;
+    let alpha = s * alpha_n;
+    let a = sens.a;
+    let grad_n = -sens.dmu_dr * (alpha_n * alpha_n);
+    let mut j = [[0.0; 14]; 4];
+    for c in 0..3 {
+        j[3][7 + c] = grad_n[c] * inv;
+        j[3][c] = -grad_n[c] * inv;
+        for i in 0..3 {
+            let dx = a[i] * grad_n[c] + alpha_n * sens.da_dr[(i, c)];
+            j[i][7 + c] = dx;
+            j[i][c] = if i == c { 1.0 } else { 0.0 } - dx;
+        }
+    }
+    let round = shapes.map(|s| s.kind() == ShapeKind::Sphere);
+    for (t, col) in [3, 4, 5, 6, 10, 11, 12, 13].into_iter().enumerate() {
+        if round[t / 4] {
+            continue;
+        }
+        let da = -s * alpha_n * alpha_n * sens.dmu_dtheta[t];
+        j[3][col] = da;
+        let dx = (a * da + sens.da_dtheta[t] * alpha) * ell;
+        for i in 0..3 {
+            j[i][col] = dx[i];
+        }
+    }
+    j.iter().flatten().all(|v| v.is_finite()).then_some(j)
 }
 
 /// The answer (`Ok(None)`: fall back), or `Err((below, bound))` when the bracket decided the
@@ -267,9 +342,45 @@ fn solve(
     }
     if c.end == CastEnd::Flat {
         // A flat face of K the polish cannot describe (a disc against a facet, say).
-        return Ok(Some(from_cast(&c)));
+        let ans = from_cast(&c);
+        return Ok(Some(refined(pair, ray, iota, tol, &ans).unwrap_or(ans)));
     }
-    // The polish could not certify: refine the portal further.
+    // The polish could not certify: refine the portal further. Its bracket pins α' but its
+    // point only to about the bracket's square root on a curved patch: the point is then
+    // refined on the contact features the portal's normal identifies, where they are unique.
     let c = cast(pair, ray, iota, tol, CAST_RESCUE, None);
-    Ok((c.alpha_hi - c.alpha_lo <= tol * c.alpha_lo).then(|| from_cast(&c)))
+    if !(c.alpha_hi - c.alpha_lo <= tol * c.alpha_lo) {
+        return Ok(None);
+    }
+    let ans = from_cast(&c);
+    Ok(Some(refined(pair, ray, iota, tol, &ans).unwrap_or(ans)))
+}
+
+/// `ans` refined by Newton's method on the contact features at its normal
+/// (`crate::solver::sensitivity::refine`), if that solution's bracket closes to `tol`.
+fn refined(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+    ans: &Answer,
+) -> Option<Answer> {
+    let sol = Solution {
+        r: *ray,
+        normal: ans.normal,
+        mu: 1.0 / ans.alpha,
+        a: ans.a,
+        b: ans.b,
+    };
+    let better = refine(pair, &sol)?;
+    let n = better.normal;
+    let lo = n.dot(ray) / pair.support(&n).w.dot(&n);
+    let hi = upper_from_point(&(better.a - better.b), ray, iota);
+    (lo.is_finite() && hi - lo <= tol * lo).then_some(Answer {
+        alpha: lo,
+        normal: n / n.dot(ray),
+        a: better.a,
+        b: better.b,
+        solver: Solver::Polish,
+    })
 }

@@ -173,10 +173,10 @@ pub(crate) fn query_until(
             "the distance between the two origins overflows a double",
         )));
     }
-    // The geometric solvers answer α*, x* and the gradient; the Jacobian (x* included) still
-    // comes from the interior-point solve alone, whose α* agrees with theirs to the solvers'
-    // rounding (running both would cost the Jacobian the geometric solve on top).
-    if options.method == Method::Auto && want <= Want::Gradient {
+    // The geometric solvers answer α*, x*, the gradient and, where x* is unique and its
+    // features' system regular, the Jacobian; elsewhere the interior-point solve answers
+    // everything (its α* agrees with theirs to the solvers' rounding).
+    if options.method == Method::Auto {
         match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
             geometric::Outcome::Answer(prox, dalpha_dd) => {
                 let g = if want >= Want::Gradient {
@@ -184,6 +184,17 @@ pub(crate) fn query_until(
                 } else {
                     [0.0; 14]
                 };
+                let mut jacobian = [[0.0; 14]; 4];
+                if want == Want::Jacobian {
+                    let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+                    let exact =
+                        geometric::jacobian(&prox, &dalpha_dd, [shape1, shape2], [pose1, pose2])
+                            .filter(|j| derivatives::consistent(j, &g, ell));
+                    match exact {
+                        Some(j) => jacobian = j,
+                        None => return query_ipm(shape1, pose1, shape2, pose2, options, want),
+                    }
+                }
                 // As on the interior-point path: a gradient that overflows (a quaternion so
                 // small that derivatives with respect to it, ~1/|q|, are not representable) is
                 // an error or a numerical failure with zeros, never a different solve.
@@ -198,10 +209,13 @@ pub(crate) fn query_until(
                     };
                     (failed, [0.0; 14])
                 };
+                if !finite {
+                    jacobian = [[0.0; 14]; 4];
+                }
                 return Ok(Full {
                     prox,
                     gradient,
-                    jacobian: [[0.0; 14]; 4],
+                    jacobian,
                     decided: None,
                 });
             }
@@ -226,6 +240,35 @@ pub(crate) fn query_until(
             geometric::Outcome::Fallback => {}
         }
     }
+    query_ipm_until(shape1, pose1, shape2, pose2, options, want, threshold)
+}
+
+/// The interior-point path of [`query_until`] with no threshold.
+fn query_ipm(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    want: Want,
+) -> Result<Full, Error> {
+    query_ipm_until(shape1, pose1, shape2, pose2, options, want, None)
+}
+
+/// The interior-point path of [`query_until`]: `r₂ ≠ r₁`, both finite.
+fn query_ipm_until(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    want: Want,
+    threshold: Option<(Real, bool)>,
+) -> Result<Full, Error> {
+    let r1 = *pose1.position();
+    let r2 = *pose2.position();
+    let offset = r2 - r1;
+    let dist = robust_norm(&offset);
     let (rho1, rho2) = (shape1.bounding_radius(), shape2.bounding_radius());
     let ell = rho1.max(rho2);
     let inv = 1.0 / ell;

@@ -60,6 +60,9 @@ impl SupportMap for Capsule {
     fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
         ball_normal(&self.end(id), p)
     }
+    fn piece_count(&self) -> u32 {
+        2
+    }
 }
 
 impl ConicShape for Capsule {

@@ -107,6 +107,14 @@ impl SupportMap for Cone {
         let side = (p.y.hypot(p.z) / self.tan_beta - p.x) / (0.75 * h);
         base.max(side).max(0.0)
     }
+    fn piece_count(&self) -> u32 {
+        2
+    }
+    fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
+        self.flat_face(m, cos_min)?;
+        let (_, base, rho) = self.apex_and_rim();
+        Some((base, rho))
+    }
 }
 
 impl ConicShape for Cone {

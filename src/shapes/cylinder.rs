@@ -59,6 +59,13 @@ impl SupportMap for Cylinder {
     fn gauge(&self, p: &Vec3) -> Real {
         (p.x.abs() / (0.5 * self.length)).max(p.y.hypot(p.z) / self.radius)
     }
+    fn piece_count(&self) -> u32 {
+        2
+    }
+    fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
+        let f = self.flat_face(m, cos_min)?;
+        Some((self.cap(u32::from(f.x < 0.0)), self.radius))
+    }
 }
 
 impl ConicShape for Cylinder {

@@ -111,6 +111,9 @@ impl SupportMap for Ellipsoid {
     fn normal_at(&self, _id: u32, p: &Vec3) -> Option<Vec3> {
         (self.p * p).try_normalize(0.0)
     }
+    fn piece_count(&self) -> u32 {
+        1
+    }
 }
 
 impl ConicShape for Ellipsoid {

@@ -307,6 +307,12 @@ impl SupportMap for Shape {
     fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
         dispatch!(self, s => s.normal_at(id, p))
     }
+    fn piece_count(&self) -> u32 {
+        dispatch!(self, s => s.piece_count())
+    }
+    fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
+        dispatch!(self, s => s.disc(m, cos_min))
+    }
 }
 
 pub(crate) fn positive_finite(name: &'static str, v: Real) -> Result<(), Error> {

@@ -143,6 +143,9 @@ impl SupportMap for Polygon {
     fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
         ball_normal(self.vertices.get(id as usize)?, p)
     }
+    fn piece_count(&self) -> u32 {
+        self.vertices.len() as u32
+    }
 }
 
 impl ConicShape for Polygon {

@@ -208,6 +208,9 @@ impl SupportMap for Polytope {
             g.max((a[0] * p.x + a[1] * p.y + a[2] * p.z) / b)
         })
     }
+    fn piece_count(&self) -> u32 {
+        self.vertices.len() as u32
+    }
 }
 
 impl ConicShape for Polytope {

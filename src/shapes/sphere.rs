@@ -41,6 +41,9 @@ impl SupportMap for Sphere {
     fn normal_at(&self, _id: u32, p: &Vec3) -> Option<Vec3> {
         ball_normal(&Vec3::zeros(), p)
     }
+    fn piece_count(&self) -> u32 {
+        1
+    }
 }
 
 impl ConicShape for Sphere {

@@ -146,6 +146,14 @@ pub(crate) trait SupportMap {
     fn normal_at(&self, _id: u32, _p: &Vec3) -> Option<Vec3> {
         None
     }
+    /// The number of pieces: their ids are `0..piece_count()`.
+    fn piece_count(&self) -> u32;
+    /// A flat disc of the shape (a cylinder's cap, a cone's base) whose outward normal makes an
+    /// angle with `m` of cosine at least `cos_min`: its centre (body frame) and radius. Every
+    /// disc's normal is `±e_x`, so its points are `centre + (0, y, z)` with `y² + z² ≤ radius²`.
+    fn disc(&self, _m: &Vec3, _cos_min: Real) -> Option<(Vec3, Real)> {
+        None
+    }
 }
 
 /// The normal of a ball piece about `center` at `p`.

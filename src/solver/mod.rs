@@ -16,6 +16,7 @@ pub(crate) mod dense;
 mod ipm;
 pub(crate) mod polish;
 pub(crate) mod raycast;
+pub(crate) mod sensitivity;
 mod status;
 
 pub use ipm::{cones, kkt};

@@ -50,21 +50,21 @@ pub(crate) struct Polished {
 
 /// One active piece: which shape (0 or 1) and which piece.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Active {
-    shape: usize,
-    id: u32,
+pub(super) struct Active {
+    pub shape: usize,
+    pub id: u32,
 }
 
 /// A piece evaluated in the normalised world frame as a function of the world normal `n`:
 /// shape 1's `p(R₁ᵀn)/ℓ`, shape 2's `p(−R₂ᵀn)/ℓ`.
-struct WorldPiece {
-    value: Real,
+pub(super) struct WorldPiece {
+    pub value: Real,
     /// Gradient in n: shape 1's point `a`, or minus shape 2's point `−b`.
-    grad: Vec3,
-    hess: Mat3,
+    pub grad: Vec3,
+    pub hess: Mat3,
 }
 
-fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<WorldPiece> {
+pub(super) fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<WorldPiece> {
     let (posed, sign) = pair.side(act.shape);
     let m = posed.rot.tr_mul(n) * sign;
     let e = posed.shape.piece(act.id, &m)?;

@@ -20,7 +20,7 @@ use crate::solver::dense::{lu_factor_in_place, lu_solve_transposed4};
 /// α row equals the Lagrangian gradient. Tolerances are in non-dimensional units (r columns
 /// times ℓ, x rows over ℓ), far looser than either computation's error and far tighter than
 /// any failure seen.
-pub(super) fn consistent(j: &[[Real; 14]; 4], grad: &[Real; 14], ell: Real) -> bool {
+pub(crate) fn consistent(j: &[[Real; 14]; 4], grad: &[Real; 14], ell: Real) -> bool {
     const TOL: Real = 1e-5;
     for c in 0..3 {
         for r in 0..3 {

@@ -42,7 +42,8 @@ mod smoothed;
 mod tests;
 
 use active_set::identify;
-use jacobian::{consistent, exact_jacobian};
+pub(crate) use jacobian::consistent;
+use jacobian::exact_jacobian;
 pub(crate) use refine::refine_solution;
 use smoothed::smoothed_jacobian;
 
