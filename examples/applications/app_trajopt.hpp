@@ -24,7 +24,7 @@ namespace app {
 struct Obstacle {
   Shape shape;
   dcol_pose pose;
-  std::string csv;  // "box cx cy cz hx hy hz" for the plots
+  std::string csv;  // "type x y z yaw parameters" for the plots
 };
 
 struct TrajSpec {

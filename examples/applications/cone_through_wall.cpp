@@ -19,7 +19,7 @@ namespace {
 
 app::Obstacle block(double cx, double cy, double cz, double hx, double hy, double hz) {
   char line[128];
-  std::snprintf(line, sizeof line, "box %g %g %g %g %g %g", cx, cy, cz, hx, hy, hz);
+  std::snprintf(line, sizeof line, "box %g %g %g 0 %g %g %g", cx, cy, cz, hx, hy, hz);
   return app::Obstacle{app::make_box(hx, hy, hz), app::make_pose(cx, cy, cz), line};
 }
 

@@ -25,7 +25,7 @@ namespace {
 app::Obstacle wall(double cx, double cy, double hx, double hy) {
   const double hz = 0.5;
   char line[128];
-  std::snprintf(line, sizeof line, "box %g %g %g %g %g %g", cx, cy, 0.0, hx, hy, hz);
+  std::snprintf(line, sizeof line, "box %g %g %g 0 %g %g %g", cx, cy, 0.0, hx, hy, hz);
   return app::Obstacle{app::make_box(hx, hy, hz), app::make_pose(cx, cy, 0.0), line};
 }
 
