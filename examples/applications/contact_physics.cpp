@@ -381,7 +381,7 @@ int main(int argc, char **argv) {
     const double m0 = min_alpha();
     if (m0 < 1.0) throw std::runtime_error("the initial configuration interpenetrates");
     const double e0 = world.kinetic() + world.potential();
-    row(0, m0 > 1e299 ? 0.0 : m0);
+    row(0, m0 > 1e299 ? std::nan("") : m0);
     double worst_alpha = 1e300, worst_between = 1e300, lowest_e = e0, worst_growth = 0.0;
     double check_seconds = 0.0;
     long check_calls = 0;
@@ -414,7 +414,7 @@ int main(int argc, char **argv) {
         const double e = world.kinetic() + world.potential();
         lowest_e = std::min(lowest_e, e);
         worst_growth = std::max(worst_growth, (e - lowest_e) / e0);
-        row(k, ma > 1e299 ? 0.0 : ma);
+        row(k, ma > 1e299 ? std::nan("") : ma);  // nan: no pair near alpha* = 1
         // Between the steps: 10 interpolated poses (nlerp) of the pairs that were close.
         for (const dcol_scene_pair &p : close) {
           const Body &a = world.bodies[p.body1], &b = world.bodies[p.body2];
