@@ -55,6 +55,26 @@
 #define DCOL_METHOD_INTERIOR_POINT 1
 
 /**
+ * dcol_proximity_result.derivatives: no derivatives were asked for.
+ */
+#define DCOL_DERIVATIVES_NONE 0
+
+/**
+ * dcol_proximity_result.derivatives: the exact derivatives.
+ */
+#define DCOL_DERIVATIVES_EXACT 1
+
+/**
+ * dcol_proximity_result.derivatives: the barrier-smoothed derivatives of the central path.
+ */
+#define DCOL_DERIVATIVES_SMOOTHED 2
+
+/**
+ * dcol_proximity_result.derivatives: coincident origins; zero, a subgradient.
+ */
+#define DCOL_DERIVATIVES_SUBGRADIENT 3
+
+/**
  * dcol_proximity_result.solver: the interior-point solver.
  */
 #define DCOL_SOLVER_INTERIOR_POINT 0
@@ -156,6 +176,18 @@ typedef struct dcol_options {
    * initializer that sets only those two selects DCOL_METHOD_AUTO.)
    */
   uint32_t method;
+  /**
+   * 0 (the default): exact answers. A positive value mu asks proximity, the gradient, the
+   * Jacobian, dcol_derivatives, their MRP forms and the batch for the smoothed answer: the
+   * point of the interior-point method's central path at barrier parameter mu, with its
+   * derivatives, smooth everywhere (also across edges, corners and face-against-face
+   * contact). mu is in the cone program's normalised units (alpha' >= 1): the smoothed
+   * alpha* exceeds the exact one by at most nu * mu relative, nu the barrier degree (the
+   * two shapes' orthant rows and cones). Negative, NaN or infinite values are rejected with
+   * DCOL_ERROR_INVALID_OPTIONS. Intersection tests, bounds and the distance ignore it.
+   * (Appended after `method`: an initializer that leaves it out asks for exact answers.)
+   */
+  double smoothing;
 } dcol_options;
 
 /**
@@ -210,6 +242,15 @@ typedef struct dcol_proximity_result {
    * (3). (Appended after the original fields.)
    */
   uint32_t solver;
+  /**
+   * What kind of derivatives the query returned: DCOL_DERIVATIVES_NONE (0, none asked for),
+   * DCOL_DERIVATIVES_EXACT (1), DCOL_DERIVATIVES_SMOOTHED (2: the barrier-smoothed
+   * derivatives of the central-path point, where x* is not unique and the exact Jacobian
+   * does not exist, or when dcol_options.smoothing asked for them) or
+   * DCOL_DERIVATIVES_SUBGRADIENT (3: coincident origins, alpha* = 0, where zero is returned).
+   * (Appended after `solver`.)
+   */
+  uint32_t derivatives;
 } dcol_proximity_result;
 
 /**

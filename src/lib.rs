@@ -44,7 +44,7 @@ pub use query::{
     Distance, Options, Proximity,
 };
 pub use shapes::{Shape, ShapeKind};
-pub use solver::{Method, SolveStatus, Solver};
+pub use solver::{DerivativeKind, Method, SolveStatus, Solver};
 
 /// The README's Rust examples, compiled and run as doctests so they cannot rot.
 #[cfg(doctest)]

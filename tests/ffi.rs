@@ -634,6 +634,7 @@ fn c_extensions_do_not_allocate() {
         tolerance: -1.0,
         max_iterations: 10,
         method: 0,
+        smoothing: 0.0,
     };
     let mut scene = ptr::null_mut();
     // SAFETY: valid out pointer; live shapes and valid poses.

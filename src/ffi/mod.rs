@@ -62,7 +62,11 @@ pub use early_exit::{dcol_alpha_below, dcol_intersect};
 pub use info::{dcol_last_error_message, dcol_status_string, dcol_version};
 pub use options::{dcol_options, dcol_options_default};
 pub use pose::dcol_pose;
-pub use proximity::{dcol_gradient, dcol_jacobian, dcol_proximity, dcol_proximity_result};
+pub use proximity::{
+    dcol_gradient, dcol_jacobian, dcol_proximity, dcol_proximity_result, DCOL_DERIVATIVES_EXACT,
+    DCOL_DERIVATIVES_NONE, DCOL_DERIVATIVES_SMOOTHED, DCOL_DERIVATIVES_SUBGRADIENT,
+    DCOL_SOLVER_CLOSED_FORM, DCOL_SOLVER_INTERIOR_POINT, DCOL_SOLVER_POLISH, DCOL_SOLVER_RAY_CAST,
+};
 pub use scene::{
     dcol_scene, dcol_scene_add, dcol_scene_free, dcol_scene_new, dcol_scene_pair,
     dcol_scene_pairs_within, dcol_scene_set_pose, dcol_scene_size, dcol_scene_stats,

@@ -21,6 +21,16 @@ pub struct dcol_options {
     /// rejected with DCOL_ERROR_INVALID_OPTIONS. (Appended after the two original fields, so an
     /// initializer that sets only those two selects DCOL_METHOD_AUTO.)
     pub method: u32,
+    /// 0 (the default): exact answers. A positive value mu asks proximity, the gradient, the
+    /// Jacobian, dcol_derivatives, their MRP forms and the batch for the smoothed answer: the
+    /// point of the interior-point method's central path at barrier parameter mu, with its
+    /// derivatives, smooth everywhere (also across edges, corners and face-against-face
+    /// contact). mu is in the cone program's normalised units (alpha' >= 1): the smoothed
+    /// alpha* exceeds the exact one by at most nu * mu relative, nu the barrier degree (the
+    /// two shapes' orthant rows and cones). Negative, NaN or infinite values are rejected with
+    /// DCOL_ERROR_INVALID_OPTIONS. Intersection tests, bounds and the distance ignore it.
+    /// (Appended after `method`: an initializer that leaves it out asks for exact answers.)
+    pub smoothing: f64,
 }
 
 /// dcol_options.method: closed forms and the certified ray cast, interior point as fallback.
@@ -41,6 +51,7 @@ impl From<Options> for dcol_options {
             tolerance: o.tolerance,
             max_iterations: o.max_iterations,
             method: method_code(o.method),
+            smoothing: o.smoothing,
         }
     }
 }
@@ -77,6 +88,7 @@ pub(crate) unsafe fn read_options(ptr: *const dcol_options) -> Result<Options, F
         tolerance: o.tolerance,
         max_iterations: o.max_iterations,
         method,
+        smoothing: o.smoothing,
     };
     opts.validate().map_err(Failure::api_in("options->"))?;
     Ok(opts)

@@ -8,7 +8,7 @@ use super::status::dcol_status;
 use crate::math::{Pose, Vec3};
 use crate::query::{self, Options, Proximity};
 use crate::shapes::Shape;
-use crate::solver::{SolveStatus, Solver};
+use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
 /// The proximity of two posed shapes: the smallest uniform scaling alpha of both shapes (each
 /// about its own origin) at which they touch. alpha > 1: separated, alpha < 1:
@@ -31,7 +31,23 @@ pub struct dcol_proximity_result {
     /// then a Newton polish on the contact features it identified) or DCOL_SOLVER_CLOSED_FORM
     /// (3). (Appended after the original fields.)
     pub solver: u32,
+    /// What kind of derivatives the query returned: DCOL_DERIVATIVES_NONE (0, none asked for),
+    /// DCOL_DERIVATIVES_EXACT (1), DCOL_DERIVATIVES_SMOOTHED (2: the barrier-smoothed
+    /// derivatives of the central-path point, where x* is not unique and the exact Jacobian
+    /// does not exist, or when dcol_options.smoothing asked for them) or
+    /// DCOL_DERIVATIVES_SUBGRADIENT (3: coincident origins, alpha* = 0, where zero is returned).
+    /// (Appended after `solver`.)
+    pub derivatives: u32,
 }
+
+/// dcol_proximity_result.derivatives: no derivatives were asked for.
+pub const DCOL_DERIVATIVES_NONE: u32 = 0;
+/// dcol_proximity_result.derivatives: the exact derivatives.
+pub const DCOL_DERIVATIVES_EXACT: u32 = 1;
+/// dcol_proximity_result.derivatives: the barrier-smoothed derivatives of the central path.
+pub const DCOL_DERIVATIVES_SMOOTHED: u32 = 2;
+/// dcol_proximity_result.derivatives: coincident origins; zero, a subgradient.
+pub const DCOL_DERIVATIVES_SUBGRADIENT: u32 = 3;
 
 /// dcol_proximity_result.solver: the interior-point solver.
 pub const DCOL_SOLVER_INTERIOR_POINT: u32 = 0;
@@ -59,6 +75,12 @@ impl From<&Proximity> for dcol_proximity_result {
                 Solver::RayCast => DCOL_SOLVER_RAY_CAST,
                 Solver::Polish => DCOL_SOLVER_POLISH,
                 Solver::ClosedForm => DCOL_SOLVER_CLOSED_FORM,
+            },
+            derivatives: match p.derivatives {
+                DerivativeKind::None => DCOL_DERIVATIVES_NONE,
+                DerivativeKind::Exact => DCOL_DERIVATIVES_EXACT,
+                DerivativeKind::Smoothed => DCOL_DERIVATIVES_SMOOTHED,
+                DerivativeKind::Subgradient => DCOL_DERIVATIVES_SUBGRADIENT,
             },
         }
     }

@@ -5,7 +5,7 @@
 use super::assemble::Placement;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::Shape;
-use crate::solver::{Settings, SolveStatus, Solver};
+use crate::solver::{DerivativeKind, Settings, SolveStatus, Solver};
 
 /// Query options: the solver's stopping tolerance and iteration limit.
 pub type Options = Settings;
@@ -27,6 +27,9 @@ pub struct Proximity {
     pub status: SolveStatus,
     /// Which solver answered.
     pub solver: Solver,
+    /// What kind of derivatives the query returned with it (`None` for a plain proximity
+    /// query).
+    pub derivatives: DerivativeKind,
 }
 
 /// The normalisation between world and solver coordinates.

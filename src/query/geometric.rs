@@ -15,7 +15,7 @@ use crate::solver::closed_form::{rounded_segments, sphere_box, RoundedSegment};
 use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
 use crate::solver::sensitivity::{refine, sensitivity, Solution};
-use crate::solver::{SolveStatus, Solver};
+use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
 /// Portal refinements before the polish takes over.
 const CAST_BUDGET: u32 = 40;
@@ -123,6 +123,7 @@ pub(crate) fn proximity(
             iterations: 0,
             status: SolveStatus::Converged,
             solver: ans.solver,
+            derivatives: DerivativeKind::None,
         },
         dalpha_dd,
     )

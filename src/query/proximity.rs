@@ -15,13 +15,16 @@ use super::geometric;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{LpRow, Method, Problem, SolveStatus, Solver, Threshold};
+use crate::solver::{DerivativeKind, LpRow, Method, Problem, SolveStatus, Solver, Threshold};
 
 struct ProximityTask<'q> {
     ctx: Context<'q>,
     want: Want,
     /// Stop as soon as α* is proven above this (world) value, or below it when the flag is set.
     threshold: Option<(Real, bool)>,
+    /// The central-path point at this barrier parameter instead of the optimum
+    /// ([`Options::smoothing`]).
+    central: Option<Real>,
 }
 
 impl Task for ProximityTask<'_> {
@@ -55,10 +58,13 @@ impl Task for ProximityTask<'_> {
             z_bound_rel: N as Real,
             stop_below,
         });
-        let outcome = problem.solve_until(&z0, mu0, ctx.options, threshold);
+        let outcome = match self.central {
+            Some(mu) => problem.solve_central(&z0, mu0, ctx.options, mu),
+            None => problem.solve_until(&z0, mu0, ctx.options, threshold),
+        };
         // Next to an active-set change the polished point is refined on its active set (rare;
         // see `derivatives::refine_solution`), and the answer is taken there.
-        let refined = if outcome.decided.is_none() {
+        let refined = if outcome.decided.is_none() && self.central.is_none() {
             derivatives::refine_solution(ctx, &problem, &outcome)
         } else {
             derivatives::Refined::NONE
@@ -76,6 +82,7 @@ impl Task for ProximityTask<'_> {
             iterations: outcome.iterations,
             status: outcome.status,
             solver: Solver::InteriorPoint,
+            derivatives: DerivativeKind::None,
         };
         let mut full = Full {
             prox,
@@ -87,7 +94,10 @@ impl Task for ProximityTask<'_> {
             return full;
         }
         if self.want >= Want::Gradient {
-            derivatives::compute(ctx, &problem, &outcome, &refined, self.want, &mut full);
+            let central = self.central.is_some();
+            derivatives::compute(
+                ctx, &problem, &outcome, &refined, self.want, central, &mut full,
+            );
         }
         full
     }
@@ -154,6 +164,7 @@ pub(crate) fn query_until(
             iterations: 0,
             status: SolveStatus::Converged,
             solver: Solver::ClosedForm,
+            derivatives: DerivativeKind::None,
         };
         let mut full = Full {
             prox,
@@ -176,9 +187,15 @@ pub(crate) fn query_until(
     // The geometric solvers answer α*, x*, the gradient and, where x* is unique and its
     // features' system regular, the Jacobian; elsewhere the interior-point solve answers
     // everything (its α* agrees with theirs to the solvers' rounding).
-    if options.method == Method::Auto {
+    // A smoothed answer is the interior-point method's; decisions against a threshold ignore
+    // the smoothing.
+    let smoothed = options.smoothing > 0.0 && threshold.is_none();
+    if options.method == Method::Auto && !smoothed {
         match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
-            geometric::Outcome::Answer(prox, dalpha_dd) => {
+            geometric::Outcome::Answer(mut prox, dalpha_dd) => {
+                if want >= Want::Gradient {
+                    prox.derivatives = DerivativeKind::Exact;
+                }
                 let g = if want >= Want::Gradient {
                     geometric::gradient(&prox, &dalpha_dd, [shape1, shape2], pose1, pose2)
                 } else {
@@ -229,6 +246,7 @@ pub(crate) fn query_until(
                     iterations: 0,
                     status: SolveStatus::Converged,
                     solver: Solver::RayCast,
+                    derivatives: DerivativeKind::None,
                 };
                 return Ok(Full {
                     prox,
@@ -314,6 +332,7 @@ fn query_ipm_until(
             ctx,
             want,
             threshold,
+            central: (options.smoothing > 0.0 && threshold.is_none()).then_some(options.smoothing),
         },
     )
     .ok_or(Error::Internal("proximity: variable count out of range"))?;

@@ -24,4 +24,4 @@ pub use ipm::{
     LpRow, Outcome, Problem, Settings, SocBlock, Threshold, DEFAULT_MAX_ITERATIONS,
     DEFAULT_TOLERANCE, MAX_SOC, MAX_VARS,
 };
-pub use status::{Method, SolveStatus, Solver};
+pub use status::{DerivativeKind, Method, SolveStatus, Solver};

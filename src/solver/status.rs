@@ -35,6 +35,25 @@ pub enum Solver {
     ClosedForm,
 }
 
+/// What kind of derivatives a query returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum DerivativeKind {
+    /// None were asked for (a plain proximity query).
+    #[default]
+    None,
+    /// The exact derivatives of α* and x* (x* unique there; the gradient needs only the
+    /// optimal normal to be unique).
+    Exact,
+    /// The barrier-smoothed derivatives of the central-path point: where x* is not unique (flat
+    /// against flat) and the exact Jacobian does not exist, or when
+    /// [`crate::Options::smoothing`] asked for them.
+    Smoothed,
+    /// At exactly coincident origins α* = 0 is not differentiable (it is the gauge of the
+    /// Minkowski difference, homogeneous of degree one): zero, a valid subgradient, is
+    /// returned.
+    Subgradient,
+}
+
 /// Which solvers a query may use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Method {

@@ -8,6 +8,8 @@
 //! (required when `CI` is set).
 #![allow(dead_code)]
 
+pub mod random;
+
 use dcol::{Pose, Shape};
 use serde_json::Value;
 use std::path::PathBuf;

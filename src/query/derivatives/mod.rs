@@ -31,7 +31,7 @@ use crate::error::Error;
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape, ShapeKind};
 use crate::solver::cones::jprod;
-use crate::solver::{Outcome, Problem, SolveStatus};
+use crate::solver::{DerivativeKind, Outcome, Problem, SolveStatus};
 
 mod active_set;
 mod gradient;
@@ -155,13 +155,16 @@ impl<const N: usize> Refined<N> {
 /// [`refine_solution`] refined that point (near an active-set change: a weakly active row
 /// whose slack the polish has not closed, or an inactive one whose multiplier it has not
 /// zeroed), at the refined point `refined` on its active set: the point `proximity` reports.
-/// Without an accepted polish only the barrier-smoothed Jacobian is available.
+/// Without an accepted polish only the barrier-smoothed Jacobian is available. With `central`
+/// the problem holds a point of the central path (`Problem::solve_central`): both derivatives
+/// are that point's, the gradient the Jacobian's α row.
 pub(crate) fn compute<const N: usize>(
     ctx: &Context<'_>,
     problem: &Problem<'_, N>,
     outcome: &Outcome<N>,
     refined: &Refined<N>,
     want: Want,
+    central: bool,
     full: &mut Full,
 ) {
     let frame = &ctx.frame;
@@ -187,8 +190,13 @@ pub(crate) fn compute<const N: usize>(
     let refined = &refined.0;
     let lag = gradient::lagrangian(problem, &outcome.z, refined, &ranges, frame.delta, t);
     full.gradient = gradient::gradient(&lag, &axes, ell);
+    full.prox.derivatives = if polished || refined.is_some() {
+        DerivativeKind::Exact
+    } else {
+        DerivativeKind::Smoothed
+    };
     let gradient::Lagrangian { e, v, er, vr } = lag;
-    if want < Want::Jacobian {
+    if want < Want::Jacobian && !central {
         return;
     }
     // The generators as matrices, for the Jacobian (written in place: `[_; 2].map` would copy
@@ -199,6 +207,16 @@ pub(crate) fn compute<const N: usize>(
         for (gk, ak) in g.iter_mut().zip(a) {
             *gk = skew(ak);
         }
+    }
+    if central {
+        smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
+        homogeneous_in_offset(full, ctx);
+        full.gradient = full.jacobian[3];
+        if want < Want::Jacobian {
+            full.jacobian = [[0.0; 14]; 4];
+        }
+        full.prox.derivatives = DerivativeKind::Smoothed;
+        return;
     }
     let exact = match &refined {
         Some((set, p)) => exact_jacobian(
@@ -235,6 +253,34 @@ pub(crate) fn compute<const N: usize>(
     };
     if !exact || !consistent(&full.jacobian, &full.gradient, ell) {
         smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
+        full.prox.derivatives = DerivativeKind::Smoothed;
+    } else {
+        full.prox.derivatives = DerivativeKind::Exact;
+    }
+}
+
+/// The translation columns of a central-path point's Jacobian. The smoothed answer is the
+/// central-path point of the *normalised* program, whose offset has the fixed length κ: it
+/// depends on the direction `u` of `r₂ − r₁` and the attitudes only, and is scaled back by
+/// `‖r₂ − r₁‖`, so α and `x − r₁` are homogeneous of degree one in the offset (as the exact ones
+/// are). The implicit-function system is right for moves across `u` (they leave the length
+/// unchanged to first order); along `u` homogeneity gives the derivative exactly:
+/// `∂o/∂r₂ = (∂o/∂r₂)(I − uuᵀ) + (o/‖r₂ − r₁‖) uᵀ` for `o = α, x − r₁`, then
+/// `∂α/∂r₁ = −∂α/∂r₂` and `∂x/∂r₁ = I − ∂x/∂r₂`.
+fn homogeneous_in_offset(full: &mut Full, ctx: &Context<'_>) {
+    let frame = &ctx.frame;
+    let u = frame.delta / frame.kappa;
+    let rel = full.prox.point - ctx.pose1.position();
+    for row in 0..4 {
+        let o = if row < 3 { rel[row] } else { full.prox.alpha };
+        let j = &mut full.jacobian[row];
+        let d = Vec3::new(j[7], j[8], j[9]);
+        let d = d - u * d.dot(&u) + u * (o / frame.dist);
+        for c in 0..3 {
+            j[7 + c] = d[c];
+            let identity = if c == row { 1.0 } else { 0.0 };
+            j[c] = identity - d[c];
+        }
     }
 }
 
@@ -423,4 +469,5 @@ struct RhoTable {
 pub(crate) fn coincident(full: &mut Full) {
     full.gradient = [0.0; 14];
     full.jacobian = [[0.0; 14]; 4];
+    full.prox.derivatives = DerivativeKind::Subgradient;
 }

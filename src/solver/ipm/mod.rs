@@ -41,6 +41,9 @@ const EARLY_POLISH_MARGIN: Real = 1e-3;
 
 /// Refinement runs once the duality gap (relative) is below this.
 const REFINE_BELOW_GAP: Real = 1e-7;
+/// A central-path point (`Problem::solve_central`) is reached when every block's
+/// complementarity is within this relative deviation of the target.
+const CENTRED: Real = 1e-10;
 
 /// A Newton direction solved with a factor that kept weak pivots is used only if it satisfies
 /// the dual equation `Gᵀdλ = −r_d` to this fraction of `max(‖r_d‖∞, dual residual limit)`.
@@ -387,7 +390,7 @@ impl<'a, const N: usize> Problem<'a, N> {
     ) -> Outcome<N> {
         self.aho = None;
         self.polished = false;
-        let outcome = self.iterate(z0, mu0, settings, threshold);
+        let outcome = self.iterate(z0, mu0, settings, threshold, None);
         // Without an accepted polish the multipliers of the last iterate stand for the polished
         // ones (derivatives of an unconverged solve are then those of its last iterate).
         if !self.polished {
@@ -401,13 +404,58 @@ impl<'a, const N: usize> Problem<'a, N> {
         outcome
     }
 
-    /// The interior-point iterations of [`Problem::solve_until`].
+    /// The point of the central path at barrier parameter `mu`: `s∘λ = μe` for every block
+    /// (`sλ = μ` for an orthant row) with the primal and dual equations satisfied to the
+    /// tolerance. The interior-point iterations run until the duality measure comes within a
+    /// factor of two of `mu` (or below it), then pure centring steps (Newton on the target
+    /// `μe`, no predictor) converge to the point. No polish: the final iterate, its slacks and
+    /// multipliers, stay in the blocks (`lam_polished` = `lam`) for the derivatives of the
+    /// central-path point. `mu` must be positive and finite.
+    pub fn solve_central(
+        &mut self,
+        z0: &[Real; N],
+        mu0: Real,
+        settings: &Settings,
+        mu: Real,
+    ) -> Outcome<N> {
+        self.aho = None;
+        self.polished = false;
+        let outcome = self.iterate(z0, mu0, settings, None, Some(mu));
+        for row in self.lp.iter_mut() {
+            row.lam_polished = row.lam;
+        }
+        for b in self.soc[..self.n_soc].iter_mut() {
+            b.lam_polished = b.lam;
+        }
+        outcome
+    }
+
+    /// The largest deviation from the central path at `mu`, relative: `|sλ/μ − 1|` for an
+    /// orthant row, `‖s∘λ − μe‖∞/μ` for a cone.
+    fn centrality(&self, mu: Real) -> Real {
+        let mut worst: Real = 0.0;
+        for row in self.lp.iter() {
+            worst = fmax(worst, (row.s * row.lam / mu - 1.0).abs());
+        }
+        for b in self.soc[..self.n_soc].iter() {
+            let mut p = jprod(&b.s, &b.lam);
+            p[0] -= mu;
+            for v in p.iter() {
+                worst = fmax(worst, v.abs() / mu);
+            }
+        }
+        worst
+    }
+
+    /// The interior-point iterations of [`Problem::solve_until`] and, with `center`, of
+    /// [`Problem::solve_central`].
     fn iterate(
         &mut self,
         z0: &[Real; N],
         mu0: Real,
         settings: &Settings,
         threshold: Option<Threshold>,
+        center: Option<Real>,
     ) -> Outcome<N> {
         let mut z = *z0;
         // Initial slacks; the largest violation of strict interiority (negative when z0 is
@@ -499,7 +547,9 @@ impl<'a, const N: usize> Problem<'a, N> {
         let mut step: Option<Real> = None;
         // The early polish is tried at most once (where it fails, it fails again until the
         // iterate is converged), and only without cones (see `EARLY_POLISH_GAP`).
-        let mut early_pending = self.n_soc == 0;
+        let mut early_pending = self.n_soc == 0 && center.is_none();
+        // With `center`: whether the centring steps have begun.
+        let mut centring = false;
         loop {
             // Residuals, scalings and the normal matrix; then convergence.
             let ev = match step {
@@ -529,7 +579,27 @@ impl<'a, const N: usize> Problem<'a, N> {
                     return outcome;
                 }
             }
-            let converged = gap <= tol * scale
+            if let Some(mu) = center {
+                if !ev.interior {
+                    outcome.status = SolveStatus::NumericalFailure;
+                    return outcome;
+                }
+                centring |= gap <= 2.0 * mu * self.degree();
+                if centring
+                    && self.centrality(mu) <= CENTRED
+                    && pres <= pres_limit
+                    && dres <= dres_limit
+                {
+                    outcome.status = SolveStatus::Converged;
+                    return outcome;
+                }
+                if iter >= settings.max_iterations {
+                    outcome.status = SolveStatus::MaxIterations;
+                    return outcome;
+                }
+            }
+            let converged = center.is_none()
+                && gap <= tol * scale
                 && (pobj - dobj).abs() <= tol * scale
                 && pres <= pres_limit
                 && dres <= dres_limit;
@@ -598,7 +668,11 @@ impl<'a, const N: usize> Problem<'a, N> {
             }
             // Rounding in the normal equations only matters once the scaling is extreme.
             let refine = gap < REFINE_BELOW_GAP * scale;
-            let (mut dz, mut stats) = self.predictor_corrector(&kkt, &ev, refine);
+            let direction = |p: &mut Self, kkt: &Normal<N>| match center {
+                Some(mu) if centring => p.centring(kkt, &ev, refine, mu),
+                _ => p.predictor_corrector(kkt, &ev, refine),
+            };
+            let (mut dz, mut stats) = direction(self, &kkt);
             if kkt.has_weak_pivot()
                 && !(self.dual_equation_error(&rd) <= WEAK_PIVOT_DUAL_ERROR * dres.max(dres_limit))
             {
@@ -610,7 +684,7 @@ impl<'a, const N: usize> Problem<'a, N> {
                     outcome.status = SolveStatus::NumericalFailure;
                     return outcome;
                 }
-                (dz, stats) = self.predictor_corrector(&kkt, &ev, refine);
+                (dz, stats) = direction(self, &kkt);
             }
             let t = (0.99 * stats.max_step()).min(1.0);
             if !(t > 0.0) || !dz.iter().all(|v| v.is_finite()) {

@@ -44,6 +44,26 @@ impl<const N: usize> Problem<'_, N> {
         self.corrector(kkt, ev, refine, sigma * mu)
     }
 
+    /// The centring direction: Newton's step towards `s∘λ = μe` (the corrector with no
+    /// predictor terms and target `μ`).
+    pub(super) fn centring(
+        &mut self,
+        kkt: &Normal<N>,
+        ev: &Evaluation<N>,
+        refine: bool,
+        mu: Real,
+    ) -> ([Real; N], StepStats) {
+        for row in self.lp.iter_mut() {
+            row.ds = 0.0;
+            row.dlam = 0.0;
+        }
+        for b in self.soc[..self.n_soc].iter_mut() {
+            b.ds = [0.0; D];
+            b.dlam = [0.0; D];
+        }
+        self.corrector(kkt, ev, refine, mu)
+    }
+
     /// The residuals at `z` and the current slacks and multipliers, the scalings (every
     /// block's `λ/s`, reciprocals and NT scaling) and the normal matrix `Gᵀ W⁻² G`, in one pass
     /// over the blocks; first, the previous iteration's step `t` along the directions held in

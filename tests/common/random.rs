@@ -1,0 +1,159 @@
+//! Random numbers (SplitMix64) and random shapes of the eight kinds, for the property tests.
+
+use dcol::Shape;
+
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        let mut r = Rng(seed);
+        r.next_u64();
+        r
+    }
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    pub fn unif(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.unif()
+    }
+    pub fn gauss(&mut self) -> f64 {
+        let u = self.unif().max(1e-300);
+        let v = self.unif();
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+    pub fn unit<const D: usize>(&mut self) -> [f64; D] {
+        loop {
+            let v = [0; D].map(|_| self.gauss());
+            let n = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+            if n > 1e-3 {
+                return v.map(|c| c / n);
+            }
+        }
+    }
+    /// A uniformly random attitude as a quaternion of length 0.7..1.4 (not unit on purpose:
+    /// derivatives are taken with respect to the raw components).
+    pub fn quat(&mut self) -> [f64; 4] {
+        let u = self.unit::<4>();
+        let s = self.range(0.7, 1.4);
+        u.map(|v| v * s)
+    }
+    /// Modified Rodrigues parameters of a random attitude (|p| ≤ 1 covers every rotation).
+    pub fn mrp(&mut self) -> [f64; 3] {
+        let t = self.range(0.0, 0.95);
+        self.unit::<3>().map(|c| c * t)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Sphere,
+    Ellipsoid,
+    Box,
+    Polytope,
+    Capsule,
+    Cylinder,
+    Cone,
+    Polygon,
+}
+
+pub const KINDS: [Kind; 8] = [
+    Kind::Sphere,
+    Kind::Ellipsoid,
+    Kind::Box,
+    Kind::Polytope,
+    Kind::Capsule,
+    Kind::Cylinder,
+    Kind::Cone,
+    Kind::Polygon,
+];
+
+impl Kind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Sphere => "sphere",
+            Kind::Ellipsoid => "ellipsoid",
+            Kind::Box => "box",
+            Kind::Polytope => "polytope12",
+            Kind::Capsule => "capsule",
+            Kind::Cylinder => "cylinder",
+            Kind::Cone => "cone",
+            Kind::Polygon => "polygon",
+        }
+    }
+
+    pub fn index(self) -> u64 {
+        KINDS.iter().position(|k| *k == self).unwrap() as u64
+    }
+
+    pub fn random(self, rng: &mut Rng) -> Shape {
+        match self {
+            Kind::Sphere => Shape::sphere(rng.range(0.3, 1.2)),
+            Kind::Ellipsoid => {
+                // P = R diag(1/d²) Rᵀ with a random rotation R and semi-axes d.
+                let m = dcol::math::rotation_from_quaternion(rng.quat());
+                let d = [
+                    rng.range(0.3, 1.2),
+                    rng.range(0.3, 1.2),
+                    rng.range(0.3, 1.2),
+                ];
+                let mut p = [[0.0; 3]; 3];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        for k in 0..3 {
+                            p[i][j] += m[(i, k)] * m[(j, k)] / (d[k] * d[k]);
+                        }
+                    }
+                }
+                Shape::ellipsoid(p)
+            }
+            Kind::Box => Shape::cuboid(
+                rng.range(0.2, 1.0),
+                rng.range(0.2, 1.0),
+                rng.range(0.2, 1.0),
+            ),
+            Kind::Polytope => {
+                // A perturbed dodecahedron: 12 facets, normals near the icosahedron's vertices.
+                let phi = (1.0 + 5f64.sqrt()) / 2.0;
+                let mut a = Vec::with_capacity(12);
+                for s1 in [1.0, -1.0] {
+                    for s2 in [1.0, -1.0] {
+                        for v in [
+                            [0.0, s1, s2 * phi],
+                            [s1, s2 * phi, 0.0],
+                            [s2 * phi, 0.0, s1],
+                        ] {
+                            a.push(v.map(|c| c + rng.range(-0.15, 0.15)));
+                        }
+                    }
+                }
+                let b: Vec<f64> = (0..12).map(|_| rng.range(0.5, 1.2)).collect();
+                Shape::polytope(&a, &b)
+            }
+            Kind::Capsule => Shape::capsule(rng.range(0.2, 0.7), rng.range(0.3, 1.5)),
+            Kind::Cylinder => Shape::cylinder(rng.range(0.2, 0.7), rng.range(0.3, 1.5)),
+            Kind::Cone => Shape::cone(rng.range(0.5, 1.8), rng.range(0.25, 1.1)),
+            Kind::Polygon => {
+                // 3 to 7 edges with jittered directions, padded.
+                let m = 3 + (rng.next_u64() % 5) as usize;
+                let off = rng.range(0.0, std::f64::consts::TAU);
+                let c: Vec<[f64; 2]> = (0..m)
+                    .map(|i| {
+                        let t = off
+                            + std::f64::consts::TAU * (i as f64 + rng.range(-0.2, 0.2)) / m as f64;
+                        [t.cos(), t.sin()]
+                    })
+                    .collect();
+                let d: Vec<f64> = (0..m).map(|_| rng.range(0.3, 0.9)).collect();
+                Shape::polygon(&c, &d, rng.range(0.05, 0.3))
+            }
+        }
+        .expect("valid random shape")
+    }
+}
