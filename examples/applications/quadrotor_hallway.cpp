@@ -10,7 +10,7 @@
 //   r' = v,  v' = g + R(p) [0, 0, sum u] / m,  p' = G(p) w,  w' = J^-1 (tau - w x J w),
 //   tau = [L (u2 - u4), L (u3 - u1), km (u1 - u2 + u3 - u4)],
 //   G(p) = ((1 - p.p) I + 2 [p]x + 2 p p^T) / 4.
-// Discretised with one RK4 step per interval, dt = 0.08 s, N = 50 knots (3.92 s).
+// Discretised with one RK4 step per interval, dt = 0.08 s, N = 60 knots (4.72 s).
 //
 // Transcription (direct, multiple shooting at every knot). Variables: x_0, u_0, ..., x_{N-2},
 // u_{N-2}, x_{N-1}. Equality constraints: rk4(x_k, u_k) - x_{k+1} = 0, with their Jacobian
@@ -146,7 +146,7 @@ dcol_pose body_pose(const double *x) {
 // The transcription.
 
 struct Problem {
-  int N = 50;
+  int N = 60;
   std::array<double, NX> start{}, goal{};
   const dcol_shape *robot = nullptr;
   const std::vector<app::Obstacle> *obstacles = nullptr;
@@ -353,7 +353,7 @@ int main(int argc, char **argv) {
     obs.push_back(make(app::make_ellipsoid(0.3, 0.6, 0.6), 9.2, -0.3, 1.4, 0, "ellipsoid 0.3 0.6 0.6"));
 
     Problem prob;
-    prob.N = 50;
+    prob.N = 60;
     prob.start = {0.3, 0.0, 1.5};  // the rest zero: hover
     prob.goal = {10.0, 0.0, 1.5};
     prob.robot = quad.get();
