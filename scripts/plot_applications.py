@@ -163,7 +163,7 @@ def plot_piano(path, out):
 
 def plot_cone(path, out):
     obstacles, robot, rows = read_trajectory(path)
-    fig, axs = plt.subplots(1, 2, figsize=(12, 5))
+    fig, axs = plt.subplots(1, 3, figsize=(17, 5), gridspec_kw={"width_ratios": [4, 4, 2.6]})
     n = len(rows)
     for ax, axes, name in ((axs[0], (0, 1), "top view"), (axs[1], (0, 2), "side view")):
         draw_obstacles(ax, obstacles, axes)
@@ -175,24 +175,62 @@ def plot_cone(path, out):
             c = plt.cm.plasma(k / (n - 1))
             ax.add_patch(Polygon(poly, closed=True, fill=False, edgecolor=c, lw=0.9))
         finish(ax, "Cone through a wall: " + name, "x [m]", "yz"[axes[1] - 1] + " [m]", (-2.0, 2.0), (-1.2, 1.2))
+    # Face-on (looking along +x): the hole and, at every knot, the part of the cone inside the
+    # wall's slab |x| <= 0.05 (the convex hull of sampled surface points in the slab, projected on
+    # the y-z plane): what has to fit through the hole. (The whole cone's silhouette does not
+    # fit: the tilted base sticks out of the slab in x.)
+    ax = axs[2]
+    draw_obstacles(ax, obstacles, (1, 2))
+    h, beta = robot[1]
+    rad = h * math.tan(beta)
+    surface = [(-0.75 * h + s * h, s * rad * math.cos(t), s * rad * math.sin(t))
+               for s in [i / 60 for i in range(61)] for t in [2 * math.pi * j / 120 for j in range(120)]]
+    surface += [(0.25 * h, f * rad * math.cos(t), f * rad * math.sin(t))
+                for f in [i / 20 for i in range(21)] for t in [2 * math.pi * j / 120 for j in range(120)]]
+    for k, r in enumerate(rows):
+        q = mrp_quat((r["p1"], r["p2"], r["p3"]))
+        pts = []
+        for b in surface:
+            w = quat_rotate(q, b)
+            if abs(r["x"] + w[0]) <= 0.05:
+                pts.append((r["y"] + w[1], r["z"] + w[2]))
+        if len(pts) < 3:
+            continue
+        c = plt.cm.plasma(k / (n - 1))
+        ax.add_patch(Polygon(hull(pts), closed=True, fill=False, edgecolor=c, lw=0.9))
+    finish(ax, "face-on: the cone inside the wall's slab", "y [m]", "z [m]", (-0.8, 0.8), (-0.8, 0.8))
     fig.savefig(out, dpi=120, bbox_inches="tight")
     plt.close(fig)
 
 
 def plot_quadrotor(path, out):
     obstacles, robot, rows = read_trajectory(path)
-    fig, axs = plt.subplots(2, 1, figsize=(11, 7.5))
-    fig.subplots_adjust(hspace=0.35)
+    fig, axs = plt.subplots(3, 1, figsize=(11, 11), gridspec_kw={"height_ratios": [1, 1, 0.9]})
+    fig.subplots_adjust(hspace=0.4)
+    n = len(rows)
     for ax, axes, name in ((axs[0], (0, 1), "top view"), (axs[1], (0, 2), "side view")):
         # The hallway's floor, ceiling and walls (the first four obstacles) frame the view.
         draw_obstacles(ax, obstacles[4:], axes)
-        for r in rows:
-            ax.add_patch(plt.Circle((r["xyz"[axes[0]]], r["xyz"[axes[1]]]), robot[1][0], fill=False,
-                                    edgecolor="tab:blue", lw=0.5, alpha=0.6))
+        for k, r in enumerate(rows):
+            q = mrp_quat((r["p1"], r["p2"], r["p3"])) if "p1" in r else (1.0, 0.0, 0.0, 0.0)
+            poly = silhouette(robot[0], robot[1], (r["x"], r["y"], r["z"]), q, axes)
+            c = plt.cm.viridis(k / (n - 1))
+            ax.add_patch(Polygon(poly, closed=True, fill=False, edgecolor=c, lw=0.6))
         ax.plot([r["xyz"[axes[0]]] for r in rows], [r["xyz"[axes[1]]] for r in rows], "r.-", ms=3, lw=0.8)
         lim = (-1.5, 1.5) if axes[1] == 1 else (0.0, 3.0)
-        finish(ax, "Quadrotor (sphere, kinematic) through a hallway: " + name, "x [m]",
+        finish(ax, "6-DOF quadrotor (flat ellipsoid) through a hallway: " + name, "x [m]",
                "yz"[axes[1] - 1] + " [m]", (-0.3, 10.3), lim)
+    ax = axs[2]
+    if "u1" in rows[0]:
+        t = [r["t"] for r in rows[:-1]]
+        for i in range(1, 5):
+            ax.step(t, [r["u%d" % i] for r in rows[:-1]], where="post", lw=1, label="rotor %d" % i)
+        hover = 0.5 * 9.81 / 4
+        ax.axhline(hover, color="k", ls=":", lw=0.8, label="hover %.3f N" % hover)
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("rotor thrust [N]")
+        ax.set_title("Rotor thrusts (held constant over each interval)")
+        ax.legend(fontsize=8, ncol=5)
     fig.savefig(out, dpi=120, bbox_inches="tight")
     plt.close(fig)
 
