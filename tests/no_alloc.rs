@@ -153,6 +153,11 @@ fn option_sets() -> Vec<Options> {
             max_iterations: 2,
             ..Options::default()
         },
+        // The smoothed answer: the interior-point method's centring steps.
+        Options {
+            smoothing: 1e-3,
+            ..Options::default()
+        },
         // Rejected: the error path.
         Options {
             tolerance: -1.0,

@@ -37,6 +37,11 @@ fn the_kind_of_derivatives_is_reported() {
     assert!((p.alpha - 4.0 / 3.0).abs() < 1e-9);
     // ∂α*/∂r₂ is still the face normal's: α* = (r₂ − r₁)ₓ/1.5.
     assert!((j[3][7] - 2.0 / 3.0).abs() < 1e-6, "{:?}", j[3]);
+    // The gradient alone is smoothed there too: α* has a kink under rotation (an edge touches
+    // on either side), and the envelope formula's value would depend on the contact point.
+    let (p, g) = gradient(&cube, &p0, &small, &at([2.0, 0.3, 0.1]), &o).unwrap();
+    assert_eq!(p.derivatives, DerivativeKind::Smoothed);
+    assert!((g[7] - 2.0 / 3.0).abs() < 1e-6, "{g:?}");
     // Coincident origins: zero, a subgradient.
     let d = derivatives(&cube, &p0, &ball, &p0, &o).unwrap();
     assert_eq!(d.proximity.derivatives, DerivativeKind::Subgradient);

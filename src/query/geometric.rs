@@ -14,7 +14,7 @@ use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, RoundedSegment};
 use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
-use crate::solver::sensitivity::{refine, sensitivity, Solution};
+use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
 /// Portal refinements before the polish takes over.
@@ -165,21 +165,14 @@ pub(crate) fn gradient(
     g
 }
 
-/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution, by
-/// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
-/// `None` where x* is not unique or the features' system is singular.
-///
-/// With `s = ‖r₂ − r₁‖/ℓ`, α* = s·α'(r) for the unit ray r, and α' = 1/μ is homogeneous of
-/// degree one in the ray, so `∂α*/∂r₂ = ∇α'/ℓ` with `∇α' = −α'²∂μ/∂r`. The touching point is
-/// `x* = r₁ + ℓα*a` with the contact point `a` homogeneous of degree zero:
-/// `∂x*/∂r₂ = a∇α'ᵀ + α'∂a/∂r`, `∂x*/∂r₁ = I − ∂x*/∂r₂`, and along a rotation axis
-/// `∂x*/∂θ = ℓ(a ∂α*/∂θ + α* ∂a/∂θ)`.
-pub(crate) fn jacobian(
+/// The geometric answer in the solvers' normalised frame (lengths over ℓ, the unit ray), and
+/// `s = ‖r₂ − r₁‖/ℓ`.
+fn normalised<'a>(
     prox: &Proximity,
     dalpha_dd: &Vec3,
-    shapes: [&Shape; 2],
-    poses: [&Pose; 2],
-) -> Option<[[Real; 14]; 4]> {
+    shapes: [&'a Shape; 2],
+    poses: [&'a Pose; 2],
+) -> (Pair<'a, Shape>, Solution, Real) {
     let (r1, r2) = (*poses[0].position(), *poses[1].position());
     let dist = (r2 - r1).norm();
     let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
@@ -206,6 +199,45 @@ pub(crate) fn jacobian(
         a: (prox.contact1 - r1) * inv,
         b: (prox.contact2 - r2) * inv,
     };
+    (pair, sol, s)
+}
+
+/// Whether the contact points (and with them x* and the gradient's rotation columns) are
+/// unique: always when either shape is strictly convex (a sphere, an ellipsoid); otherwise
+/// when the contact features allow it (`crate::solver::sensitivity::unique_contact`). Flat
+/// against flat, α* has a kink under rotation and the gradient formula's value depends on which
+/// contact point it is given.
+pub(crate) fn unique_contact(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+) -> bool {
+    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
+    if strict(shapes[0]) || strict(shapes[1]) {
+        return true;
+    }
+    let (pair, sol, _) = normalised(prox, dalpha_dd, shapes, poses);
+    contact_is_unique(&pair, &sol)
+}
+
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution, by
+/// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
+/// `None` where x* is not unique or the features' system is singular.
+///
+/// With `s = ‖r₂ − r₁‖/ℓ`, α* = s·α'(r) for the unit ray r, and α' = 1/μ is homogeneous of
+/// degree one in the ray, so `∂α*/∂r₂ = ∇α'/ℓ` with `∇α' = −α'²∂μ/∂r`. The touching point is
+/// `x* = r₁ + ℓα*a` with the contact point `a` homogeneous of degree zero:
+/// `∂x*/∂r₂ = a∇α'ᵀ + α'∂a/∂r`, `∂x*/∂r₁ = I − ∂x*/∂r₂`, and along a rotation axis
+/// `∂x*/∂θ = ℓ(a ∂α*/∂θ + α* ∂a/∂θ)`.
+pub(crate) fn jacobian(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+) -> Option<[[Real; 14]; 4]> {
+    let (pair, sol, s) = normalised(prox, dalpha_dd, shapes, poses);
+    let (ell, inv) = (1.0 / pair.one.inv_scale, pair.one.inv_scale);
     let axes = [rotation_axes(poses[0]), rotation_axes(poses[1])];
     let sens = sensitivity(&pair, &sol, &axes)?;
     let alpha_n = 1.0 / sens.mu;

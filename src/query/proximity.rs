@@ -194,6 +194,14 @@ pub(crate) fn query_until(
         match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
             geometric::Outcome::Answer(mut prox, dalpha_dd) => {
                 if want >= Want::Gradient {
+                    // Flat against flat the exact derivatives do not exist: the interior-point
+                    // path's smoothed ones answer (the Jacobian's check below covers this too).
+                    let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
+                    if want == Want::Gradient
+                        && !geometric::unique_contact(&prox, &dalpha_dd, shapes, poses)
+                    {
+                        return query_ipm(shape1, pose1, shape2, pose2, options, want);
+                    }
                     prox.derivatives = DerivativeKind::Exact;
                 }
                 let g = if want >= Want::Gradient {

@@ -390,6 +390,33 @@ fn store(feature: &mut Feature, z: &[Real], col: usize) {
     }
 }
 
+/// Both shapes' tied pieces (or discs) at the solution's normal, when their affine dimensions
+/// leave x* unique: they add up to at most two, and two segments are not parallel.
+fn features<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Option<[Found; 2]> {
+    let found = [
+        find(&pair.one, 1.0, &sol.normal)?,
+        find(&pair.two, -1.0, &sol.normal)?,
+    ];
+    let dims = found.each_ref().map(|f| match f {
+        Found::Disc(_) => 2,
+        Found::Tied(_, d, _) => *d,
+    });
+    if dims[0] + dims[1] > 2 {
+        return None;
+    }
+    if let (Found::Tied(_, 1, e0), Found::Tied(_, 1, e1)) = (&found[0], &found[1]) {
+        if !(e0.cross(e1).norm() > PARALLEL_SIN) {
+            return None;
+        }
+    }
+    Some(found)
+}
+
+/// Whether the contact points of the geometric solution are unique (see [`features`]).
+pub(crate) fn contact_is_unique<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> bool {
+    features(pair, sol).is_some()
+}
+
 /// The features' system solved at the geometric solution: the features, their evaluation, the
 /// unknowns and the factorised Jacobian there.
 struct Solved {
@@ -408,23 +435,7 @@ fn solve_features<S: SupportMap>(
     lu: &mut [[Real; DIM]; DIM],
 ) -> Option<Solved> {
     let r = sol.r;
-    let found = [
-        find(&pair.one, 1.0, &sol.normal)?,
-        find(&pair.two, -1.0, &sol.normal)?,
-    ];
-    let dims = found.each_ref().map(|f| match f {
-        Found::Disc(_) => 2,
-        Found::Tied(_, d, _) => *d,
-    });
-    if dims[0] + dims[1] > 2 {
-        return None;
-    }
-    if let (Found::Tied(_, 1, e0), Found::Tied(_, 1, e1)) = (&found[0], &found[1]) {
-        if !(e0.cross(e1).norm() > PARALLEL_SIN) {
-            return None;
-        }
-    }
-    let [f0, f1] = found;
+    let [f0, f1] = features(pair, sol)?;
     let body = |posed: &Posed<'_, S>, p: &Vec3| posed.rot.tr_mul(p) / posed.inv_scale;
     let mut feats = [
         feature(f0, &body(&pair.one, &sol.a))?,

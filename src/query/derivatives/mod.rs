@@ -190,15 +190,10 @@ pub(crate) fn compute<const N: usize>(
     let refined = &refined.0;
     let lag = gradient::lagrangian(problem, &outcome.z, refined, &ranges, frame.delta, t);
     full.gradient = gradient::gradient(&lag, &axes, ell);
-    full.prox.derivatives = if polished || refined.is_some() {
-        DerivativeKind::Exact
-    } else {
-        DerivativeKind::Smoothed
-    };
     let gradient::Lagrangian { e, v, er, vr } = lag;
-    if want < Want::Jacobian && !central {
-        return;
-    }
+    // The kind of the derivatives is the Jacobian's: exact where the active set pins x*, so the
+    // Jacobian is formed for a gradient query too (then cleared), to tell.
+    let gradient = full.gradient;
     // The generators as matrices, for the Jacobian (written in place: `[_; 2].map` would copy
     // the 576-byte result several times).
     let skew = |o: &Vec3| Mat3::new(0.0, -o.z, o.y, o.z, 0.0, -o.x, -o.y, o.x, 0.0);
@@ -252,10 +247,16 @@ pub(crate) fn compute<const N: usize>(
         None => false,
     };
     if !exact || !consistent(&full.jacobian, &full.gradient, ell) {
-        smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
+        if want == Want::Jacobian {
+            smoothed_jacobian(problem, &ranges, &gens, &e, &v, t, ell, full);
+        }
         full.prox.derivatives = DerivativeKind::Smoothed;
     } else {
         full.prox.derivatives = DerivativeKind::Exact;
+    }
+    if want < Want::Jacobian {
+        full.jacobian = [[0.0; 14]; 4];
+        full.gradient = gradient;
     }
 }
 
