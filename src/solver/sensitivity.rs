@@ -112,16 +112,25 @@ struct Tied {
     count: usize,
 }
 
-/// A shape's tied pieces at `n` (or its disc), the affine dimension of their support points, and
-/// the direction of a segment (world) when that dimension is one. (One per shape, on the
-/// stack: boxing the large variant would allocate on the hot path.)
-#[allow(clippy::large_enum_variant)]
-enum Found {
-    Disc(Feature),
-    Tied(Tied, usize, Vec3),
+impl Tied {
+    const EMPTY: Tied = Tied {
+        ids: [0; MAX_TIED],
+        pts: [Vec3::new(0.0, 0.0, 0.0); MAX_TIED],
+        count: 0,
+    };
 }
 
-fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3) -> Option<Found> {
+/// A shape's disc facing `n`, or the affine dimension of its tied pieces' support points (held
+/// in a [`Tied`] beside it) and the direction of their segment (world) when that dimension is
+/// one.
+enum Found {
+    Disc(Feature),
+    Tied(usize, Vec3),
+}
+
+/// The feature of one shape at the world normal `n` (`sign`: how its support map sees `n`); its
+/// tied pieces go to `t`.
+fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3, t: &mut Tied) -> Option<Found> {
     let m = posed.rot.tr_mul(n) * sign;
     let unit = 1.0 / posed.inv_scale;
     if let Some((centre, radius)) = posed.shape.disc(&m, DISC_COS) {
@@ -135,11 +144,7 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3) -> Option<Fou
     let (p, _) = posed.shape.support(&m);
     let h = p.dot(&m);
     let tol = TIE_TOL * unit * m.norm();
-    let mut t = Tied {
-        ids: [0; MAX_TIED],
-        pts: [Vec3::zeros(); MAX_TIED],
-        count: 0,
-    };
+    t.count = 0;
     for id in 0..posed.shape.piece_count() {
         let e = posed.shape.piece(id, &m)?;
         if e.value >= h - tol {
@@ -164,7 +169,7 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3) -> Option<Fou
     })?;
     let span = t.pts[far] - p0;
     if !(span.norm() > tol) {
-        return Some(Found::Tied(t, 0, Vec3::zeros()));
+        return Some(Found::Tied(0, Vec3::zeros()));
     }
     let e = span.normalize();
     let off = (0..t.count).fold(0.0, |m: Real, i| {
@@ -172,11 +177,11 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3) -> Option<Fou
         m.max((v - e * v.dot(&e)).norm())
     });
     let dim = if off > tol { 2 } else { 1 };
-    Some(Found::Tied(t, dim, posed.rot * e))
+    Some(Found::Tied(dim, posed.rot * e))
 }
 
 /// The feature of a shape from its tied pieces and its contact point `q` (body, shape units).
-fn feature(found: Found, q: &Vec3) -> Option<Feature> {
+fn feature(found: Found, t: &Tied, q: &Vec3) -> Option<Feature> {
     let mut ids = [0; MAX_SIDE];
     let mut lam = [0.0; MAX_SIDE];
     match found {
@@ -186,12 +191,12 @@ fn feature(found: Found, q: &Vec3) -> Option<Feature> {
             s: [q.y - centre.y, q.z - centre.z],
         }),
         Found::Disc(f) => Some(f),
-        Found::Tied(t, 0, _) => {
+        Found::Tied(0, _) => {
             ids[0] = t.ids[0];
             lam[0] = 1.0;
             Some(Feature::Pieces { ids, lam, count: 1 })
         }
-        Found::Tied(t, 1, _) => {
+        Found::Tied(1, _) => {
             // The segment's two ends, and where q lies between them.
             let p0 = t.pts[0];
             let far = (0..t.count).max_by(|&i, &j| {
@@ -211,7 +216,7 @@ fn feature(found: Found, q: &Vec3) -> Option<Feature> {
             lam[1] = u;
             Some(Feature::Pieces { ids, lam, count: 2 })
         }
-        Found::Tied(t, _, _) => {
+        Found::Tied(_, _) => {
             // The triangle of tied points whose barycentric coordinates of q are the most
             // balanced (q inside it: all of them non-negative).
             let mut best = (Real::NEG_INFINITY, [0usize; 3], [0.0; 3]);
@@ -392,19 +397,24 @@ fn store(feature: &mut Feature, z: &[Real], col: usize) {
 
 /// Both shapes' tied pieces (or discs) at the solution's normal, when their affine dimensions
 /// leave x* unique: they add up to at most two, and two segments are not parallel.
-fn features<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Option<[Found; 2]> {
+fn features<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    sol: &Solution,
+    tied: &mut [Tied; 2],
+) -> Option<[Found; 2]> {
+    let [t0, t1] = tied;
     let found = [
-        find(&pair.one, 1.0, &sol.normal)?,
-        find(&pair.two, -1.0, &sol.normal)?,
+        find(&pair.one, 1.0, &sol.normal, t0)?,
+        find(&pair.two, -1.0, &sol.normal, t1)?,
     ];
     let dims = found.each_ref().map(|f| match f {
         Found::Disc(_) => 2,
-        Found::Tied(_, d, _) => *d,
+        Found::Tied(d, _) => *d,
     });
     if dims[0] + dims[1] > 2 {
         return None;
     }
-    if let (Found::Tied(_, 1, e0), Found::Tied(_, 1, e1)) = (&found[0], &found[1]) {
+    if let (Found::Tied(1, e0), Found::Tied(1, e1)) = (&found[0], &found[1]) {
         if !(e0.cross(e1).norm() > PARALLEL_SIN) {
             return None;
         }
@@ -414,7 +424,8 @@ fn features<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Option<[Found;
 
 /// Whether the contact points of the geometric solution are unique (see [`features`]).
 pub(crate) fn contact_is_unique<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> bool {
-    features(pair, sol).is_some()
+    let mut tied = [Tied::EMPTY, Tied::EMPTY];
+    features(pair, sol, &mut tied).is_some()
 }
 
 /// The features' system solved at the geometric solution: the features, their evaluation, the
@@ -435,11 +446,12 @@ fn solve_features<S: SupportMap>(
     lu: &mut [[Real; DIM]; DIM],
 ) -> Option<Solved> {
     let r = sol.r;
-    let [f0, f1] = features(pair, sol)?;
+    let mut tied = [Tied::EMPTY, Tied::EMPTY];
+    let [f0, f1] = features(pair, sol, &mut tied)?;
     let body = |posed: &Posed<'_, S>, p: &Vec3| posed.rot.tr_mul(p) / posed.inv_scale;
     let mut feats = [
-        feature(f0, &body(&pair.one, &sol.a))?,
-        feature(f1, &body(&pair.two, &sol.b))?,
+        feature(f0, &tied[0], &body(&pair.one, &sol.a))?,
+        feature(f1, &tied[1], &body(&pair.two, &sol.b))?,
     ];
     let cols = [4, 4 + feats[0].unknowns()];
     let dim = cols[1] + feats[1].unknowns();
