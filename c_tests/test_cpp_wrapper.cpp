@@ -178,27 +178,27 @@ void test_derivatives() {
     }
   }
 
-  // On general shapes, with the interior-point method (dcol::derivatives and dcol::jacobian
-  // always use it): the gradient and Jacobian are those of dcol::gradient and dcol::jacobian,
-  // bit for bit, and the proximity that of dcol::proximity. By default dcol::proximity and
-  // dcol::gradient run the geometric solvers: the same alpha and gradient to their accuracy.
+  // On general shapes: dcol::derivatives, dcol::jacobian, dcol::gradient and dcol::proximity
+  // share one solve by default (the geometric solvers): the same proximity, gradient and
+  // Jacobian, bit for bit. The interior-point method agrees to the solvers' accuracy.
   const dcol::Shape box = dcol::Shape::box(0.4, 0.3, 0.2), cap = dcol::Shape::capsule(0.2, 0.8);
   const dcol_pose pb = dcol::pose({0.1, 0, 0}, {{0.9, 0.1, 0.3, -0.2}});
   const dcol_pose pc = dcol::pose({1.3, 0.4, -0.2}, {{0.8, -0.2, 0.1, 0.4}});
   dcol_options ipm = dcol_options_default();
   ipm.method = DCOL_METHOD_INTERIOR_POINT;
   const dcol_derivatives_result E = dcol::derivatives(box, pb, cap, pc);
-  const dcol::Gradient g = dcol::gradient(box, pb, cap, pc, &ipm);
+  const dcol::Gradient g = dcol::gradient(box, pb, cap, pc);
   const dcol::Jacobian J = dcol::jacobian(box, pb, cap, pc);
-  CHECK(same_result(E.proximity, dcol::proximity(box, pb, cap, pc, &ipm)));
+  CHECK(same_result(E.proximity, dcol::proximity(box, pb, cap, pc)));
   CHECK(same_result(E.proximity, g.result));
   CHECK(same_bits(E.gradient, g.gradient.data(), 14));
   CHECK(same_bits(&E.jacobian[0][0], J.jacobian.data(), 56));
-  const dcol::Gradient geo = dcol::gradient(box, pb, cap, pc);
-  CHECK(geo.result.solver != DCOL_SOLVER_INTERIOR_POINT);
-  CHECK(std::fabs(geo.result.alpha - E.proximity.alpha) <= 1e-10 * std::fmax(1.0, geo.result.alpha));
+  CHECK(E.proximity.solver != DCOL_SOLVER_INTERIOR_POINT);
+  CHECK(E.proximity.derivatives == DCOL_DERIVATIVES_EXACT);
+  const dcol::Gradient gi = dcol::gradient(box, pb, cap, pc, &ipm);
+  CHECK(std::fabs(gi.result.alpha - E.proximity.alpha) <= 1e-10 * std::fmax(1.0, gi.result.alpha));
   for (int k = 0; k < 14; ++k)
-    CHECK(std::fabs(geo.gradient[k] - E.gradient[k]) <= 1e-6 * std::fmax(1.0, std::fabs(E.gradient[k])));
+    CHECK(std::fabs(gi.gradient[k] - E.gradient[k]) <= 1e-6 * std::fmax(1.0, std::fabs(E.gradient[k])));
 
   dcol_pose bad = pc;
   bad.position[2] = kNaN;

@@ -375,25 +375,27 @@ static void test_derivatives(void) {
     q2.position[0] += 2.0;
     CHECK_MSG(dcol_derivatives(s1, &q1, s2, &q2, NULL, &D) == DCOL_OK, "%s",
               dcol_last_error_message());
-    /* dcol_derivatives and dcol_jacobian are one interior-point solve: the same proximity,
-       gradient and Jacobian, bit for bit. dcol_proximity and dcol_gradient run the geometric
-       solvers by default: the same alpha and gradient to the solvers' accuracy, and bit for bit
-       with the interior-point method. */
+    /* By default dcol_derivatives, dcol_jacobian, dcol_gradient and dcol_proximity share one
+       solve (the geometric solvers; the interior-point method where they fall back): the same
+       proximity and gradient, bit for bit. The interior-point method agrees to the solvers'
+       accuracy. */
     {
       dcol_options ipm = dcol_options_default();
       double gi[14];
       int k;
       ipm.method = DCOL_METHOD_INTERIOR_POINT;
-      CHECK(dcol_proximity(s1, &q1, s2, &q2, &ipm, &r) == DCOL_OK);
+      CHECK(dcol_proximity(s1, &q1, s2, &q2, NULL, &r) == DCOL_OK);
       CHECK_MSG(same_result(&D.proximity, &r), "kind %d: proximity differs", i);
-      CHECK(dcol_gradient(s1, &q1, s2, &q2, &ipm, &r, gi) == DCOL_OK);
-      CHECK_MSG(same_doubles(D.gradient, gi, 14), "kind %d: gradient differs", i);
       CHECK(dcol_gradient(s1, &q1, s2, &q2, NULL, &r, g) == DCOL_OK);
+      CHECK_MSG(same_doubles(D.gradient, g, 14), "kind %d: gradient differs", i);
+      CHECK(D.proximity.derivatives == DCOL_DERIVATIVES_EXACT);
+      CHECK(dcol_gradient(s1, &q1, s2, &q2, &ipm, &r, gi) == DCOL_OK);
       CHECK_MSG(near(r.alpha, D.proximity.alpha, 1e-10 * fmax(1.0, r.alpha)),
-                "kind %d: geometric alpha %.17g vs %.17g", i, r.alpha, D.proximity.alpha);
+                "kind %d: interior-point alpha %.17g vs %.17g", i, r.alpha, D.proximity.alpha);
       for (k = 0; k < 14; k++)
-        CHECK_MSG(near(g[k], D.gradient[k], 1e-6 * fmax(1.0, fabs(D.gradient[k]))),
-                  "kind %d: geometric gradient[%d] %.17g vs %.17g", i, k, g[k], D.gradient[k]);
+        CHECK_MSG(near(gi[k], D.gradient[k], 1e-6 * fmax(1.0, fabs(D.gradient[k]))),
+                  "kind %d: interior-point gradient[%d] %.17g vs %.17g", i, k, gi[k],
+                  D.gradient[k]);
     }
     CHECK(dcol_jacobian(s1, &q1, s2, &q2, NULL, &r, J) == DCOL_OK);
     CHECK_MSG(same_doubles(&D.jacobian[0][0], J, 56), "kind %d: Jacobian differs", i);
@@ -1054,6 +1056,46 @@ static void test_scene_errors(void) {
   dcol_scene_free(scene);
 }
 
+/* The kind of derivatives in the result, and the smoothing option: the central-path point at a
+ * barrier parameter, above the exact alpha* by at most nu * mu relative. */
+static void test_smoothing(void) {
+  dcol_shape *big = NULL, *small = NULL, *ball = NULL;
+  dcol_pose p1 = pose_at(0.0, 0.0, 0.0);
+  dcol_pose face = pose_at(2.0, 0.3, 0.1); /* face against face: x* not unique */
+  dcol_pose round = pose_at(3.0, 0.2, 0.1);
+  dcol_options o = dcol_options_default();
+  dcol_proximity_result r, rs;
+  double g[14], j[56];
+  dcol_status st;
+  CHECK(o.smoothing == 0.0);
+  CHECK(dcol_shape_new_box(1.0, 1.0, 1.0, &big) == DCOL_OK);
+  CHECK(dcol_shape_new_box(0.5, 0.5, 0.5, &small) == DCOL_OK);
+  CHECK(dcol_shape_new_sphere(0.5, &ball) == DCOL_OK);
+  CHECK(dcol_proximity(big, &p1, ball, &round, &o, &r) == DCOL_OK);
+  CHECK(r.derivatives == DCOL_DERIVATIVES_NONE);
+  CHECK(dcol_jacobian(big, &p1, ball, &round, &o, &r, j) == DCOL_OK);
+  CHECK(r.derivatives == DCOL_DERIVATIVES_EXACT);
+  CHECK(dcol_jacobian(big, &p1, small, &face, &o, &r, j) == DCOL_OK);
+  CHECK(r.derivatives == DCOL_DERIVATIVES_SMOOTHED);
+  CHECK(fabs(r.alpha - 4.0 / 3.0) < 1e-9);
+  CHECK(dcol_gradient(big, &p1, ball, &p1, &o, &r, g) == DCOL_OK);
+  CHECK(r.derivatives == DCOL_DERIVATIVES_SUBGRADIENT);
+  o.smoothing = 1e-3;
+  CHECK(dcol_gradient(big, &p1, small, &face, &o, &rs, g) == DCOL_OK);
+  CHECK(rs.derivatives == DCOL_DERIVATIVES_SMOOTHED);
+  CHECK(rs.solver == DCOL_SOLVER_INTERIOR_POINT);
+  /* Two boxes: 12 orthant rows. */
+  CHECK_MSG(rs.alpha > 4.0 / 3.0 && rs.alpha <= 4.0 / 3.0 * (1.0 + 12.0 * 1e-3), "%.17g", rs.alpha);
+  CHECK(fabs(g[7] - 2.0 / 3.0) < 1e-2);
+  o.smoothing = -1.0;
+  st = dcol_proximity(big, &p1, small, &face, &o, &rs);
+  CHECK_MSG(st == DCOL_ERROR_INVALID_OPTIONS, "status %d", (int)st);
+  CHECK(contains(dcol_last_error_message(), "smoothing"));
+  dcol_shape_free(big);
+  dcol_shape_free(small);
+  dcol_shape_free(ball);
+}
+
 int main(void) {
   test_alpha_below_values();
   test_alpha_below_errors();
@@ -1063,5 +1105,6 @@ int main(void) {
   test_batch();
   test_scene_values();
   test_scene_errors();
+  test_smoothing();
   return check_summary("test_extensions");
 }

@@ -196,7 +196,7 @@ class TrajNlp : public Ipopt::TNLP {
 };
 
 /// Solves the transcription with Ipopt (limited-memory Hessian) from the straight-line guess.
-inline TrajResult solve_trajectory(const TrajSpec &spec, int max_iter = 1000) {
+inline TrajResult solve_trajectory(const TrajSpec &spec, int max_iter = 3000) {
   TrajResult res;
   Ipopt::SmartPtr<TrajNlp> nlp = new TrajNlp(spec);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> ipopt = IpoptApplicationFactory();
