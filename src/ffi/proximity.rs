@@ -205,6 +205,9 @@ pub unsafe extern "C" fn dcol_proximity(
 
 /// The gradient of alpha* with respect to (r1, q1, r2, q2): 14 numbers, in that order, the
 /// quaternion columns with respect to the four numbers given (through the normalisation).
+/// result->derivatives says its kind: exact where the contact points are unique (from the
+/// geometric solution by default), the interior-point method's smoothed one flat against flat,
+/// or the central path's with dcol_options.smoothing.
 ///
 /// `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
 /// DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes that iterate's
@@ -244,7 +247,11 @@ pub unsafe extern "C" fn dcol_gradient(
 }
 
 /// The Jacobian of (x*, alpha*) with respect to (r1, q1, r2, q2): 4 x 14, row-major (56
-/// doubles), rows (x1, x2, x3, alpha), columns as in dcol_gradient.
+/// doubles), rows (x1, x2, x3, alpha), columns as in dcol_gradient. By default it comes from
+/// the geometric solution's contact features where x* is unique (DCOL_DERIVATIVES_EXACT);
+/// where it is not (flat against flat) the exact Jacobian does not exist and the interior-point
+/// method's barrier-smoothed one is returned (DCOL_DERIVATIVES_SMOOTHED in
+/// result->derivatives).
 ///
 /// `options` may be NULL (defaults). On DCOL_OK fills *result and jacobian[0..56]. On
 /// DCOL_ERROR_NOT_CONVERGED fills *result with the last iterate and writes that iterate's

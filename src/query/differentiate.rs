@@ -8,8 +8,10 @@ use crate::error::Error;
 use crate::math::{Pose, Real};
 use crate::shapes::Shape;
 
-/// ∂α*/∂(r₁, q₁, r₂, q₂): 14 numbers, `q` as given (through the normalisation), from the
-/// Lagrangian at the primal-dual solution. Costs little beyond [`super::proximity()`].
+/// ∂α*/∂(r₁, q₁, r₂, q₂): 14 numbers, `q` as given (through the normalisation). By default
+/// from the geometric solution by the envelope theorem where the contact points are unique
+/// (`Proximity::derivatives` is then `Exact`), else the interior-point path's (`Smoothed`);
+/// with `Options::smoothing`, the central path's. Costs little beyond [`super::proximity()`].
 ///
 /// ```
 /// use dcol::{gradient, Options, Pose, Shape};
@@ -32,8 +34,10 @@ pub fn gradient(
     Ok((f.prox, f.gradient))
 }
 
-/// ∂(x*, α*)/∂(r₁, q₁, r₂, q₂): 4×14, rows (x₁, x₂, x₃, α), by the implicit function theorem
-/// on the KKT conditions, reusing the solver's final scaling and factorisation.
+/// ∂(x*, α*)/∂(r₁, q₁, r₂, q₂): 4×14, rows (x₁, x₂, x₃, α), by the implicit function theorem:
+/// by default on the contact features of the geometric solution where x* is unique, else on
+/// the interior-point solver's KKT conditions (barrier-smoothed where x* is not unique;
+/// `Proximity::derivatives` says which).
 pub fn jacobian(
     shape1: &Shape,
     pose1: &Pose,
