@@ -27,7 +27,7 @@ use super::derivatives::{rotation_generators, row_ranges};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{LpRow, Problem, SolveStatus, Threshold};
+use crate::solver::{LpRow, Method, Problem, SolveStatus, Threshold};
 
 /// The largest distance between the origins, relative to the larger bounding radius, that the
 /// distance program accepts (its squared terms must stay finite).
@@ -48,6 +48,21 @@ pub struct Distance {
     pub iterations: u32,
     /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
     pub status: SolveStatus,
+    /// Which solver answered.
+    pub path: DistancePath,
+}
+
+/// Which solver answered a distance query.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum DistancePath {
+    /// The interior-point distance program (touching, overlapping or uncertified pairs, or
+    /// [`crate::Method::InteriorPoint`]).
+    #[default]
+    InteriorPoint,
+    /// GJK on the support maps closed its certified bracket on its own.
+    Gjk,
+    /// GJK identified the features and the Newton polish on them closed the bracket.
+    GjkPolish,
 }
 
 struct DistanceTask<'q> {
@@ -118,6 +133,7 @@ impl Task for DistanceTask<'_> {
                 normal: Vec3::zeros(),
                 iterations: outcome.iterations,
                 status: SolveStatus::Converged,
+                path: DistancePath::InteriorPoint,
             };
             return (nothing, [0.0; 14], true);
         }
@@ -136,6 +152,7 @@ impl Task for DistanceTask<'_> {
             normal: Vec3::zeros(),
             iterations: outcome.iterations,
             status: outcome.status,
+            path: DistancePath::InteriorPoint,
         };
         let mut grad = [0.0; 14];
         let touching = t <= 10.0 * self.options.tolerance;
@@ -247,6 +264,20 @@ fn distance_query_until(
              program can represent in double precision",
         )));
     }
+    // Separated pairs: GJK with its certificate first (the gap however small, never 0).
+    if options.method == Method::Auto {
+        if let Some((d, g)) = super::separated::separated(
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options.tolerance,
+            ell,
+            gradient,
+        ) {
+            return Ok((d, g, false));
+        }
+    }
     let k1 = shape1.slack_count();
     let k2 = shape2.slack_count();
     let task = DistanceTask {
@@ -305,6 +336,7 @@ fn overlap(w: Vec3, iterations: u32) -> Distance {
         normal: Vec3::zeros(),
         iterations,
         status: SolveStatus::Converged,
+        path: DistancePath::InteriorPoint,
     }
 }
 
