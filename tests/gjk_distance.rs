@@ -255,7 +255,7 @@ fn tiny_gaps_sphere_sphere() {
             );
             assert!(
                 (d.normal - dir).norm() < 1e-9,
-                "gap {g}: normal {:?}",
+                "gap {g}: normal {:?} vs {dir:?}: {d:?}",
                 d.normal
             );
         }
@@ -300,6 +300,31 @@ fn tiny_gaps_box_face() {
             );
             let axis = p1.rotation().column(0).into_owned();
             assert!((d.normal - axis).norm() < 1e-9, "normal {:?}", d.normal);
+        }
+    }
+}
+
+#[test]
+fn debug_case() {
+    let Ok(want) = std::env::var("CASE") else {
+        return;
+    };
+    for set in &reference_sets() {
+        for file in all_files(&set.dir) {
+            for case in load(&file) {
+                if case["id"].as_str().unwrap() != want {
+                    continue;
+                }
+                let (s1, s2) = (shape(&case["shape1"]), shape(&case["shape2"]));
+                let (p1, p2) = (pose(&case["pose1"]), pose(&case["pose2"]));
+                println!("{} {}", case["shape1"], case["shape2"]);
+                let d = distance(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+                println!(
+                    "ref {} {} {}",
+                    case["distance"], case["closest1"], case["closest2"]
+                );
+                println!("got {d:?}");
+            }
         }
     }
 }
