@@ -294,5 +294,8 @@ fn separated_distance_takes_the_gjk_path() {
             }
         }
     }
-    assert!(gjk >= 90, "only {gjk} of 100 separated pairs took the GJK path");
+    assert!(
+        gjk >= 90,
+        "only {gjk} of 100 separated pairs took the GJK path"
+    );
 }
