@@ -1,5 +1,8 @@
-//! Exact Euclidean distance between the unscaled shapes, as its own small cone program solved by
-//! the same interior-point method:
+//! Exact Euclidean distance between the unscaled shapes. Under `Method::Auto` separated pairs
+//! are answered first by GJK on the support maps with a certificate (`super::separated`,
+//! `crate::solver::gjk`); touching, overlapping and uncertified pairs (and every pair under
+//! `Method::InteriorPoint`) by its own small cone program solved by the same interior-point
+//! method:
 //!
 //! `minimise t  over y₁, y₂, t (and the shapes' slacks)  s.t.  ‖y₁ − y₂‖ ≤ t,  yᵢ ∈ Sᵢ(1)`.
 //!

@@ -18,8 +18,9 @@ pub struct Settings {
     /// Iteration limit; reaching it gives [`super::SolveStatus::MaxIterations`].
     pub max_iterations: u32,
     /// Which solvers a query may use (the default: the geometric solvers with the
-    /// interior-point fallback). Derivatives, the exact distance and the scene's early exits
-    /// run the interior-point solver whatever this says.
+    /// interior-point fallback). The exact distance of separated shapes is GJK's under `Auto`
+    /// and the interior-point program's under `InteriorPoint`. The Jacobian and the scene's
+    /// early exits run the interior-point solver whatever this says.
     pub method: crate::solver::Method,
 }
 
