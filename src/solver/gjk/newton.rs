@@ -169,7 +169,8 @@ fn newton<S: SupportMap>(
     lam: &mut [Real],
 ) -> bool {
     let p = act.len();
-    let dim = 4 + p;
+    // One piece per shape: both multipliers are 1 (normalised), and only (n, μ) move.
+    let dim = if p == 2 { 4 } else { 4 + p };
     let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
     let mut rhs = [0.0; MAX_DIM];
     let Some(mut scale) = system(pair, d, act, n, *mu, lam, &mut jac, &mut rhs) else {
@@ -182,7 +183,9 @@ fn newton<S: SupportMap>(
         let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
         let dmu = rhs[3];
         let mut dl = [0.0; 2 * MAX_PIECES];
-        dl[..p].copy_from_slice(&rhs[4..4 + p]);
+        if dim > 4 {
+            dl[..p].copy_from_slice(&rhs[4..4 + p]);
+        }
         let step = dn.norm() + dmu.abs() + dl[..p].iter().fold(0.0, |m: Real, v| m.max(v.abs()));
         if !step.is_finite() {
             return false;
