@@ -218,7 +218,10 @@ pub(crate) fn distance<S: SupportMap>(
     let accept = |c: &Cert| c.closed(tol, floor);
     let mut route = Route::Gjk;
     if !done {
+        let upper = cert.upper;
         extra_normals(pair, &simplex[..k], &v, &mut cert);
+        // Witnesses projected onto a flat face (accurate) that close the bracket: done.
+        let on_face = cert.upper < upper && strict(&cert);
         // The polish's own bracket, taken whole when it closes (its normal and witnesses
         // solve the optimality conditions; GJK's are only as good as the root of its width).
         let mut own = Cert {
@@ -229,15 +232,17 @@ pub(crate) fn distance<S: SupportMap>(
             b: Vec3::zeros(),
             d: *d,
         };
-        polish(
-            pair,
-            &simplex[..k],
-            &w[..k],
-            cert.normal,
-            cert.upper,
-            (tol, floor),
-            &mut own,
-        );
+        if !on_face {
+            polish(
+                pair,
+                &simplex[..k],
+                &w[..k],
+                cert.normal,
+                cert.upper,
+                (tol, floor),
+                &mut own,
+            );
+        }
         if accept(&own) {
             cert = own;
             route = Route::Polish;

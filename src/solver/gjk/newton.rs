@@ -21,8 +21,9 @@ use crate::solver::raycast::Pair;
 
 /// Newton steps per active set.
 const MAX_NEWTON: usize = 12;
-/// A full Newton step this small (normalised units) ends the iteration.
-const CONVERGED_STEP: Real = 1e-9;
+/// A full Newton step this small (normalised units) ends the iteration: convergence is
+/// quadratic, so the iterate it leads to is within about its square; the certificate checks.
+const CONVERGED_STEP: Real = 1e-6;
 
 /// Newton on the optimality conditions of `max n·d − h₁(n) − h₂(−n)` over unit `n` with the
 /// pieces active in the simplex, then the certificate at the solution.
@@ -177,7 +178,12 @@ fn newton<S: SupportMap>(
         return false;
     };
     for _ in 0..MAX_NEWTON {
-        if !solve_dense(&mut jac, &mut rhs, dim) {
+        let solved = if dim == 4 {
+            solve4(&jac, &mut rhs)
+        } else {
+            solve_dense(&mut jac, &mut rhs, dim)
+        };
+        if !solved {
             return false;
         }
         let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
@@ -295,4 +301,26 @@ fn system<S: SupportMap>(
         scale += rhs[row].abs();
     }
     scale.is_finite().then_some(scale)
+}
+
+/// [`solve_dense`] for the leading 4×4 block (one piece per shape), by nalgebra's LU with
+/// partial pivoting on the stack; false when the solution is not finite or a pivot is
+/// negligible against the largest entry.
+fn solve4(jac: &[[Real; MAX_DIM]; MAX_DIM], rhs: &mut [Real; MAX_DIM]) -> bool {
+    let a = nalgebra::Matrix4::from_fn(|i, j| jac[i][j]);
+    let b = nalgebra::Vector4::new(rhs[0], rhs[1], rhs[2], rhs[3]);
+    let amax = a.amax();
+    let lu = a.lu();
+    let u = lu.u();
+    if !(0..4).all(|i| u[(i, i)].abs() > 1e-13 * amax) {
+        return false;
+    }
+    let Some(x) = lu.solve(&b) else {
+        return false;
+    };
+    if !x.iter().all(|v| v.is_finite()) {
+        return false;
+    }
+    rhs[..4].copy_from_slice(x.as_slice());
+    true
 }
