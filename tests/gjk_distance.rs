@@ -328,3 +328,87 @@ fn debug_case() {
         }
     }
 }
+
+/// A sphere over a box face (GJK, then the face projection or the polish): gap
+/// `x − h − ρ` in the box's axes.
+#[test]
+fn tiny_gaps_sphere_box_face() {
+    let (h, rho) = ([0.5, 0.8, 0.3], 0.45);
+    let bx = Shape::cuboid(h[0], h[1], h[2]).unwrap();
+    let ball = Shape::sphere(rho).unwrap();
+    let ell = bx.bounding_radius().max(rho);
+    let mut rng = Rng(11);
+    for g in GAPS {
+        for k in 0..20 {
+            let p1 = Pose::new([0.1, 0.2, 0.3], rng.quaternion()).unwrap();
+            let local = Vec3::new(
+                h[0] + rho + g * ell,
+                rng.uniform(-0.5, 0.5),
+                rng.uniform(-0.2, 0.2),
+            );
+            let p2 = Pose::new(
+                (p1.position() + p1.rotation() * local).into(),
+                rng.quaternion(),
+            )
+            .unwrap();
+            let along = p1.rotation().tr_mul(&(p2.position() - p1.position()));
+            let exact = along.x - h[0] - rho;
+            let (a, pa, b, pb) = if k % 2 == 0 {
+                (&bx, &p1, &ball, &p2)
+            } else {
+                (&ball, &p2, &bx, &p1)
+            };
+            let d = distance(a, pa, b, pb, &Options::default()).unwrap();
+            assert!(d.distance > 0.0, "gap {g}: {d:?}");
+            assert!(
+                (d.distance - exact).abs() <= 4e-15 * ell + 1e-3 * exact,
+                "gap {g}ℓ: {} vs {exact} ({:?})",
+                d.distance,
+                d.path
+            );
+        }
+    }
+}
+
+/// A sphere beside a cylinder's side (the polish on the two rims and the ball): gap
+/// `‖(y, z)‖ − R − ρ` in the cylinder's axes.
+#[test]
+fn tiny_gaps_sphere_cylinder_side() {
+    let (radius, length, rho) = (0.4, 1.0, 0.3);
+    let cyl = Shape::cylinder(radius, length).unwrap();
+    let ball = Shape::sphere(rho).unwrap();
+    let ell = cyl.bounding_radius().max(rho);
+    let mut rng = Rng(13);
+    let mut polished = 0;
+    for g in GAPS {
+        for _ in 0..20 {
+            let p1 = Pose::new([0.1, 0.2, 0.3], rng.quaternion()).unwrap();
+            let phi = rng.uniform(0.0, std::f64::consts::TAU);
+            let radial = radius + rho + g * ell;
+            let local = Vec3::new(
+                rng.uniform(-0.3, 0.3),
+                radial * phi.cos(),
+                radial * phi.sin(),
+            );
+            let p2 = Pose::new(
+                (p1.position() + p1.rotation() * local).into(),
+                rng.quaternion(),
+            )
+            .unwrap();
+            let along = p1.rotation().tr_mul(&(p2.position() - p1.position()));
+            let exact = along.y.hypot(along.z) - radius - rho;
+            let d = distance(&cyl, &p1, &ball, &p2, &Options::default()).unwrap();
+            if d.path == DistancePath::GjkPolish {
+                polished += 1;
+            }
+            assert!(d.distance > 0.0, "gap {g}: {d:?}");
+            assert!(
+                (d.distance - exact).abs() <= 4e-15 * ell + 1e-3 * exact,
+                "gap {g}ℓ: {} vs {exact} ({:?})",
+                d.distance,
+                d.path
+            );
+        }
+    }
+    assert!(polished > 0);
+}

@@ -66,6 +66,8 @@ pub enum DistancePath {
     Gjk,
     /// GJK identified the features and the Newton polish on them closed the bracket.
     GjkPolish,
+    /// The closest points of two segments (sphere and capsule pairs), certified as GJK's.
+    ClosedForm,
 }
 
 struct DistanceTask<'q> {

@@ -10,9 +10,10 @@
 //! Lagrangian form at its optimum). A sphere's columns are exactly zero.
 
 use super::distance::{Distance, DistancePath};
-use crate::math::{rotation_derivatives, Pose, Real};
+use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
-use crate::solver::gjk::{self, GjkEnd, Route};
+use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
+use crate::solver::gjk::{self, GjkEnd, Route, Separation};
 use crate::solver::raycast::{Pair, Posed};
 use crate::solver::SolveStatus;
 
@@ -54,8 +55,12 @@ pub(crate) fn separated(
         .iter()
         .all(|s| s.kind() == ShapeKind::Polytope);
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
-    let GjkEnd::Separated(s) = gjk::distance(&pair, &d, tol, BUDGET, polyhedral) else {
-        return None;
+    let s = match closed_form(&pair, &d, tol) {
+        Some(s) => s,
+        None => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral) {
+            GjkEnd::Separated(s) => s,
+            _ => return None,
+        },
     };
     let dist = s.distance * ell;
     let closest1 = r1 + s.a * ell;
@@ -100,7 +105,31 @@ pub(crate) fn separated(
         path: match s.route {
             Route::Gjk => DistancePath::Gjk,
             Route::Polish => DistancePath::GjkPolish,
+            Route::ClosedForm => DistancePath::ClosedForm,
         },
     };
     Some((result, grad))
+}
+
+/// Sphere and capsule pairs: the closest points of their segments, certified.
+fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
+    let seg = |posed: &Posed<'_, Shape>| {
+        let (half, radius) = posed.shape.rounded_segment()?;
+        Some(RoundedSegment {
+            axis: posed.rot.column(0).into_owned(),
+            half: half * posed.inv_scale,
+            radius: radius * posed.inv_scale,
+        })
+    };
+    let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
+    let (x1, x2) = closest_segment_points(&one, d, &two);
+    let diff = x2 - x1;
+    let len = diff.norm();
+    if !(len > one.radius + two.radius) {
+        return None;
+    }
+    let n = diff / len;
+    let a = x1 + n * one.radius;
+    let b = x2 - d - n * two.radius;
+    gjk::certify_candidate(pair, d, tol, &n, a, b)
 }

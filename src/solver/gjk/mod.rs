@@ -49,6 +49,8 @@ pub(crate) enum Route {
     Gjk,
     /// The Newton polish on the features GJK identified.
     Polish,
+    /// A closed form (sphere and capsule pairs), certified the same way.
+    ClosedForm,
 }
 
 /// A certified distance, normalised units.
@@ -272,6 +274,37 @@ pub(crate) fn distance<S: SupportMap>(
         return GjkEnd::Overlap;
     }
     GjkEnd::Uncertified
+}
+
+/// The certificate of a candidate answer found elsewhere (a closed form): the lower bound at
+/// `n`, the upper bound from `a ∈ K₁`, `b ∈ K₂` (relative to their origins); the answer when
+/// the bracket closes to `tol` (as in [`distance`]).
+pub(crate) fn certify_candidate<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    d: &Vec3,
+    tol: Real,
+    n: &Vec3,
+    a: Vec3,
+    b: Vec3,
+) -> Option<Separation> {
+    let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
+    let mut cert = Cert {
+        lower: Real::NEG_INFINITY,
+        normal: Vec3::zeros(),
+        upper: Real::INFINITY,
+        a: Vec3::zeros(),
+        b: Vec3::zeros(),
+        d: *d,
+    };
+    cert.try_normal(pair, n)?;
+    cert.try_points(a, b);
+    cert.closed(tol.max(floor), floor).then_some(Separation {
+        distance: cert.upper,
+        normal: cert.normal,
+        a: cert.a,
+        b: cert.b,
+        route: Route::ClosedForm,
+    })
 }
 
 /// `Σ wᵢ cᵢ` and the witnesses `Σ wᵢ aᵢ`, `Σ wᵢ bᵢ`.
