@@ -498,7 +498,6 @@ fn random_poses(rng: &mut Rng2, scale: f64, len: f64) -> (dcol::Pose, dcol::Pose
     )
 }
 
-
 /// Random pairs over the 64 ordered pairs of the eight kinds (the box included), sizes and
 /// offsets spanning 1e-3..1e3, from deep overlap to well apart (`DCOL_RANDOM_PAIRS`, default
 /// 20 000): the default distance agrees with the interior-point distance to 1e-8·ℓ wherever
@@ -551,5 +550,75 @@ fn random_pairs_across_scales_match_interior_point() {
         bad.len()
     );
     assert!(bad.is_empty(), "{:#?}", &bad[..bad.len().min(20)]);
-    assert!(fell_back * 100 <= separated, "{fell_back} of {separated} fell back");
+    assert!(
+        fell_back * 100 <= separated,
+        "{fell_back} of {separated} fell back"
+    );
+}
+
+/// Near contact: the offset scaled so that α* = 1 ± 10^U(−10, −6) (proximity, certified):
+/// separated pairs must report a positive distance, overlapping ones 0 (`DCOL_NEAR_PAIRS`,
+/// default 20 000).
+#[test]
+fn near_contact_sign_is_right() {
+    let n = std::env::var("DCOL_NEAR_PAIRS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20_000);
+    let mut rng = Rng2(0x0000_00AE_A12C);
+    let mut bad = Vec::new();
+    let (mut sep, mut sep_gjk, mut checked) = (0, 0, 0);
+    for i in 0..n {
+        let scale = rng.log(-3.0, 3.0);
+        let (s1, s2) = random_shapes(&mut rng, i, scale);
+        let reach = s1.bounding_radius() + s2.bounding_radius();
+        let (p1, p0) = random_poses(&mut rng, scale, reach);
+        let a0 = dcol::proximity(&s1, &p1, &s2, &p0, &Options::default()).unwrap();
+        if !(a0.status.is_converged() && a0.alpha > 0.0) {
+            continue;
+        }
+        let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+        let target = 1.0 + sign * rng.log(-10.0, -6.0);
+        let off = (p0.position() - p1.position()) * (target / a0.alpha);
+        let p2 = Pose::new((p1.position() + off).into(), p0.quaternion()).unwrap();
+        let a = dcol::proximity(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        // Only poses whose side of 1 is certain well beyond the solver's tolerance.
+        if !(a.status.is_converged() && (a.alpha - 1.0).abs() > 1e-11) {
+            continue;
+        }
+        checked += 1;
+        let d = distance(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        if a.alpha > 1.0 {
+            sep += 1;
+            if d.path != DistancePath::InteriorPoint {
+                sep_gjk += 1;
+            }
+            if !(d.distance > 0.0) {
+                bad.push(format!(
+                    "#{i} {:?}-{:?}: α* − 1 = {:e} but distance {} ({:?})",
+                    s1.kind(),
+                    s2.kind(),
+                    a.alpha - 1.0,
+                    d.distance,
+                    d.path
+                ));
+            }
+        } else if d.distance != 0.0 {
+            bad.push(format!(
+                "#{i} {:?}-{:?}: α* − 1 = {:e} but distance {} ({:?})",
+                s1.kind(),
+                s2.kind(),
+                a.alpha - 1.0,
+                d.distance,
+                d.path
+            ));
+        }
+    }
+    println!(
+        "{checked} near-contact pairs: {sep} separated ({sep_gjk} answered by GJK/closed form), \
+         {} wrong",
+        bad.len()
+    );
+    assert!(bad.is_empty(), "{:#?}", &bad[..bad.len().min(20)]);
+    assert!(checked > n / 2);
 }

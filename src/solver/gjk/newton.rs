@@ -24,6 +24,8 @@ const MAX_NEWTON: usize = 12;
 /// A full Newton step this small (normalised units) ends the iteration: convergence is
 /// quadratic, so the iterate it leads to is within about its square; the certificate checks.
 const CONVERGED_STEP: Real = 1e-6;
+/// The step at which a second run ends, when the first one's certificate did not close.
+const FINAL_STEP: Real = 1e-13;
 
 /// Newton on the optimality conditions of `max n·d − h₁(n) − h₂(−n)` over unit `n` with the
 /// pieces active in the simplex, then the certificate at the solution.
@@ -59,7 +61,16 @@ pub(super) fn polish<S: SupportMap>(
         l[..act.len()].copy_from_slice(lam);
         normalise_multipliers(act, &mut l[..act.len()]);
         let (mut n, mut mu) = (n0, mu0);
-        if !newton(pair, &cert.d, act, &mut n, &mut mu, &mut l[..act.len()]) {
+        let na = act.len();
+        if !newton(
+            pair,
+            &cert.d,
+            act,
+            &mut n,
+            &mut mu,
+            &mut l[..na],
+            CONVERGED_STEP,
+        ) {
             return None;
         }
         let (kmin, lmin) = (0..act.len()).fold((0, Real::INFINITY), |acc, k| {
@@ -70,7 +81,23 @@ pub(super) fn polish<S: SupportMap>(
             }
         });
         if lmin >= -1e-12 {
-            certify(pair, act, &n, &l[..act.len()], cert);
+            certify(pair, act, &n, &l[..na], cert);
+            // Where the pieces curve sharply (a rim seen almost along its axis) the iterate
+            // after a step of CONVERGED_STEP may still be short of the tolerance: go on to
+            // rounding.
+            if !cert.closed(tol, floor)
+                && newton(
+                    pair,
+                    &cert.d,
+                    act,
+                    &mut n,
+                    &mut mu,
+                    &mut l[..na],
+                    FINAL_STEP,
+                )
+            {
+                certify(pair, act, &n, &l[..na], cert);
+            }
         }
         Some((kmin, lmin))
     };
@@ -168,6 +195,7 @@ fn newton<S: SupportMap>(
     n: &mut Vec3,
     mu: &mut Real,
     lam: &mut [Real],
+    converged: Real,
 ) -> bool {
     let p = act.len();
     // One piece per shape: both multipliers are 1 (normalised), and only (n, μ) move.
@@ -206,7 +234,7 @@ fn newton<S: SupportMap>(
             }
             let st = system(pair, d, act, &nt, mt, &lt[..p], &mut jac, &mut rhs);
             if let Some(st) = st {
-                if st < scale || (t == 1.0 && step <= CONVERGED_STEP) {
+                if st < scale || (t == 1.0 && step <= converged) {
                     *n = nt;
                     *mu = mt;
                     lam.copy_from_slice(&lt[..p]);
@@ -222,7 +250,7 @@ fn newton<S: SupportMap>(
         if !accepted {
             return false;
         }
-        if t == 1.0 && step <= CONVERGED_STEP {
+        if t == 1.0 && step <= converged {
             return true;
         }
     }
