@@ -622,3 +622,39 @@ fn near_contact_sign_is_right() {
     assert!(bad.is_empty(), "{:#?}", &bad[..bad.len().min(20)]);
     assert!(checked > n / 2);
 }
+
+/// `distance_within` agrees with `distance` on both sides of the cutoff (GJK stops early when
+/// its lower bound passes the cutoff).
+#[test]
+fn distance_within_agrees() {
+    let shapes = kinds();
+    let mut rng = Rng(99);
+    for (_, s1) in &shapes {
+        for (_, s2) in &shapes {
+            let reach = s1.bounding_radius() + s2.bounding_radius();
+            for _ in 0..10 {
+                let p1 = Pose::new([0.0; 3], rng.quaternion()).unwrap();
+                let dir = Vec3::new(
+                    rng.uniform(-1.0, 1.0),
+                    rng.uniform(-1.0, 1.0),
+                    rng.uniform(-1.0, 1.0),
+                )
+                .normalize()
+                    * (reach * rng.uniform(0.5, 1.5));
+                let p2 = Pose::new(dir.into(), rng.quaternion()).unwrap();
+                let d = distance(s1, &p1, s2, &p2, &Options::default()).unwrap();
+                for cutoff in [0.5 * d.distance, 2.0 * d.distance + 1e-3] {
+                    let w = dcol::distance_within(s1, &p1, s2, &p2, cutoff, &Options::default())
+                        .unwrap();
+                    match w {
+                        Some(x) => {
+                            assert!(x.distance <= cutoff);
+                            assert!((x.distance - d.distance).abs() <= 1e-12 * reach);
+                        }
+                        None => assert!(d.distance > cutoff, "{} vs {cutoff}", d.distance),
+                    }
+                }
+            }
+        }
+    }
+}

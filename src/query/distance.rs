@@ -271,7 +271,7 @@ fn distance_query_until(
     }
     // Separated pairs: GJK with its certificate first (the gap however small, never 0).
     if options.method == Method::Auto {
-        if let Some((d, g)) = super::separated::separated(
+        let sep = super::separated::separated(
             shape1,
             pose1,
             shape2,
@@ -279,8 +279,10 @@ fn distance_query_until(
             options.tolerance,
             ell,
             gradient,
-        ) {
-            return Ok((d, g, false));
+            cutoff,
+        );
+        if let Some(out) = sep {
+            return Ok(out);
         }
     }
     let k1 = shape1.slack_count();
@@ -383,9 +385,9 @@ pub fn distance_gradient(
 
 /// The distance if it is at most `cutoff`, `None` when it is proven larger ("beyond d_max I only
 /// need to know that"). Decided without a solve when `‖r₂ − r₁‖ − ρ₁ − ρ₂ > cutoff` (bounding
-/// spheres), otherwise the solve stops as soon as a certified lower bound on the distance (the
-/// dual objective corrected by the dual residual) exceeds `cutoff`. `cutoff` must be ≥ 0 and
-/// finite.
+/// spheres), otherwise as soon as a certified lower bound on the distance exceeds `cutoff`
+/// (GJK's slab gap, or the interior-point dual objective corrected by the dual residual).
+/// `cutoff` must be ≥ 0 and finite.
 ///
 /// ```
 /// use dcol::{distance_within, Options, Pose, Shape};

@@ -24,8 +24,10 @@ const BUDGET: u32 = 64;
 const MARGIN: Real = 1e-3;
 const TOL_FLOOR: Real = 1e-14;
 
-/// The distance and gradient by GJK, or `None` when the interior-point path must answer.
-/// `offset = r₂ − r₁` (finite), `ell` the larger bounding radius.
+/// The distance and gradient by GJK, or `None` when the interior-point path must answer;
+/// the flag says the distance was proven above `cutoff` (world units; the distance is then
+/// infinite). `ell` is the larger bounding radius.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn separated(
     shape1: &Shape,
     pose1: &Pose,
@@ -34,7 +36,8 @@ pub(crate) fn separated(
     tolerance: Real,
     ell: Real,
     gradient: bool,
-) -> Option<(Distance, [Real; 14])> {
+    cutoff: Option<Real>,
+) -> Option<(Distance, [Real; 14], bool)> {
     let inv = 1.0 / ell;
     let pair = Pair {
         one: Posed {
@@ -57,8 +60,20 @@ pub(crate) fn separated(
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     let s = match closed_form(&pair, &d, tol) {
         Some(s) => s,
-        None => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral) {
+        None => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff.map(|c| c * inv)) {
             GjkEnd::Separated(s) => s,
+            GjkEnd::Beyond => {
+                let beyond = Distance {
+                    distance: Real::INFINITY,
+                    closest1: Vec3::zeros(),
+                    closest2: Vec3::zeros(),
+                    normal: Vec3::zeros(),
+                    iterations: 0,
+                    status: SolveStatus::Converged,
+                    path: DistancePath::Gjk,
+                };
+                return Some((beyond, [0.0; 14], true));
+            }
             _ => return None,
         },
     };
@@ -108,7 +123,7 @@ pub(crate) fn separated(
             Route::ClosedForm => DistancePath::ClosedForm,
         },
     };
-    Some((result, grad))
+    Some((result, grad, false))
 }
 
 /// Sphere and capsule pairs: the closest points of their segments, certified.

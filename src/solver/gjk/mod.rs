@@ -75,6 +75,8 @@ pub(crate) enum GjkEnd {
     Overlap,
     /// No certificate within the budget.
     Uncertified,
+    /// The lower bound exceeded the cutoff.
+    Beyond,
 }
 
 /// A point of `C` with the support points it came from.
@@ -134,13 +136,14 @@ impl Cert {
 
 /// GJK distance of the pair at offset `d` (normalised), closing the bracket to `tol`
 /// (normalised; widened to the rounding of the bounds at large offsets) within `budget`
-/// iterations.
+/// iterations; [`GjkEnd::Beyond`] as soon as the lower bound exceeds `cutoff`.
 pub(crate) fn distance<S: SupportMap>(
     pair: &Pair<'_, S>,
     d: &Vec3,
     tol: Real,
     budget: u32,
     polyhedral: bool,
+    cutoff: Option<Real>,
 ) -> GjkEnd {
     // Rounding of `n·d − n·w` (|w| ≤ 2 in these units).
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
@@ -182,6 +185,9 @@ pub(crate) fn distance<S: SupportMap>(
         let Some(vtx) = cert.try_normal(pair, &v) else {
             return GjkEnd::Uncertified;
         };
+        if cutoff.is_some_and(|c| cert.lower > c + floor) {
+            return GjkEnd::Beyond;
+        }
         if polyhedral && strict(&cert) {
             done = true;
             break;
