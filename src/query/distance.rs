@@ -25,7 +25,7 @@
 //! `eᵢ = Qᵢuᵢ* = (yᵢ* − rᵢ)/ℓ`.
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
-use super::context::Options;
+use super::context::{Distance, DistancePath, Options};
 use super::derivatives::{rotation_generators, row_ranges};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Mat3, Pose, Real, Vec3};
@@ -35,40 +35,6 @@ use crate::solver::{LpRow, Method, Problem, SolveStatus, Threshold};
 /// The largest distance between the origins, relative to the larger bounding radius, that the
 /// distance program accepts (its squared terms must stay finite).
 pub const MAX_OFFSET_RATIO: Real = 1e100;
-
-/// The result of a distance query.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Distance {
-    /// Exact distance of the unscaled shapes; 0 when they touch or overlap.
-    pub distance: Real,
-    /// Witness point on shape 1 (world).
-    pub closest1: Vec3,
-    /// Witness point on shape 2 (world).
-    pub closest2: Vec3,
-    /// Unit normal from shape 1 to shape 2 (zero when the distance is 0).
-    pub normal: Vec3,
-    /// Interior-point iterations used.
-    pub iterations: u32,
-    /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
-    pub status: SolveStatus,
-    /// Which solver answered.
-    pub path: DistancePath,
-}
-
-/// Which solver answered a distance query.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
-pub enum DistancePath {
-    /// The interior-point distance program (touching, overlapping or uncertified pairs, or
-    /// [`crate::Method::InteriorPoint`]).
-    #[default]
-    InteriorPoint,
-    /// GJK on the support maps closed its certified bracket on its own.
-    Gjk,
-    /// GJK identified the features and the Newton polish on them closed the bracket.
-    GjkPolish,
-    /// The closest points of two segments (sphere and capsule pairs), certified as GJK's.
-    ClosedForm,
-}
 
 struct DistanceTask<'q> {
     shape1: &'q Shape,

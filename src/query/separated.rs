@@ -9,7 +9,7 @@
 //! point of shape i in its body frame (the same expression as the interior-point path's
 //! Lagrangian form at its optimum). A sphere's columns are exactly zero.
 
-use super::distance::{Distance, DistancePath};
+use super::context::{Distance, DistancePath};
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
