@@ -658,3 +658,80 @@ fn distance_within_agrees() {
         }
     }
 }
+
+/// Thin and elongated shapes (aspect ratios up to 1000: flat ellipsoids and boxes, needle
+/// capsules and cylinders, flat cones, thin padded polygons) against the interior-point
+/// distance (`DCOL_THIN_PAIRS`, default 5 000); prints the fallback share.
+#[test]
+fn thin_shapes_match_interior_point() {
+    let n = std::env::var("DCOL_THIN_PAIRS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(5_000);
+    let mut rng = Rng2(0x7417_0001);
+    let thin = |rng: &mut Rng2, k: usize| -> Shape {
+        let t = rng.log(-3.0, -1.0);
+        match k % 6 {
+            0 => Shape::ellipsoid([
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0 / (0.5 * 0.5), 0.0],
+                [0.0, 0.0, 1.0 / (t * t)],
+            ])
+            .unwrap(),
+            1 => Shape::cuboid(1.0, 0.5, t).unwrap(),
+            2 => Shape::capsule(t, 2.0).unwrap(),
+            3 => Shape::cylinder(t, 2.0).unwrap(),
+            4 => Shape::cylinder(1.0, t).unwrap(),
+            _ => Shape::polygon(
+                &[[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]],
+                &[1.0, 0.5, 1.0, 0.5],
+                t,
+            )
+            .unwrap(),
+        }
+    };
+    let (mut separated, mut fell_back) = (0, 0);
+    let mut bad = Vec::new();
+    let mut worst = 0.0f64;
+    for i in 0..n {
+        let s1 = thin(&mut rng, i);
+        let s2 = if i % 2 == 0 {
+            thin(&mut rng, i / 6)
+        } else {
+            random_shape(&mut rng, i % 8, 1.0)
+        };
+        let reach = s1.bounding_radius() + s2.bounding_radius();
+        let len = reach * rng.log(-1.0, 0.3);
+        let (p1, p2) = random_poses(&mut rng, 1.0, len);
+        let ell = s1.bounding_radius().max(s2.bounding_radius());
+        let g = distance(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        let q = distance(&s1, &p1, &s2, &p2, &ipm()).unwrap();
+        if !q.status.is_converged() {
+            continue;
+        }
+        if q.distance > 1e-6 * ell {
+            separated += 1;
+            if g.path == DistancePath::InteriorPoint {
+                fell_back += 1;
+            }
+        }
+        let e = (g.distance - q.distance).abs() / ell;
+        worst = worst.max(e);
+        if e.is_nan() || e > 1e-8 {
+            bad.push(format!(
+                "#{i} {:?}-{:?}: {} vs interior point {} ({e:e} ℓ, {:?})",
+                s1.kind(),
+                s2.kind(),
+                g.distance,
+                q.distance,
+                g.path
+            ));
+        }
+    }
+    println!(
+        "{n} thin pairs: {separated} separated, {fell_back} of them by the fallback, {} \
+         disagree (max {worst:e} ℓ)",
+        bad.len()
+    );
+    assert!(bad.is_empty(), "{:#?}", &bad[..bad.len().min(20)]);
+}
