@@ -33,6 +33,9 @@ use simplex::reduce;
 /// over to the polish: the pieces in contact are identified.
 const HANDOVER: Real = 1e-6;
 const HANDOVER_ABS: Real = 1e-9;
+/// The hand-over of the second round (and a thousandth of [`HANDOVER_ABS`]), after a polish
+/// that failed to certify.
+const HANDOVER_RESCUE: Real = 1e-10;
 /// GJK stops on its own only when the bracket is this narrow relative to the distance (as well
 /// as within the tolerance), so that tiny gaps come out with a few correct digits.
 const REL_STRICT: Real = 1e-3;
@@ -124,6 +127,19 @@ impl Cert {
         }
     }
 
+    /// The better bounds of the two.
+    fn merge(&mut self, other: &Cert) {
+        if other.lower > self.lower {
+            self.lower = other.lower;
+            self.normal = other.normal;
+        }
+        if other.upper < self.upper {
+            self.upper = other.upper;
+            self.a = other.a;
+            self.b = other.b;
+        }
+    }
+
     fn width(&self) -> Real {
         self.upper - self.lower
     }
@@ -176,96 +192,109 @@ pub(crate) fn distance<S: SupportMap>(
     let mut k = 1;
     let mut v = simplex[0].c;
     cert.try_points(first.a, first.b);
-    let mut done = false;
-    for _ in 0..budget {
-        let vv = v.norm_squared();
-        if !(vv > 0.0) {
-            return GjkEnd::Overlap;
-        }
-        let Some(vtx) = cert.try_normal(pair, &v) else {
-            return GjkEnd::Uncertified;
-        };
-        if cutoff.is_some_and(|c| cert.lower > c + floor) {
-            return GjkEnd::Beyond;
-        }
-        if polyhedral && strict(&cert) {
-            done = true;
-            break;
-        }
-        // A curved pair's bracket pins the distance long before it pins the witnesses (an
-        // error e in the distance allows √e in the points): hand over to the polish.
-        if !polyhedral
-            && cert.lower > 0.0
-            && (cert.width() <= HANDOVER * cert.upper || cert.width() <= HANDOVER_ABS)
-        {
-            break;
-        }
-        let c = d - vtx.w;
-        // The new point adds nothing beyond v's plane (to rounding): GJK has stalled.
-        if vv - v.dot(&c) <= 1e-14 * vv {
-            break;
-        }
-        let (old, old_w, old_k) = (simplex, w, k);
-        simplex[k] = Pt { c, v: vtx };
-        k += 1;
-        let Some(nk) = reduce(&mut simplex, &mut w, k) else {
-            return GjkEnd::Overlap;
-        };
-        k = nk;
-        let (nv, a, b) = combine(&simplex[..k], &w[..k]);
-        if !(nv.norm_squared() < vv) {
-            // No progress (rounding): keep the previous simplex.
-            simplex = old;
-            w = old_w;
-            k = old_k;
-            break;
-        }
-        v = nv;
-        cert.try_points(a, b);
-    }
     let accept = |c: &Cert| c.closed(tol, floor);
-    let mut route = Route::Gjk;
-    if !done {
+    let fresh = || Cert {
+        lower: Real::NEG_INFINITY,
+        normal: Vec3::zeros(),
+        upper: Real::INFINITY,
+        a: Vec3::zeros(),
+        b: Vec3::zeros(),
+        d: *d,
+    };
+    // The polish's own bracket (its normal and witnesses solve the optimality conditions;
+    // GJK's are only as good as the root of its width), kept apart from GJK's.
+    let mut own = fresh();
+    let mut used = 0;
+    for (handover, handover_abs) in [
+        (HANDOVER, HANDOVER_ABS),
+        (HANDOVER_RESCUE, 1e-3 * HANDOVER_ABS),
+    ] {
+        let mut handed_over = false;
+        let mut done = false;
+        while used < budget {
+            used += 1;
+            let vv = v.norm_squared();
+            if !(vv > 0.0) {
+                return GjkEnd::Overlap;
+            }
+            let Some(vtx) = cert.try_normal(pair, &v) else {
+                return GjkEnd::Uncertified;
+            };
+            if cutoff.is_some_and(|c| cert.lower > c + floor) {
+                return GjkEnd::Beyond;
+            }
+            if polyhedral && strict(&cert) {
+                done = true;
+                break;
+            }
+            // A curved pair's bracket pins the distance long before it pins the witnesses
+            // (an error e in the distance allows √e in the points): hand over to the polish.
+            if !polyhedral
+                && cert.lower > 0.0
+                && (cert.width() <= handover * cert.upper || cert.width() <= handover_abs)
+            {
+                handed_over = true;
+                break;
+            }
+            let c = d - vtx.w;
+            // The new point adds nothing beyond v's plane (to rounding): GJK has stalled.
+            if vv - v.dot(&c) <= 1e-14 * vv {
+                break;
+            }
+            let (old, old_w, old_k) = (simplex, w, k);
+            simplex[k] = Pt { c, v: vtx };
+            k += 1;
+            let Some(nk) = reduce(&mut simplex, &mut w, k) else {
+                return GjkEnd::Overlap;
+            };
+            k = nk;
+            let (nv, a, b) = combine(&simplex[..k], &w[..k]);
+            if !(nv.norm_squared() < vv) {
+                // No progress (rounding): keep the previous simplex.
+                simplex = old;
+                w = old_w;
+                k = old_k;
+                break;
+            }
+            v = nv;
+            cert.try_points(a, b);
+        }
+        if done {
+            break;
+        }
         let upper = cert.upper;
         extra_normals(pair, &simplex[..k], &v, &mut cert);
         // Witnesses projected onto a flat face (accurate) that close the bracket: done.
-        let on_face = cert.upper < upper && strict(&cert);
-        // The polish's own bracket, taken whole when it closes (its normal and witnesses
-        // solve the optimality conditions; GJK's are only as good as the root of its width).
-        let mut own = Cert {
-            lower: Real::NEG_INFINITY,
-            normal: Vec3::zeros(),
-            upper: Real::INFINITY,
-            a: Vec3::zeros(),
-            b: Vec3::zeros(),
-            d: *d,
-        };
-        if !on_face {
-            polish(
-                pair,
-                &simplex[..k],
-                &w[..k],
-                cert.normal,
-                cert.upper,
-                (tol, floor),
-                &mut own,
-            );
+        if cert.upper < upper && strict(&cert) {
+            break;
         }
-        if accept(&own) {
-            cert = own;
-            route = Route::Polish;
-        } else if own.lower > cert.lower || own.upper < cert.upper {
-            route = Route::Polish;
-            if own.lower > cert.lower {
-                cert.lower = own.lower;
-                cert.normal = own.normal;
-            }
-            if own.upper < cert.upper {
-                cert.upper = own.upper;
-                cert.a = own.a;
-                cert.b = own.b;
-            }
+        let mut trial = fresh();
+        polish(
+            pair,
+            &simplex[..k],
+            &w[..k],
+            cert.normal,
+            cert.upper,
+            (tol, floor),
+            &mut trial,
+        );
+        if accept(&trial) {
+            own = trial;
+            break;
         }
+        own.merge(&trial);
+        // The polish failed on pieces identified at a loose bracket: refine and retry once.
+        if !handed_over {
+            break;
+        }
+    }
+    let mut route = Route::Gjk;
+    if accept(&own) {
+        cert = own;
+        route = Route::Polish;
+    } else if own.lower > cert.lower || own.upper < cert.upper {
+        route = Route::Polish;
+        cert.merge(&own);
     }
     if accept(&cert) {
         return GjkEnd::Separated(Separation {
