@@ -60,6 +60,13 @@ const METHODS: &[(&str, Method)] = &[
     ("distance", |a, pa, b, pb, o| {
         distance(a, pa, b, pb, o).map(|r| black_box(r).iterations)
     }),
+    ("distance_ipm", |a, pa, b, pb, o| {
+        let o = Options {
+            method: dcol::Method::InteriorPoint,
+            ..*o
+        };
+        distance(a, pa, b, pb, &o).map(|r| black_box(r).iterations)
+    }),
 ];
 
 /// The pose classes: name and the range of the target α*.
@@ -373,6 +380,18 @@ fn run_table(shapes: &[(&str, Shape)], pairs: &[Pair], methods: &[(&str, Method)
                 String::new()
             }
         );
+        let by_class: Vec<String> = CLASSES
+            .iter()
+            .enumerate()
+            .map(|(c, (cname, _, _))| {
+                let mut v: Vec<f64> = samples[mi]
+                    .iter()
+                    .flat_map(|s| s.rows.iter().filter(|r| r.1 == c).map(|r| r.0))
+                    .collect();
+                format!("{cname} {:.0}", median(&mut v))
+            })
+            .collect();
+        println!("{:<20} {}", "ALL PAIRS by class", by_class.join(", "));
     }
 }
 

@@ -41,7 +41,7 @@ pub use math::{Pose, Real, Vec3};
 pub use query::{
     alpha_below, alpha_bounds, derivatives, distance, distance_gradient, distance_within, gradient,
     gradient_mrp, intersect, jacobian, jacobian_mrp, proximity, DecidedBy, Decision, Derivatives,
-    Distance, Options, Proximity,
+    Distance, DistancePath, Options, Proximity,
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::{DerivativeKind, Method, SolveStatus, Solver};

@@ -5,10 +5,15 @@
 //! allocate), every query is warmed up once (a polytope or polygon with more than 32 orthant
 //! rows in a problem uses a per-thread scratch buffer that the first such call allocates), and
 //! then every query of every pair of kinds, on several poses, must make zero heap operations:
-//! `proximity`, `gradient`, `jacobian` and `distance`, whether they return `Ok` or `Err`
-//! (invalid options, and functions not built yet, must not allocate on the error path either).
+//! `proximity`, `gradient`, `jacobian`, `distance` (its GJK path on the separated poses and,
+//! with `Method::InteriorPoint`, its interior-point path), `distance_gradient` and
+//! `distance_within`, whether they return `Ok` or `Err` (invalid options, and functions not
+//! built yet, must not allocate on the error path either).
 
-use dcol::{distance, gradient, jacobian, proximity, Error, Options, Pose, Shape};
+use dcol::{
+    distance, distance_gradient, distance_within, gradient, jacobian, proximity, Error, Options,
+    Pose, Shape,
+};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::hint::black_box;
@@ -53,7 +58,7 @@ static ALLOCATOR: Counting = Counting;
 type Query = fn(&Shape, &Pose, &Shape, &Pose, &Options) -> Result<(), Error>;
 
 /// Every query, reduced to `Result<(), Error>` without touching the heap.
-const QUERIES: [(&str, Query); 4] = [
+const QUERIES: [(&str, Query); 7] = [
     ("proximity", |a, pa, b, pb, o| {
         proximity(a, pa, b, pb, o).map(|r| {
             black_box(r);
@@ -71,6 +76,26 @@ const QUERIES: [(&str, Query); 4] = [
     }),
     ("distance", |a, pa, b, pb, o| {
         distance(a, pa, b, pb, o).map(|r| {
+            black_box(r);
+        })
+    }),
+    // The GJK path (separated poses) with its gradient, and the interior-point path alone.
+    ("distance_gradient", |a, pa, b, pb, o| {
+        distance_gradient(a, pa, b, pb, o).map(|r| {
+            black_box(r);
+        })
+    }),
+    ("distance_ipm", |a, pa, b, pb, o| {
+        let o = Options {
+            method: dcol::Method::InteriorPoint,
+            ..*o
+        };
+        distance(a, pa, b, pb, &o).map(|r| {
+            black_box(r);
+        })
+    }),
+    ("distance_within", |a, pa, b, pb, o| {
+        distance_within(a, pa, b, pb, 1.0, o).map(|r| {
             black_box(r);
         })
     }),
@@ -256,4 +281,26 @@ fn proximity_runs_under_the_counting_allocator() {
     let r = proximity(&s, &p1, &s, &p2, &Options::default()).unwrap();
     assert_eq!(heap_ops(), before);
     assert!((r.alpha - 2.0).abs() < 1e-9);
+}
+
+/// The separated poses do take the GJK path (so the zero counts above cover it).
+#[test]
+fn separated_distance_takes_the_gjk_path() {
+    let poses = poses();
+    let mut gjk = 0;
+    for (_, s1) in &shapes() {
+        for (_, s2) in &shapes() {
+            let (p1, p2) = &poses[0];
+            let before = heap_ops();
+            let d = distance(s1, p1, s2, p2, &Options::default()).unwrap();
+            assert_eq!(heap_ops(), before);
+            if d.distance > 0.0 && d.path != dcol::DistancePath::InteriorPoint {
+                gjk += 1;
+            }
+        }
+    }
+    assert!(
+        gjk >= 90,
+        "only {gjk} of 100 separated pairs took the GJK path"
+    );
 }

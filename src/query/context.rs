@@ -1,6 +1,6 @@
-//! What every query shares, one floor below the queries: the options, the proximity result,
-//! the normalisation between world and solver coordinates ([`Frame`]), what a query asks for
-//! ([`Want`]) and gets ([`Full`]), and the inputs of one solve ([`Context`]).
+//! What every query shares, one floor below the queries: the options, the proximity and
+//! distance results, the normalisation between world and solver coordinates ([`Frame`]), what
+//! a query asks for ([`Want`]) and gets ([`Full`]), and the inputs of one solve ([`Context`]).
 
 use super::assemble::Placement;
 use crate::math::{Pose, Real, Vec3};
@@ -30,6 +30,40 @@ pub struct Proximity {
     /// What kind of derivatives the query returned with it (`None` for a plain proximity
     /// query).
     pub derivatives: DerivativeKind,
+}
+
+/// The result of a distance query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Distance {
+    /// Exact distance of the unscaled shapes; 0 when they touch or overlap.
+    pub distance: Real,
+    /// Witness point on shape 1 (world).
+    pub closest1: Vec3,
+    /// Witness point on shape 2 (world).
+    pub closest2: Vec3,
+    /// Unit normal from shape 1 to shape 2 (zero when the distance is 0).
+    pub normal: Vec3,
+    /// Interior-point iterations used.
+    pub iterations: u32,
+    /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
+    pub status: SolveStatus,
+    /// Which solver answered.
+    pub path: DistancePath,
+}
+
+/// Which solver answered a distance query.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum DistancePath {
+    /// The interior-point distance program (touching, overlapping or uncertified pairs, or
+    /// [`crate::Method::InteriorPoint`]).
+    #[default]
+    InteriorPoint,
+    /// GJK on the support maps closed its certified bracket on its own.
+    Gjk,
+    /// GJK identified the features and the Newton polish on them closed the bracket.
+    GjkPolish,
+    /// The closest points of two segments (sphere and capsule pairs), certified as GJK's.
+    ClosedForm,
 }
 
 /// The normalisation between world and solver coordinates.

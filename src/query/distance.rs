@@ -1,5 +1,8 @@
-//! Exact Euclidean distance between the unscaled shapes, as its own small cone program solved by
-//! the same interior-point method:
+//! Exact Euclidean distance between the unscaled shapes. Under `Method::Auto` separated pairs
+//! are answered first by GJK on the support maps with a certificate (`super::separated`,
+//! `crate::solver::gjk`); touching, overlapping and uncertified pairs (and every pair under
+//! `Method::InteriorPoint`) by its own small cone program solved by the same interior-point
+//! method:
 //!
 //! `minimise t  over y₁, y₂, t (and the shapes' slacks)  s.t.  ‖y₁ − y₂‖ ≤ t,  yᵢ ∈ Sᵢ(1)`.
 //!
@@ -22,33 +25,16 @@
 //! `eᵢ = Qᵢuᵢ* = (yᵢ* − rᵢ)/ℓ`.
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
-use super::context::Options;
+use super::context::{Distance, DistancePath, Options};
 use super::derivatives::{rotation_generators, row_ranges};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
-use crate::solver::{LpRow, Problem, SolveStatus, Threshold};
+use crate::solver::{LpRow, Method, Problem, SolveStatus, Threshold};
 
 /// The largest distance between the origins, relative to the larger bounding radius, that the
 /// distance program accepts (its squared terms must stay finite).
 pub const MAX_OFFSET_RATIO: Real = 1e100;
-
-/// The result of a distance query.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Distance {
-    /// Exact distance of the unscaled shapes; 0 when they touch or overlap.
-    pub distance: Real,
-    /// Witness point on shape 1 (world).
-    pub closest1: Vec3,
-    /// Witness point on shape 2 (world).
-    pub closest2: Vec3,
-    /// Unit normal from shape 1 to shape 2 (zero when the distance is 0).
-    pub normal: Vec3,
-    /// Interior-point iterations used.
-    pub iterations: u32,
-    /// How the solve ended; anything but `Converged` means the fields hold the last iterate.
-    pub status: SolveStatus,
-}
 
 struct DistanceTask<'q> {
     shape1: &'q Shape,
@@ -118,6 +104,7 @@ impl Task for DistanceTask<'_> {
                 normal: Vec3::zeros(),
                 iterations: outcome.iterations,
                 status: SolveStatus::Converged,
+                path: DistancePath::InteriorPoint,
             };
             return (nothing, [0.0; 14], true);
         }
@@ -136,6 +123,7 @@ impl Task for DistanceTask<'_> {
             normal: Vec3::zeros(),
             iterations: outcome.iterations,
             status: outcome.status,
+            path: DistancePath::InteriorPoint,
         };
         let mut grad = [0.0; 14];
         let touching = t <= 10.0 * self.options.tolerance;
@@ -247,6 +235,22 @@ fn distance_query_until(
              program can represent in double precision",
         )));
     }
+    // Separated pairs: GJK with its certificate first (the gap however small, never 0).
+    if options.method == Method::Auto {
+        let sep = super::separated::separated(
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options.tolerance,
+            ell,
+            gradient,
+            cutoff,
+        );
+        if let Some(out) = sep {
+            return Ok(out);
+        }
+    }
     let k1 = shape1.slack_count();
     let k2 = shape2.slack_count();
     let task = DistanceTask {
@@ -305,6 +309,7 @@ fn overlap(w: Vec3, iterations: u32) -> Distance {
         normal: Vec3::zeros(),
         iterations,
         status: SolveStatus::Converged,
+        path: DistancePath::InteriorPoint,
     }
 }
 
@@ -346,9 +351,9 @@ pub fn distance_gradient(
 
 /// The distance if it is at most `cutoff`, `None` when it is proven larger ("beyond d_max I only
 /// need to know that"). Decided without a solve when `‖r₂ − r₁‖ − ρ₁ − ρ₂ > cutoff` (bounding
-/// spheres), otherwise the solve stops as soon as a certified lower bound on the distance (the
-/// dual objective corrected by the dual residual) exceeds `cutoff`. `cutoff` must be ≥ 0 and
-/// finite.
+/// spheres), otherwise as soon as a certified lower bound on the distance exceeds `cutoff`
+/// (GJK's slab gap, or the interior-point dual objective corrected by the dual residual).
+/// `cutoff` must be ≥ 0 and finite.
 ///
 /// ```
 /// use dcol::{distance_within, Options, Pose, Shape};

@@ -9,11 +9,12 @@ mod distance;
 mod early_exit;
 mod geometric;
 mod proximity;
+mod separated;
 
 pub(crate) use context::Want;
-pub use context::{Options, Proximity};
+pub use context::{Distance, DistancePath, Options, Proximity};
 pub use differentiate::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
-pub use distance::{distance, distance_gradient, distance_within, Distance};
+pub use distance::{distance, distance_gradient, distance_within};
 pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::proximity;

@@ -200,7 +200,9 @@ pub(crate) fn query_until(
                     if want == Want::Gradient
                         && !geometric::unique_contact(&prox, &dalpha_dd, shapes, poses)
                     {
-                        return query_ipm(shape1, pose1, shape2, pose2, options, want);
+                        return derivatives_by_ipm(
+                            prox, shape1, pose1, shape2, pose2, options, want,
+                        );
                     }
                     prox.derivatives = DerivativeKind::Exact;
                 }
@@ -217,7 +219,11 @@ pub(crate) fn query_until(
                             .filter(|j| derivatives::consistent(j, &g, ell));
                     match exact {
                         Some(j) => jacobian = j,
-                        None => return query_ipm(shape1, pose1, shape2, pose2, options, want),
+                        None => {
+                            return derivatives_by_ipm(
+                                prox, shape1, pose1, shape2, pose2, options, want,
+                            )
+                        }
                     }
                 }
                 // As on the interior-point path: a gradient that overflows (a quaternion so
@@ -267,6 +273,29 @@ pub(crate) fn query_until(
         }
     }
     query_ipm_until(shape1, pose1, shape2, pose2, options, want, threshold)
+}
+
+/// The derivatives from the interior-point path where the geometric solution has none (x* not
+/// unique), with the geometric answer itself (α*, x*, contacts, solver) kept, so that every
+/// query reports the same proximity. If the interior-point solve does not converge, its own
+/// result is returned whole.
+fn derivatives_by_ipm(
+    geometric: Proximity,
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    want: Want,
+) -> Result<Full, Error> {
+    let mut full = query_ipm(shape1, pose1, shape2, pose2, options, want)?;
+    if full.prox.status.is_converged() {
+        full.prox = Proximity {
+            derivatives: full.prox.derivatives,
+            ..geometric
+        };
+    }
+    Ok(full)
 }
 
 /// The interior-point path of [`query_until`] with no threshold.

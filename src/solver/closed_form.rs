@@ -203,6 +203,52 @@ pub(crate) fn sphere_box(d: &Vec3, rot: &Mat3, half: &Vec3, rho: Real) -> Option
     })
 }
 
+/// The closest points `x₁`, `x₂` of two segments, shape 1's centred at the origin and shape 2's
+/// at `c₂` (Ericson, *Real-Time Collision Detection* §5.1.9; parallel segments get one of their
+/// closest pairs). The exact distance of two
+/// rounded segments is then `‖x₂ − x₁‖ − ρ₁ − ρ₂` when positive.
+pub(crate) fn closest_segment_points(
+    one: &RoundedSegment,
+    c2: &Vec3,
+    two: &RoundedSegment,
+) -> (Vec3, Vec3) {
+    let p1 = -one.axis * one.half;
+    let p2 = c2 - two.axis * two.half;
+    let d1 = one.axis * (2.0 * one.half);
+    let d2 = two.axis * (2.0 * two.half);
+    let r = p1 - p2;
+    let (a, e, f) = (d1.norm_squared(), d2.norm_squared(), d2.dot(&r));
+    let clamp = |x: Real| x.clamp(0.0, 1.0);
+    let (s, t) = if a <= 0.0 && e <= 0.0 {
+        (0.0, 0.0)
+    } else if a <= 0.0 {
+        (0.0, clamp(f / e))
+    } else {
+        let c = d1.dot(&r);
+        if e <= 0.0 {
+            (clamp(-c / a), 0.0)
+        } else {
+            let b = d1.dot(&d2);
+            let denom = a * e - b * b;
+            let mut s = if denom > 0.0 {
+                clamp((b * f - c * e) / denom)
+            } else {
+                0.0
+            };
+            let mut t = (b * s + f) / e;
+            if t < 0.0 {
+                t = 0.0;
+                s = clamp(-c / a);
+            } else if t > 1.0 {
+                t = 1.0;
+                s = clamp((b - c) / a);
+            }
+            (s, t)
+        }
+    };
+    (p1 + d1 * s, p2 + d2 * t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

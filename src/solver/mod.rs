@@ -1,7 +1,8 @@
 //! The solvers. The geometric ones know shapes only through their support maps
 //! (`crate::shapes::SupportMap`): `raycast` (the certified ray cast of α* on the Minkowski
 //! difference), `polish` (Newton on the contact features the cast identified, certified again)
-//! and `closed_form` (sphere and capsule pairs). The interior-point method (`ipm/`, below) knows
+//! `closed_form` (sphere and capsule pairs) and `gjk` (the exact distance of separated shapes,
+//! certified, with its own Newton polish). The interior-point method (`ipm/`, below) knows
 //! shapes only through the rows of a cone program. None of them knows queries or the C ABI.
 //!
 //! # The interior-point method
@@ -13,6 +14,7 @@
 
 pub(crate) mod closed_form;
 pub(crate) mod dense;
+pub(crate) mod gjk;
 mod ipm;
 pub(crate) mod polish;
 pub(crate) mod raycast;

@@ -25,9 +25,9 @@ use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::SupportMap;
 
 /// At most this many active pieces per shape.
-const MAX_PIECES: usize = 3;
+pub(crate) const MAX_PIECES: usize = 3;
 /// Unknowns: n (3), μ, and up to 2·MAX_PIECES multipliers.
-const MAX_DIM: usize = 4 + 2 * MAX_PIECES;
+pub(crate) const MAX_DIM: usize = 4 + 2 * MAX_PIECES;
 /// Newton steps per active set.
 const MAX_NEWTON: usize = 10;
 /// A full Newton step of this relative size ends the iteration: convergence is quadratic, so
@@ -50,21 +50,21 @@ pub(crate) struct Polished {
 
 /// One active piece: which shape (0 or 1) and which piece.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) struct Active {
+pub(crate) struct Active {
     pub shape: usize,
     pub id: u32,
 }
 
 /// A piece evaluated in the normalised world frame as a function of the world normal `n`:
 /// shape 1's `p(R₁ᵀn)/ℓ`, shape 2's `p(−R₂ᵀn)/ℓ`.
-pub(super) struct WorldPiece {
+pub(crate) struct WorldPiece {
     pub value: Real,
     /// Gradient in n: shape 1's point `a`, or minus shape 2's point `−b`.
     pub grad: Vec3,
     pub hess: Mat3,
 }
 
-pub(super) fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<WorldPiece> {
+pub(crate) fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<WorldPiece> {
     let (posed, sign) = pair.side(act.shape);
     let m = posed.rot.tr_mul(n) * sign;
     let e = posed.shape.piece(act.id, &m)?;
@@ -253,7 +253,7 @@ fn from_start<S: SupportMap>(
 }
 
 /// Removes piece `k` unless it is its shape's last one.
-fn drop_piece(act: &mut [Active], lam: &mut [Real], p: &mut usize, k: usize) -> bool {
+pub(crate) fn drop_piece(act: &mut [Active], lam: &mut [Real], p: &mut usize, k: usize) -> bool {
     let shape = act[k].shape;
     if act[..*p].iter().filter(|a| a.shape == shape).count() <= 1 {
         return false;
@@ -267,7 +267,7 @@ fn drop_piece(act: &mut [Active], lam: &mut [Real], p: &mut usize, k: usize) -> 
 }
 
 /// Makes each shape's multipliers sum to one (equal shares where they sum to zero).
-fn normalise_multipliers(act: &[Active], lam: &mut [Real]) {
+pub(crate) fn normalise_multipliers(act: &[Active], lam: &mut [Real]) {
     for shape in 0..2 {
         let (mut sum, mut count) = (0.0, 0);
         for (a, l) in act.iter().zip(lam.iter()) {
@@ -476,7 +476,11 @@ fn certify<S: SupportMap>(
 
 /// Solves `A x = b` in place (the first `dim` rows and columns) by Gaussian elimination with
 /// partial pivoting; false when a pivot is negligible.
-fn solve_dense(a: &mut [[Real; MAX_DIM]; MAX_DIM], b: &mut [Real; MAX_DIM], dim: usize) -> bool {
+pub(crate) fn solve_dense(
+    a: &mut [[Real; MAX_DIM]; MAX_DIM],
+    b: &mut [Real; MAX_DIM],
+    dim: usize,
+) -> bool {
     let mut amax: Real = 0.0;
     for row in a.iter().take(dim) {
         for v in row.iter().take(dim) {

@@ -18,8 +18,9 @@ pub struct Settings {
     /// Iteration limit; reaching it gives [`super::SolveStatus::MaxIterations`].
     pub max_iterations: u32,
     /// Which solvers a query may use (the default: the geometric solvers with the
-    /// interior-point fallback). The exact distance runs the interior-point solver whatever this
-    /// says.
+    /// interior-point fallback). The exact distance of separated shapes is GJK's under `Auto`
+    /// and the interior-point program's under `InteriorPoint`; touching and overlapping shapes'
+    /// distance is the interior-point program's whatever this says.
     pub method: crate::solver::Method,
     /// 0 (the default): exact answers. A positive value μ asks proximity and its derivatives
     /// (gradient, Jacobian, their MRP forms, the batch) for the *smoothed* answer: the point

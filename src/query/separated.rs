@@ -1,0 +1,150 @@
+//! The exact distance of separated shapes by GJK on their support maps
+//! (`crate::solver::gjk`), tried before the interior-point distance program: a certified
+//! answer is returned as it is; touching, overlapping or uncertified pairs go to the
+//! interior-point path unchanged.
+//!
+//! The gradient comes from the envelope theorem on `d* = max over unit n of
+//! n·(r₂ − r₁) − h₁(R₁ᵀn) − h₂(−R₂ᵀn)`: `∂d*/∂r₂ = n* = −∂d*/∂r₁`,
+//! `∂d*/∂q₁ₖ = −n*·(∂R₁/∂q₁ₖ) β₁` and `∂d*/∂q₂ₖ = n*·(∂R₂/∂q₂ₖ) β₂`, with `βᵢ` the witness
+//! point of shape i in its body frame (the same expression as the interior-point path's
+//! Lagrangian form at its optimum). A sphere's columns are exactly zero.
+
+use super::context::{Distance, DistancePath};
+use crate::math::{rotation_derivatives, Pose, Real, Vec3};
+use crate::shapes::{Shape, ShapeKind};
+use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
+use crate::solver::gjk::{self, GjkEnd, Route, Separation};
+use crate::solver::raycast::{Pair, Posed};
+use crate::solver::SolveStatus;
+
+/// GJK iterations before the polish (curved pairs hand over earlier, polytopes end exactly).
+const BUDGET: u32 = 64;
+/// The bracket is closed to this fraction of the options' tolerance (in units of ℓ), as the
+/// geometric proximity path does, but not below a few roundings.
+const MARGIN: Real = 1e-3;
+const TOL_FLOOR: Real = 1e-14;
+
+/// The distance and gradient by GJK, or `None` when the interior-point path must answer;
+/// the flag says the distance was proven above `cutoff` (world units; the distance is then
+/// infinite). `ell` is the larger bounding radius.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn separated(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    tolerance: Real,
+    ell: Real,
+    gradient: bool,
+    cutoff: Option<Real>,
+) -> Option<(Distance, [Real; 14], bool)> {
+    let inv = 1.0 / ell;
+    let pair = Pair {
+        one: Posed {
+            shape: shape1,
+            rot: pose1.rotation(),
+            inv_scale: inv,
+        },
+        two: Posed {
+            shape: shape2,
+            rot: pose2.rotation(),
+            inv_scale: inv,
+        },
+    };
+    let r1 = *pose1.position();
+    let r2 = *pose2.position();
+    let d = (r2 - r1) * inv;
+    let polyhedral = [shape1, shape2]
+        .iter()
+        .all(|s| s.kind() == ShapeKind::Polytope);
+    let tol = (tolerance * MARGIN).max(TOL_FLOOR);
+    let s = match closed_form(&pair, &d, tol) {
+        Some(s) => s,
+        None => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff.map(|c| c * inv)) {
+            GjkEnd::Separated(s) => s,
+            GjkEnd::Beyond => {
+                let beyond = Distance {
+                    distance: Real::INFINITY,
+                    closest1: Vec3::zeros(),
+                    closest2: Vec3::zeros(),
+                    normal: Vec3::zeros(),
+                    iterations: 0,
+                    status: SolveStatus::Converged,
+                    path: DistancePath::Gjk,
+                };
+                return Some((beyond, [0.0; 14], true));
+            }
+            _ => return None,
+        },
+    };
+    let dist = s.distance * ell;
+    let closest1 = r1 + s.a * ell;
+    let closest2 = r2 + s.b * ell;
+    let finite = dist.is_finite()
+        && dist > 0.0
+        && closest1
+            .iter()
+            .chain(closest2.iter())
+            .all(|v| v.is_finite());
+    if !finite {
+        return None;
+    }
+    let n = s.normal;
+    let mut grad = [0.0; 14];
+    if gradient {
+        for j in 0..3 {
+            grad[j] = -n[j];
+            grad[7 + j] = n[j];
+        }
+        let beta1 = pose1.rotation().tr_mul(&(closest1 - r1));
+        let beta2 = pose2.rotation().tr_mul(&(closest2 - r2));
+        let d1 = rotation_derivatives(pose1.quaternion());
+        let d2 = rotation_derivatives(pose2.quaternion());
+        let round = [shape1, shape2].map(|sh| sh.kind() == ShapeKind::Sphere);
+        for k in 0..4 {
+            if !round[0] {
+                grad[3 + k] = -n.dot(&(d1[k] * beta1));
+            }
+            if !round[1] {
+                grad[10 + k] = n.dot(&(d2[k] * beta2));
+            }
+        }
+    }
+    let result = Distance {
+        distance: dist,
+        closest1,
+        closest2,
+        normal: n,
+        iterations: 0,
+        status: SolveStatus::Converged,
+        path: match s.route {
+            Route::Gjk => DistancePath::Gjk,
+            Route::Polish => DistancePath::GjkPolish,
+            Route::ClosedForm => DistancePath::ClosedForm,
+        },
+    };
+    Some((result, grad, false))
+}
+
+/// Sphere and capsule pairs: the closest points of their segments, certified.
+fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
+    let seg = |posed: &Posed<'_, Shape>| {
+        let (half, radius) = posed.shape.rounded_segment()?;
+        Some(RoundedSegment {
+            axis: posed.rot.column(0).into_owned(),
+            half: half * posed.inv_scale,
+            radius: radius * posed.inv_scale,
+        })
+    };
+    let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
+    let (x1, x2) = closest_segment_points(&one, d, &two);
+    let diff = x2 - x1;
+    let len = diff.norm();
+    if !(len > one.radius + two.radius) {
+        return None;
+    }
+    let n = diff / len;
+    let a = x1 + n * one.radius;
+    let b = x2 - d - n * two.radius;
+    gjk::certify_candidate(pair, d, tol, &n, a, b)
+}

@@ -1,0 +1,354 @@
+//! The polish of GJK: Newton on the optimality conditions of
+//! `max over unit n of n·d − h₁(n) − h₂(−n)` with the pieces GJK's simplex identified,
+//!
+//! ```text
+//!     Σ_k λ_k ∇p_k(n) + μ n = d      (the witnesses' difference d + b − a = μ n, μ = d*)
+//!     ‖n‖² = 1
+//!     Σ_{k ∈ shape i} λ_k = 1        (i = 1, 2)
+//!     p_k(n) = p_{k₀(i)}(n)          (the active pieces of a shape tie)
+//! ```
+//!
+//! (`super::super::polish` solves the same system for the ray cast, with `n·r = 1` in place of
+//! the unit norm), each solution ending in the certificate.
+
+use super::Cert;
+use crate::math::{Mat3, Real, Vec3};
+use crate::shapes::SupportMap;
+use crate::solver::polish::{
+    drop_piece, eval, normalise_multipliers, solve_dense, Active, MAX_DIM, MAX_PIECES,
+};
+use crate::solver::raycast::Pair;
+
+/// Newton steps per active set.
+const MAX_NEWTON: usize = 12;
+/// A full Newton step this small (normalised units) ends the iteration: convergence is
+/// quadratic, so the iterate it leads to is within about its square; the certificate checks.
+const CONVERGED_STEP: Real = 1e-6;
+/// The step at which a second run ends, when the first one's certificate did not close.
+const FINAL_STEP: Real = 1e-13;
+
+/// Newton on the optimality conditions of `max n·d − h₁(n) − h₂(−n)` over unit `n` with the
+/// pieces active in the simplex, then the certificate at the solution.
+pub(super) fn polish<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    pts: &[super::Pt],
+    w: &[Real],
+    n0: Vec3,
+    mu0: Real,
+    (tol, floor): (Real, Real),
+    cert: &mut Cert,
+) {
+    let mut act = [Active { shape: 0, id: 0 }; 2 * MAX_PIECES];
+    let mut lam = [0.0; 2 * MAX_PIECES];
+    let mut p = 0;
+    for (pt, wt) in pts.iter().zip(w) {
+        for shape in 0..2 {
+            let id = pt.v.id[shape];
+            match act[..p].iter().position(|a| a.shape == shape && a.id == id) {
+                Some(k) => lam[k] += wt.max(0.0),
+                None if p < act.len() => {
+                    act[p] = Active { shape, id };
+                    lam[p] = wt.max(0.0);
+                    p += 1;
+                }
+                None => return,
+            }
+        }
+    }
+    let mu0 = mu0.max(0.0);
+    let run = |act: &[Active], lam: &[Real], cert: &mut Cert| -> Option<(usize, Real)> {
+        let mut l = [0.0; 2 * MAX_PIECES];
+        l[..act.len()].copy_from_slice(lam);
+        normalise_multipliers(act, &mut l[..act.len()]);
+        let (mut n, mut mu) = (n0, mu0);
+        let na = act.len();
+        if !newton(
+            pair,
+            &cert.d,
+            act,
+            &mut n,
+            &mut mu,
+            &mut l[..na],
+            CONVERGED_STEP,
+        ) {
+            return None;
+        }
+        let (kmin, lmin) = (0..act.len()).fold((0, Real::INFINITY), |acc, k| {
+            if l[k] < acc.1 {
+                (k, l[k])
+            } else {
+                acc
+            }
+        });
+        if lmin >= -1e-12 {
+            certify(pair, act, &n, &l[..na], cert);
+            // Where the pieces curve sharply (a rim seen almost along its axis) the iterate
+            // after a step of CONVERGED_STEP may still be short of the tolerance: go on to
+            // rounding.
+            if !cert.closed(tol, floor)
+                && newton(
+                    pair,
+                    &cert.d,
+                    act,
+                    &mut n,
+                    &mut mu,
+                    &mut l[..na],
+                    FINAL_STEP,
+                )
+            {
+                certify(pair, act, &n, &l[..na], cert);
+            }
+        }
+        Some((kmin, lmin))
+    };
+    let (act0, lam0, p0) = (act, lam, p);
+    // The active set, dropping a piece whose multiplier turns negative (or, when the system
+    // is singular, the one with the least weight in the simplex).
+    for _attempt in 0..4 {
+        match run(&act[..p], &lam[..p], cert) {
+            Some((_, lmin)) if lmin >= -1e-12 => break,
+            Some((kmin, _)) => {
+                if !drop_piece(&mut act, &mut lam, &mut p, kmin) {
+                    break;
+                }
+            }
+            None => {
+                let Some(k) = (0..p)
+                    .filter(|&k| act[..p].iter().filter(|a| a.shape == act[k].shape).count() > 1)
+                    .min_by(|&i, &j| lam[i].total_cmp(&lam[j]))
+                else {
+                    break;
+                };
+                if !drop_piece(&mut act, &mut lam, &mut p, k) {
+                    break;
+                }
+            }
+        }
+    }
+    if cert.closed(tol, floor) {
+        return;
+    }
+    // Every smaller subset with a piece of each shape, largest first: where the optimum is
+    // not unique (parallel edges or segments) the full set is singular and the drop order
+    // above may miss the subset that holds a solution.
+    for size in (2..p0).rev() {
+        for mask in 1u32..(1 << p0) {
+            if mask.count_ones() as usize != size {
+                continue;
+            }
+            let mut sub = [Active { shape: 0, id: 0 }; 2 * MAX_PIECES];
+            let mut sl = [0.0; 2 * MAX_PIECES];
+            let mut q = 0;
+            for k in 0..p0 {
+                if mask & (1 << k) != 0 {
+                    sub[q] = act0[k];
+                    sl[q] = lam0[k];
+                    q += 1;
+                }
+            }
+            if !(sub[..q].iter().any(|a| a.shape == 0) && sub[..q].iter().any(|a| a.shape == 1)) {
+                continue;
+            }
+            run(&sub[..q], &sl[..q], cert);
+            if cert.closed(tol, floor) {
+                return;
+            }
+        }
+    }
+}
+
+/// The bounds at a Newton solution: the full support maps at `n`, and the primal points
+/// `Σ λ_k ∇p_k` of each shape.
+fn certify<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    act: &[Active],
+    n: &Vec3,
+    lam: &[Real],
+    cert: &mut Cert,
+) {
+    cert.try_normal(pair, n);
+    let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
+    let mut sums = [0.0; 2];
+    for (piece, l) in act.iter().zip(lam) {
+        let l = l.max(0.0);
+        let Some(e) = eval(pair, *piece, n) else {
+            return;
+        };
+        sums[piece.shape] += l;
+        if piece.shape == 0 {
+            a += e.grad * l;
+        } else {
+            b -= e.grad * l;
+        }
+    }
+    if sums[0] > 0.0 && sums[1] > 0.0 {
+        cert.try_points(a / sums[0], b / sums[1]);
+    }
+}
+
+/// Damped Newton on `Σ λ_k ∇p_k(n) + μ n = d`, `‖n‖² = 1`, each shape's multipliers summing
+/// to one and its active pieces tied; true when a full step converged to rounding.
+fn newton<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    d: &Vec3,
+    act: &[Active],
+    n: &mut Vec3,
+    mu: &mut Real,
+    lam: &mut [Real],
+    converged: Real,
+) -> bool {
+    let p = act.len();
+    // One piece per shape: both multipliers are 1 (normalised), and only (n, μ) move.
+    let dim = if p == 2 { 4 } else { 4 + p };
+    let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
+    let mut rhs = [0.0; MAX_DIM];
+    let Some(mut scale) = system(pair, d, act, n, *mu, lam, &mut jac, &mut rhs) else {
+        return false;
+    };
+    for _ in 0..MAX_NEWTON {
+        let solved = if dim == 4 {
+            solve4(&jac, &mut rhs)
+        } else {
+            solve_dense(&mut jac, &mut rhs, dim)
+        };
+        if !solved {
+            return false;
+        }
+        let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
+        let dmu = rhs[3];
+        let mut dl = [0.0; 2 * MAX_PIECES];
+        if dim > 4 {
+            dl[..p].copy_from_slice(&rhs[4..4 + p]);
+        }
+        let step = dn.norm() + dmu.abs() + dl[..p].iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+        if !step.is_finite() {
+            return false;
+        }
+        let mut t = 1.0;
+        let accepted = loop {
+            let nt = *n + dn * t;
+            let mt = *mu + dmu * t;
+            let mut lt = [0.0; 2 * MAX_PIECES];
+            for k in 0..p {
+                lt[k] = lam[k] + dl[k] * t;
+            }
+            let st = system(pair, d, act, &nt, mt, &lt[..p], &mut jac, &mut rhs);
+            if let Some(st) = st {
+                if st < scale || (t == 1.0 && step <= converged) {
+                    *n = nt;
+                    *mu = mt;
+                    lam.copy_from_slice(&lt[..p]);
+                    scale = st;
+                    break true;
+                }
+            }
+            t *= 0.5;
+            if t < 1.0 / 1024.0 {
+                break false;
+            }
+        };
+        if !accepted {
+            return false;
+        }
+        if t == 1.0 && step <= converged {
+            return true;
+        }
+    }
+    false
+}
+
+/// The residual (negated, into `rhs`) and Jacobian of the polish's system; the residual's
+/// 1-norm, or `None` where a piece is not differentiable.
+#[allow(clippy::too_many_arguments)]
+fn system<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    d: &Vec3,
+    act: &[Active],
+    n: &Vec3,
+    mu: Real,
+    lam: &[Real],
+    jac: &mut [[Real; MAX_DIM]; MAX_DIM],
+    rhs: &mut [Real; MAX_DIM],
+) -> Option<Real> {
+    let p = act.len();
+    let first = |shape: usize| act.iter().position(|a| a.shape == shape);
+    let (f0, f1) = (first(0)?, first(1)?);
+    let mut value = [0.0; 2 * MAX_PIECES];
+    let mut grad = [Vec3::zeros(); 2 * MAX_PIECES];
+    let mut hsum = Mat3::identity() * mu;
+    let mut gsum = Vec3::zeros();
+    for k in 0..p {
+        let e = eval(pair, act[k], n)?;
+        value[k] = e.value;
+        grad[k] = e.grad;
+        hsum += e.hess * lam[k];
+        gsum += e.grad * lam[k];
+    }
+    let dim = 4 + p;
+    for row in jac.iter_mut().take(dim) {
+        row[..dim].fill(0.0);
+    }
+    // Rows 0..3: Σ λ_k g_k + μ n − d.
+    let ra = gsum + n * mu - d;
+    for i in 0..3 {
+        for j in 0..3 {
+            jac[i][j] = hsum[(i, j)];
+        }
+        jac[i][3] = n[i];
+        for k in 0..p {
+            jac[i][4 + k] = grad[k][i];
+        }
+        rhs[i] = -ra[i];
+    }
+    // Row 3: (‖n‖² − 1)/2.
+    for j in 0..3 {
+        jac[3][j] = n[j];
+    }
+    rhs[3] = -0.5 * (n.norm_squared() - 1.0);
+    let mut scale = ra.norm() + rhs[3].abs();
+    for k in 0..p {
+        let row = 4 + k;
+        let shape = act[k].shape;
+        let f = if shape == 0 { f0 } else { f1 };
+        if k == f {
+            let mut sum = 0.0;
+            for (i, a) in act.iter().enumerate() {
+                if a.shape == shape {
+                    jac[row][4 + i] = 1.0;
+                    sum += lam[i];
+                }
+            }
+            rhs[row] = -(sum - 1.0);
+        } else {
+            let g = grad[k] - grad[f];
+            for j in 0..3 {
+                jac[row][j] = g[j];
+            }
+            rhs[row] = -(value[k] - value[f]);
+        }
+        scale += rhs[row].abs();
+    }
+    scale.is_finite().then_some(scale)
+}
+
+/// [`solve_dense`] for the leading 4×4 block (one piece per shape), by nalgebra's LU with
+/// partial pivoting on the stack; false when the solution is not finite or a pivot is
+/// negligible against the largest entry.
+fn solve4(jac: &[[Real; MAX_DIM]; MAX_DIM], rhs: &mut [Real; MAX_DIM]) -> bool {
+    let a = nalgebra::Matrix4::from_fn(|i, j| jac[i][j]);
+    let b = nalgebra::Vector4::new(rhs[0], rhs[1], rhs[2], rhs[3]);
+    let amax = a.amax();
+    let lu = a.lu();
+    let u = lu.u();
+    if !(0..4).all(|i| u[(i, i)].abs() > 1e-13 * amax) {
+        return false;
+    }
+    let Some(x) = lu.solve(&b) else {
+        return false;
+    };
+    if !x.iter().all(|v| v.is_finite()) {
+        return false;
+    }
+    rhs[..4].copy_from_slice(x.as_slice());
+    true
+}
