@@ -300,61 +300,122 @@ fn solve_kkt<S: SupportMap>(
     mu: &mut Real,
     lam: &mut [Real],
 ) -> bool {
-    let p = act.len();
-    let dim = 4 + p;
-    let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
-    let mut rhs = [0.0; MAX_DIM];
-    let Some(mut scale) = kkt_system(pair, r, act, n, *mu, lam, &mut jac, &mut rhs) else {
-        return false;
+    let dim = 4 + act.len();
+    let newton = DampedNewton {
+        dim,
+        multipliers: act.len(),
+        converged: CONVERGED_STEP,
+        tiny: 1e-15,
+        relative: true,
+        max_steps: MAX_NEWTON,
     };
-    for _ in 0..MAX_NEWTON {
-        if scale <= 1e-15 {
-            return true;
-        }
-        if !solve_dense(&mut jac, &mut rhs, dim) {
+    newton.run(
+        n,
+        mu,
+        lam,
+        |n, mu, lam, jac, rhs| kkt_system(pair, r, act, n, mu, lam, jac, rhs),
+        |jac, rhs| solve_dense(jac, rhs, dim),
+    )
+}
+
+/// The damped Newton iteration that the ray cast's polish and the GJK polish share, on
+/// unknowns `(n, μ, λ)`: each full step is halved until the residual's norm decreases (down to
+/// 1/1024), and a full step of size at most `converged` ends it (convergence is quadratic, so
+/// the iterate it leads to is within about its square).
+pub(crate) struct DampedNewton {
+    /// Order of the linear systems (`4 + multipliers`, or 4 when the multipliers are fixed).
+    pub dim: usize,
+    /// Number of multipliers in `λ`.
+    pub multipliers: usize,
+    /// The full step size that ends the iteration.
+    pub converged: Real,
+    /// A residual at most this is converged outright.
+    pub tiny: Real,
+    /// Whether the step size is relative to `‖n‖` and `|μ|` (else absolute).
+    pub relative: bool,
+    /// Newton steps allowed.
+    pub max_steps: usize,
+}
+
+impl DampedNewton {
+    /// Runs the iteration. `system` writes the negated residual into `rhs` and its Jacobian into
+    /// `jac` at `(n, μ, λ)` and returns the residual's norm (`None`: a piece not differentiable
+    /// there); `solve` solves `jac · x = rhs` in place (false: singular). True when converged.
+    pub fn run(
+        &self,
+        n: &mut Vec3,
+        mu: &mut Real,
+        lam: &mut [Real],
+        mut system: impl FnMut(
+            &Vec3,
+            Real,
+            &[Real],
+            &mut [[Real; MAX_DIM]; MAX_DIM],
+            &mut [Real; MAX_DIM],
+        ) -> Option<Real>,
+        mut solve: impl FnMut(&mut [[Real; MAX_DIM]; MAX_DIM], &mut [Real; MAX_DIM]) -> bool,
+    ) -> bool {
+        let p = self.multipliers;
+        let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
+        let mut rhs = [0.0; MAX_DIM];
+        let Some(mut scale) = system(n, *mu, lam, &mut jac, &mut rhs) else {
             return false;
-        }
-        let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
-        let dmu = rhs[3];
-        let mut dl = [0.0; 2 * MAX_PIECES];
-        dl[..p].copy_from_slice(&rhs[4..4 + p]);
-        let step = dn.norm() / n.norm()
-            + dmu.abs() / mu.abs()
-            + dl[..p].iter().fold(0.0, |m: Real, v| m.max(v.abs()));
-        if !step.is_finite() {
-            return false;
-        }
-        let mut t = 1.0;
-        let accepted = loop {
-            let nt = *n + dn * t;
-            let mut lt = [0.0; 2 * MAX_PIECES];
-            for k in 0..p {
-                lt[k] = lam[k] + dl[k] * t;
-            }
-            let mt = *mu + dmu * t;
-            let st = kkt_system(pair, r, act, &nt, mt, &lt[..p], &mut jac, &mut rhs);
-            if let Some(st) = st {
-                if st < scale || (t == 1.0 && step <= CONVERGED_STEP) {
-                    *n = nt;
-                    *mu = mt;
-                    lam.copy_from_slice(&lt[..p]);
-                    scale = st;
-                    break true;
-                }
-            }
-            t *= 0.5;
-            if t < 1.0 / 1024.0 {
-                break false;
-            }
         };
-        if !accepted {
-            return false;
+        for _ in 0..self.max_steps {
+            if scale <= self.tiny {
+                return true;
+            }
+            if !solve(&mut jac, &mut rhs) {
+                return false;
+            }
+            let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
+            let dmu = rhs[3];
+            let mut dl = [0.0; 2 * MAX_PIECES];
+            if self.dim > 4 {
+                dl[..p].copy_from_slice(&rhs[4..4 + p]);
+            }
+            let (sn, sm) = if self.relative {
+                (n.norm(), mu.abs())
+            } else {
+                (1.0, 1.0)
+            };
+            let step = dn.norm() / sn
+                + dmu.abs() / sm
+                + dl[..p].iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+            if !step.is_finite() {
+                return false;
+            }
+            let mut t = 1.0;
+            let accepted = loop {
+                let nt = *n + dn * t;
+                let mut lt = [0.0; 2 * MAX_PIECES];
+                for k in 0..p {
+                    lt[k] = lam[k] + dl[k] * t;
+                }
+                let mt = *mu + dmu * t;
+                if let Some(st) = system(&nt, mt, &lt[..p], &mut jac, &mut rhs) {
+                    if st < scale || (t == 1.0 && step <= self.converged) {
+                        *n = nt;
+                        *mu = mt;
+                        lam.copy_from_slice(&lt[..p]);
+                        scale = st;
+                        break true;
+                    }
+                }
+                t *= 0.5;
+                if t < 1.0 / 1024.0 {
+                    break false;
+                }
+            };
+            if !accepted {
+                return false;
+            }
+            if t == 1.0 && step <= self.converged {
+                return true;
+            }
         }
-        if t == 1.0 && step <= CONVERGED_STEP {
-            return true;
-        }
+        false
     }
-    false
 }
 
 /// The KKT residual (negated, into `rhs`) and its Jacobian at `(n, μ, λ)`; the

@@ -15,7 +15,7 @@ use super::Cert;
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::SupportMap;
 use crate::solver::polish::{
-    drop_piece, eval, normalise_multipliers, solve_dense, Active, MAX_DIM, MAX_PIECES,
+    drop_piece, eval, normalise_multipliers, solve_dense, Active, DampedNewton, MAX_DIM, MAX_PIECES,
 };
 use crate::solver::raycast::Pair;
 
@@ -200,61 +200,27 @@ fn newton<S: SupportMap>(
     let p = act.len();
     // One piece per shape: both multipliers are 1 (normalised), and only (n, μ) move.
     let dim = if p == 2 { 4 } else { 4 + p };
-    let mut jac = [[0.0; MAX_DIM]; MAX_DIM];
-    let mut rhs = [0.0; MAX_DIM];
-    let Some(mut scale) = system(pair, d, act, n, *mu, lam, &mut jac, &mut rhs) else {
-        return false;
+    let newton = DampedNewton {
+        dim,
+        multipliers: p,
+        converged,
+        tiny: 0.0,
+        relative: false,
+        max_steps: MAX_NEWTON,
     };
-    for _ in 0..MAX_NEWTON {
-        let solved = if dim == 4 {
-            solve4(&jac, &mut rhs)
-        } else {
-            solve_dense(&mut jac, &mut rhs, dim)
-        };
-        if !solved {
-            return false;
-        }
-        let dn = Vec3::new(rhs[0], rhs[1], rhs[2]);
-        let dmu = rhs[3];
-        let mut dl = [0.0; 2 * MAX_PIECES];
-        if dim > 4 {
-            dl[..p].copy_from_slice(&rhs[4..4 + p]);
-        }
-        let step = dn.norm() + dmu.abs() + dl[..p].iter().fold(0.0, |m: Real, v| m.max(v.abs()));
-        if !step.is_finite() {
-            return false;
-        }
-        let mut t = 1.0;
-        let accepted = loop {
-            let nt = *n + dn * t;
-            let mt = *mu + dmu * t;
-            let mut lt = [0.0; 2 * MAX_PIECES];
-            for k in 0..p {
-                lt[k] = lam[k] + dl[k] * t;
+    newton.run(
+        n,
+        mu,
+        lam,
+        |n, mu, lam, jac, rhs| system(pair, d, act, n, mu, lam, jac, rhs),
+        |jac, rhs| {
+            if dim == 4 {
+                solve4(jac, rhs)
+            } else {
+                solve_dense(jac, rhs, dim)
             }
-            let st = system(pair, d, act, &nt, mt, &lt[..p], &mut jac, &mut rhs);
-            if let Some(st) = st {
-                if st < scale || (t == 1.0 && step <= converged) {
-                    *n = nt;
-                    *mu = mt;
-                    lam.copy_from_slice(&lt[..p]);
-                    scale = st;
-                    break true;
-                }
-            }
-            t *= 0.5;
-            if t < 1.0 / 1024.0 {
-                break false;
-            }
-        };
-        if !accepted {
-            return false;
-        }
-        if t == 1.0 && step <= converged {
-            return true;
-        }
-    }
-    false
+        },
+    )
 }
 
 /// The residual (negated, into `rhs`) and Jacobian of the polish's system; the residual's
