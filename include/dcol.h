@@ -70,7 +70,7 @@
 #define DCOL_DERIVATIVES_SMOOTHED 2
 
 /**
- * dcol_proximity_result.derivatives: coincident origins; zero, a subgradient.
+ * dcol_proximity_result.derivatives: one element of the generalised gradient.
  */
 #define DCOL_DERIVATIVES_SUBGRADIENT 3
 
@@ -247,7 +247,9 @@ typedef struct dcol_proximity_result {
    * DCOL_DERIVATIVES_EXACT (1), DCOL_DERIVATIVES_SMOOTHED (2: the barrier-smoothed
    * derivatives of the central-path point, where x* is not unique and the exact Jacobian
    * does not exist, or when dcol_options.smoothing asked for them) or
-   * DCOL_DERIVATIVES_SUBGRADIENT (3: coincident origins, alpha* = 0, where zero is returned).
+   * DCOL_DERIVATIVES_SUBGRADIENT (3: alpha* is not differentiable and one element of its
+   * generalised gradient is returned: zero at coincident origins; flat against flat, the
+   * envelope formula at the contact point when the smoothed one could not be computed).
    * (Appended after `solver`.)
    */
   uint32_t derivatives;

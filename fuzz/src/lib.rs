@@ -359,7 +359,7 @@ impl ShapeInput {
 /// Checks a constructor's outcome against the invariants; returns the shape if accepted.
 /// Either solver path: the geometric default or the interior-point solver alone.
 fn fuzz_method(byte: u8) -> dcol::Method {
-    if byte % 2 == 0 {
+    if byte.is_multiple_of(2) {
         dcol::Method::Auto
     } else {
         dcol::Method::InteriorPoint
@@ -534,11 +534,18 @@ pub fn queries(data: &[u8]) {
             tolerance: b.f64(),
             max_iterations: b.u32() % (MAX_ITERATIONS_CAP + 1),
             method: fuzz_method(b.u8()),
+            // Any double, or a plausible barrier parameter, or none.
+            smoothing: match b.u8() % 4 {
+                0 => b.f64(),
+                1 => 1e-3,
+                _ => 0.0,
+            },
         },
         1 => Options {
             tolerance: Options::default().tolerance,
             max_iterations: b.u8() as u32 % 8,
             method: fuzz_method(b.u8()),
+            smoothing: 0.0,
         },
         _ => Options::default(),
     };
@@ -549,8 +556,11 @@ pub fn queries(data: &[u8]) {
         return;
     };
     let what = format!("{in1:?} {p1:?} / {in2:?} {p2:?} / {options:?}");
-    let options_valid =
-        options.tolerance.is_finite() && options.tolerance > 0.0 && options.max_iterations > 0;
+    let options_valid = options.tolerance.is_finite()
+        && options.tolerance > 0.0
+        && options.max_iterations > 0
+        && options.smoothing.is_finite()
+        && options.smoothing >= 0.0;
     let d = [
         p2.position().x - p1.position().x,
         p2.position().y - p1.position().y,

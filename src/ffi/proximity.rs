@@ -35,7 +35,9 @@ pub struct dcol_proximity_result {
     /// DCOL_DERIVATIVES_EXACT (1), DCOL_DERIVATIVES_SMOOTHED (2: the barrier-smoothed
     /// derivatives of the central-path point, where x* is not unique and the exact Jacobian
     /// does not exist, or when dcol_options.smoothing asked for them) or
-    /// DCOL_DERIVATIVES_SUBGRADIENT (3: coincident origins, alpha* = 0, where zero is returned).
+    /// DCOL_DERIVATIVES_SUBGRADIENT (3: alpha* is not differentiable and one element of its
+    /// generalised gradient is returned: zero at coincident origins; flat against flat, the
+    /// envelope formula at the contact point when the smoothed one could not be computed).
     /// (Appended after `solver`.)
     pub derivatives: u32,
 }
@@ -46,7 +48,7 @@ pub const DCOL_DERIVATIVES_NONE: u32 = 0;
 pub const DCOL_DERIVATIVES_EXACT: u32 = 1;
 /// dcol_proximity_result.derivatives: the barrier-smoothed derivatives of the central path.
 pub const DCOL_DERIVATIVES_SMOOTHED: u32 = 2;
-/// dcol_proximity_result.derivatives: coincident origins; zero, a subgradient.
+/// dcol_proximity_result.derivatives: one element of the generalised gradient.
 pub const DCOL_DERIVATIVES_SUBGRADIENT: u32 = 3;
 
 /// dcol_proximity_result.solver: the interior-point solver.

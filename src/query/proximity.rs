@@ -193,59 +193,55 @@ pub(crate) fn query_until(
     if options.method == Method::Auto && !smoothed {
         match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
             geometric::Outcome::Answer(mut prox, dalpha_dd) => {
-                if want >= Want::Gradient {
-                    // Flat against flat the exact derivatives do not exist: the interior-point
-                    // path's smoothed ones answer (the Jacobian's check below covers this too).
-                    let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-                    if want == Want::Gradient
-                        && !geometric::unique_contact(&prox, &dalpha_dd, shapes, poses)
-                    {
-                        return derivatives_by_ipm(
-                            prox, shape1, pose1, shape2, pose2, options, want,
-                        );
-                    }
-                    prox.derivatives = DerivativeKind::Exact;
-                }
                 let g = if want >= Want::Gradient {
                     geometric::gradient(&prox, &dalpha_dd, [shape1, shape2], pose1, pose2)
                 } else {
                     [0.0; 14]
                 };
-                let mut jacobian = [[0.0; 14]; 4];
-                if want == Want::Jacobian {
-                    let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-                    let exact =
-                        geometric::jacobian(&prox, &dalpha_dd, [shape1, shape2], [pose1, pose2])
-                            .filter(|j| derivatives::consistent(j, &g, ell));
-                    match exact {
-                        Some(j) => jacobian = j,
-                        None => {
-                            return derivatives_by_ipm(
-                                prox, shape1, pose1, shape2, pose2, options, want,
-                            )
-                        }
-                    }
-                }
                 // As on the interior-point path: a gradient that overflows (a quaternion so
                 // small that derivatives with respect to it, ~1/|q|, are not representable) is
                 // an error or a numerical failure with zeros, never a different solve.
                 let finite = g.iter().all(|v| v.is_finite());
                 derivatives::check_representable(finite, pose1, pose2)?;
-                let (prox, gradient) = if finite {
-                    (prox, g)
-                } else {
-                    let failed = Proximity {
+                if !finite {
+                    let prox = Proximity {
                         status: SolveStatus::NumericalFailure,
                         ..prox
                     };
-                    (failed, [0.0; 14])
-                };
-                if !finite {
-                    jacobian = [[0.0; 14]; 4];
+                    return Ok(Full {
+                        prox,
+                        gradient: [0.0; 14],
+                        jacobian: [[0.0; 14]; 4],
+                        decided: None,
+                    });
+                }
+                let mut jacobian = [[0.0; 14]; 4];
+                if want >= Want::Gradient {
+                    // Flat against flat the exact derivatives do not exist: the interior-point
+                    // path's smoothed ones answer (for the Jacobian, `geometric::jacobian` finds
+                    // that itself).
+                    let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
+                    let exact = match want {
+                        Want::Jacobian => {
+                            let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+                            geometric::jacobian(&prox, &dalpha_dd, shapes, poses)
+                                .filter(|j| derivatives::consistent(j, &g, ell))
+                                .map(|j| jacobian = j)
+                                .is_some()
+                        }
+                        _ => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
+                    };
+                    if !exact {
+                        let fallback = (want == Want::Gradient).then_some(g);
+                        return derivatives_by_ipm(
+                            prox, fallback, shape1, pose1, shape2, pose2, options, want,
+                        );
+                    }
+                    prox.derivatives = DerivativeKind::Exact;
                 }
                 return Ok(Full {
                     prox,
-                    gradient,
+                    gradient: g,
                     jacobian,
                     decided: None,
                 });
@@ -277,10 +273,14 @@ pub(crate) fn query_until(
 
 /// The derivatives from the interior-point path where the geometric solution has none (x* not
 /// unique), with the geometric answer itself (α*, x*, contacts, solver) kept, so that every
-/// query reports the same proximity. If the interior-point solve does not converge, its own
-/// result is returned whole.
+/// query reports the same proximity. If the interior-point solve does not converge, the
+/// geometric `gradient` is returned when there is one (labelled a subgradient: the envelope
+/// formula at the geometric contact point, one element of the generalised gradient), else the
+/// interior-point result whole.
+#[allow(clippy::too_many_arguments)]
 fn derivatives_by_ipm(
     geometric: Proximity,
+    gradient: Option<[Real; 14]>,
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
@@ -293,6 +293,16 @@ fn derivatives_by_ipm(
         full.prox = Proximity {
             derivatives: full.prox.derivatives,
             ..geometric
+        };
+    } else if let Some(g) = gradient {
+        full = Full {
+            prox: Proximity {
+                derivatives: DerivativeKind::Subgradient,
+                ..geometric
+            },
+            gradient: g,
+            jacobian: [[0.0; 14]; 4],
+            decided: None,
         };
     }
     Ok(full)

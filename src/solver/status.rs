@@ -48,9 +48,10 @@ pub enum DerivativeKind {
     /// against flat) and the exact Jacobian does not exist, or when
     /// [`crate::Options::smoothing`] asked for them.
     Smoothed,
-    /// At exactly coincident origins α* = 0 is not differentiable (it is the gauge of the
-    /// Minkowski difference, homogeneous of degree one): zero, a valid subgradient, is
-    /// returned.
+    /// α* is not differentiable there and one element of its generalised gradient is returned:
+    /// zero at exactly coincident origins (α* = 0 is the gauge of the Minkowski difference,
+    /// homogeneous of degree one); flat against flat, when the interior-point solve for the
+    /// smoothed gradient did not converge, the envelope formula at the geometric contact point.
     Subgradient,
 }
 
