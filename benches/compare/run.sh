@@ -76,7 +76,7 @@ if [[ -n "$coal_reason" ]]; then
   echo "Coal: not available ($coal_reason); benchmarking without it"
 fi
 cmake -S benches/compare -B build/bench-compare -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_PREFIX_PATH="$prefix${coal_prefix:+;$coal_prefix}" \
+  -DCMAKE_PREFIX_PATH="$prefix" -DDCOL_BENCH_COAL_PREFIX="$coal_prefix" \
   -DDCOL_BENCH_COAL_REASON="$coal_reason" >/dev/null
 cmake --build build/bench-compare -j"$jobs" >/dev/null
 
