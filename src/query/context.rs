@@ -69,6 +69,9 @@ pub enum DistancePath {
     /// Signed distance of an overlapping pair: the Newton polish gave the normal, EPA's
     /// polytope the certificate.
     EpaPolish,
+    /// Signed distance of an overlapping sphere or capsule pair: the closest points of their
+    /// segments.
+    Segments,
 }
 
 /// The result of a signed-distance query.

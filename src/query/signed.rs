@@ -12,7 +12,9 @@ use super::distance::{distance, MAX_OFFSET_RATIO};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::{Shape, ShapeKind};
-use crate::solver::gjk::{penetration, EpaEnd};
+use crate::math::Vec3;
+use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
+use crate::solver::gjk::{penetration, EpaEnd, Penetration};
 use crate::solver::raycast::{Pair, Posed};
 use crate::solver::SolveStatus;
 
@@ -110,7 +112,11 @@ pub fn signed_distance(
         .iter()
         .any(|s| s.kind() != ShapeKind::Polytope);
     let tol = (options.tolerance * MARGIN).max(TOL_FLOOR);
-    let (p, status) = match penetration(&pair, &d, tol, BUDGET, curved) {
+    let end = match segments(&pair, &d) {
+        Some(p) => EpaEnd::Closed(p),
+        None => penetration(&pair, &d, tol, BUDGET, curved),
+    };
+    let (p, status) = match end {
         EpaEnd::Closed(p) => (p, SolveStatus::Converged),
         EpaEnd::Open(p) => (p, SolveStatus::MaxIterations),
         EpaEnd::Separated => {
@@ -128,7 +134,9 @@ pub fn signed_distance(
         closest2: r2 + p.b * ell,
         iterations: p.supports,
         status,
-        path: if p.polished {
+        path: if p.supports == 0 {
+            DistancePath::Segments
+        } else if p.polished {
             DistancePath::EpaPolish
         } else {
             DistancePath::Epa
@@ -145,4 +153,35 @@ pub fn signed_distance(
         return Err(Error::Internal("signed_distance: non-finite answer"));
     }
     Ok(out)
+}
+
+/// Sphere and capsule pairs whose core segments do not meet: `sd = ‖x₂ − x₁‖ − R₁ − R₂` at the
+/// closest points of the segments (exact; K is the segments' difference padded by R₁ + R₂).
+fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
+    let seg = |posed: &Posed<'_, Shape>| {
+        let (half, radius) = posed.shape.rounded_segment()?;
+        Some(RoundedSegment {
+            axis: posed.rot.column(0).into_owned(),
+            half: half * posed.inv_scale,
+            radius: radius * posed.inv_scale,
+        })
+    };
+    let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
+    let (x1, x2) = closest_segment_points(&one, d, &two);
+    let diff = x2 - x1;
+    let len = diff.norm();
+    // The normal's direction carries rounding ε/len.
+    if !(len > 1e-6) {
+        return None;
+    }
+    let n = diff / len;
+    Some(Penetration {
+        sd: len - one.radius - two.radius,
+        upper: len - one.radius - two.radius,
+        normal: n,
+        a: x1 + n * one.radius,
+        b: x2 - d - n * two.radius,
+        polished: false,
+        supports: 0,
+    })
 }

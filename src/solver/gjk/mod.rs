@@ -24,7 +24,7 @@ mod epa;
 mod newton;
 mod simplex;
 
-pub(crate) use epa::{penetration, EpaEnd};
+pub(crate) use epa::{penetration, EpaEnd, Penetration};
 
 use super::raycast::{Pair, Vertex};
 use crate::math::{Real, Vec3};
