@@ -69,7 +69,10 @@ impl Oracle {
             Oracle::Cylinder(r, l) => 0.5 * l * m.x.abs() + r * yz,
             Oracle::Cone(h, b) => (-0.75 * h * m.x).max(0.25 * h * m.x + h * b.tan() * yz),
             Oracle::Polygon(w, r) => {
-                w.iter().map(|p| p[0] * m.x + p[1] * m.y).fold(f64::MIN, f64::max) + r * m.norm()
+                w.iter()
+                    .map(|p| p[0] * m.x + p[1] * m.y)
+                    .fold(f64::MIN, f64::max)
+                    + r * m.norm()
             }
         }
     }
@@ -108,7 +111,10 @@ fn polygon_vertices(c: &[[f64; 2]], d: &[f64]) -> Vec<[f64; 2]> {
             }
             let x = (d[i] * c[j][1] - c[i][1] * d[j]) / det;
             let y = (c[i][0] * d[j] - d[i] * c[j][0]) / det;
-            if c.iter().zip(d).all(|(r, di)| r[0] * x + r[1] * y <= di + 1e-9) {
+            if c.iter()
+                .zip(d)
+                .all(|(r, di)| r[0] * x + r[1] * y <= di + 1e-9)
+            {
                 out.push([x, y]);
             }
         }
@@ -117,7 +123,14 @@ fn polygon_vertices(c: &[[f64; 2]], d: &[f64]) -> Vec<[f64; 2]> {
 }
 
 const KINDS: [&str; 8] = [
-    "sphere", "ellipsoid", "box", "polytope", "capsule", "cylinder", "cone", "polygon",
+    "sphere",
+    "ellipsoid",
+    "box",
+    "polytope",
+    "capsule",
+    "cylinder",
+    "cone",
+    "polygon",
 ];
 
 fn random_shape(kind: usize, rng: &mut Rng) -> (Shape, Oracle) {
@@ -156,7 +169,11 @@ fn random_shape(kind: usize, rng: &mut Rng) -> (Shape, Oracle) {
             let mut a = Vec::new();
             for s1 in [1.0, -1.0] {
                 for s2 in [1.0, -1.0] {
-                    for v in [[0.0, s1, s2 * phi], [s1, s2 * phi, 0.0], [s2 * phi, 0.0, s1]] {
+                    for v in [
+                        [0.0, s1, s2 * phi],
+                        [s1, s2 * phi, 0.0],
+                        [s2 * phi, 0.0, s1],
+                    ] {
                         a.push(v.map(|c: f64| c + rng.range(-0.15, 0.15)));
                     }
                 }
@@ -182,7 +199,8 @@ fn random_shape(kind: usize, rng: &mut Rng) -> (Shape, Oracle) {
             let off = rng.range(0.0, std::f64::consts::TAU);
             let c: Vec<[f64; 2]> = (0..m)
                 .map(|i| {
-                    let t = off + std::f64::consts::TAU * (i as f64 + rng.range(-0.2, 0.2)) / m as f64;
+                    let t =
+                        off + std::f64::consts::TAU * (i as f64 + rng.range(-0.2, 0.2)) / m as f64;
                     [t.cos(), t.sin()]
                 })
                 .collect();
@@ -266,7 +284,10 @@ fn analytic_overlaps() {
     assert!((s.distance + depth).abs() < 1e-10, "{s:?} vs {depth}");
     assert!((s.normal - Vec3::x()).norm() < 1e-10);
     // A sphere over a box face: depth R + h − |d_z|.
-    let (a, b) = (Shape::cuboid(2.0, 2.0, 0.5).unwrap(), Shape::sphere(0.4).unwrap());
+    let (a, b) = (
+        Shape::cuboid(2.0, 2.0, 0.5).unwrap(),
+        Shape::sphere(0.4).unwrap(),
+    );
     let s = signed_distance(&a, &at(0.0, 0.0, 0.0), &b, &at(0.3, -0.2, 0.7), &o).unwrap();
     assert!((s.distance - (0.7 - 0.9)).abs() < 1e-10, "{s:?}");
     assert!((s.normal - Vec3::z()).norm() < 1e-8);
@@ -280,13 +301,12 @@ fn analytic_overlaps() {
     let s = signed_distance(&a, &at(0.0, 0.0, 0.0), &b, &pb, &o).unwrap();
     assert!((s.distance - (0.35 - 0.5)).abs() < 1e-10, "{s:?}");
     assert!((s.normal - Vec3::z()).norm() < 1e-8);
-    for s in [s] {
-        let e = (s.closest2 - s.closest1 - s.normal * s.distance).norm();
-        assert!(e < 1e-9, "witness identity {e:e}");
-    }
+    let e = (s.closest2 - s.closest1 - s.normal * s.distance).norm();
+    assert!(e < 1e-9, "witness identity {e:e}");
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)]
 fn random_pairs_against_brute_force() {
     let o = Options::default();
     let mut rng = Rng(0x5D15_7A4C_E000_0001);
@@ -336,7 +356,10 @@ fn random_pairs_against_brute_force() {
                 worst_lo = worst_lo.max(attained);
                 // A bracket that did not close (status not converged) gives the best answer only.
                 let strict = s.status == SolveStatus::Converged;
-                if (strict && (hi > 1e-9 || lo > 1e-6)) || attained > 1e-9 || !s.distance.is_finite() {
+                if (strict && (hi > 1e-9 || lo > 1e-6))
+                    || attained > 1e-9
+                    || !s.distance.is_finite()
+                {
                     failures.push(format!(
                         "{name} #{i}: sd {} vs brute {b}, L(n) {at_n} ({:?}, {:?})",
                         s.distance, s.path, s.status
@@ -346,7 +369,10 @@ fn random_pairs_against_brute_force() {
                 if s.distance != 0.0 && strict {
                     worst_w = worst_w.max(w);
                     if w > 1e-8 {
-                        failures.push(format!("{name} #{i}: witness identity off by {w:e} ℓ ({:?})", s.path));
+                        failures.push(format!(
+                            "{name} #{i}: witness identity off by {w:e} ℓ ({:?})",
+                            s.path
+                        ));
                     }
                 }
                 if s.distance > 0.0 {
@@ -370,7 +396,10 @@ fn random_pairs_against_brute_force() {
 #[test]
 fn continuous_across_touching() {
     let o = Options::default();
-    let (a, b) = (Shape::cylinder(0.5, 1.0).unwrap(), Shape::ellipsoid([[4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]).unwrap());
+    let (a, b) = (
+        Shape::cylinder(0.5, 1.0).unwrap(),
+        Shape::ellipsoid([[4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]).unwrap(),
+    );
     let pa = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
     // Ellipsoid semi-axis along y is 1: touching at y = 1.5 (cylinder radius 0.5 along y).
     let mut prev: Option<f64> = None;
@@ -378,7 +407,12 @@ fn continuous_across_touching() {
         let eps = k as f64 * 1e-11;
         let pb = Pose::from_position([0.0, 1.5 + eps, 0.0]).unwrap();
         let s = signed_distance(&a, &pa, &b, &pb, &o).unwrap();
-        assert!((s.distance - eps).abs() < 1e-12, "eps {eps:e}: sd {:e} ({:?})", s.distance, s.path);
+        assert!(
+            (s.distance - eps).abs() < 1e-12,
+            "eps {eps:e}: sd {:e} ({:?})",
+            s.distance,
+            s.path
+        );
         if let Some(p) = prev {
             assert!(s.distance >= p - 1e-13);
         }

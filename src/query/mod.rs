@@ -19,5 +19,5 @@ pub use distance::{distance, distance_gradient, distance_within};
 pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::proximity;
-pub use signed::signed_distance;
 pub(crate) use proximity::query_until;
+pub use signed::signed_distance;

@@ -10,9 +10,9 @@
 use super::context::{DistancePath, Options, SignedDistance};
 use super::distance::{distance, MAX_OFFSET_RATIO};
 use crate::error::{Error, ErrorDetail};
+use crate::math::Vec3;
 use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::{Shape, ShapeKind};
-use crate::math::Vec3;
 use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
 use crate::solver::gjk::{penetration, EpaEnd, Penetration};
 use crate::solver::raycast::{Pair, Posed};

@@ -415,7 +415,15 @@ fn polish<S: SupportMap>(
         let ok = newton(pair, &poly.d, &act[..p], &mut n, &mut mu, &mut l[..p], 1e-6);
         if ok {
             // On to rounding (the state stays at the last accepted step if it stalls).
-            newton(pair, &poly.d, &act[..p], &mut n, &mut mu, &mut l[..p], 1e-13);
+            newton(
+                pair,
+                &poly.d,
+                &act[..p],
+                &mut n,
+                &mut mu,
+                &mut l[..p],
+                1e-13,
+            );
             let (kmin, lmin) = (0..p).fold((0, Real::INFINITY), |acc, k| {
                 if l[k] < acc.1 {
                     (k, l[k])
