@@ -67,6 +67,9 @@ const METHODS: &[(&str, Method)] = &[
         };
         distance(a, pa, b, pb, &o).map(|r| black_box(r).iterations)
     }),
+    ("signed_distance", |a, pa, b, pb, o| {
+        dcol::signed_distance(a, pa, b, pb, o).map(|r| black_box(r).iterations)
+    }),
 ];
 
 /// The pose classes: name and the range of the target α*.

@@ -283,6 +283,35 @@ typedef struct dcol_distance_result {
 } dcol_distance_result;
 
 /**
+ * The signed distance of two posed shapes: the Euclidean distance when separated, minus the
+ * penetration depth (the minimum translation distance) when overlapping.
+ */
+typedef struct dcol_signed_distance_result {
+  /**
+   * Signed distance: > 0 separated, < 0 overlapping (minus the depth), 0 touching.
+   */
+  double distance;
+  /**
+   * Unit normal from shape 1 to shape 2 (world): moving shape 2 by depth·normal separates
+   * overlapping shapes.
+   */
+  double normal[3];
+  /**
+   * Witness point on shape 1 (world), its support point at `normal`.
+   */
+  double closest1[3];
+  /**
+   * Witness point on shape 2 (world), its support point at `-normal`;
+   * closest2 - closest1 = distance·normal.
+   */
+  double closest2[3];
+  /**
+   * Iterations of the solver that answered (EPA support calls for overlapping pairs).
+   */
+  uint32_t iterations;
+} dcol_signed_distance_result;
+
+/**
  * Everything differentiable about a proximity query, from one solve (dcol_derivatives).
  * Columns are always (r1, q1, r2, q2): 14, the quaternion columns with respect to the four
  * numbers given (through the normalisation), as in dcol_gradient. Matrices are row-major
@@ -611,6 +640,25 @@ enum dcol_status dcol_distance_gradient(const struct dcol_shape *shape1,
                                         const struct dcol_options *options,
                                         struct dcol_distance_result *result,
                                         double *gradient);
+
+/**
+ * The signed distance, the normal from shape 1 to shape 2 and the witness points.
+ *
+ * `options` may be NULL (defaults). Returns DCOL_OK and fills *result; or
+ * DCOL_ERROR_NOT_CONVERGED (the certified bracket did not close) and fills *result with the
+ * best answer found; or an error status, the last error message set, and *result untouched.
+ * Does not allocate.
+ *
+ * # Safety
+ * `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
+ * `result` NULL or valid for writes.
+ */
+enum dcol_status dcol_signed_distance(const struct dcol_shape *shape1,
+                                      const struct dcol_pose *pose1,
+                                      const struct dcol_shape *shape2,
+                                      const struct dcol_pose *pose2,
+                                      const struct dcol_options *options,
+                                      struct dcol_signed_distance_result *result);
 
 /**
  * Is alpha* < `threshold`? Writes 1 to *below when it is, 0 when it is not (alpha* >=

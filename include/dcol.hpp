@@ -11,8 +11,8 @@
 // iterate, call the C function directly. The exceptions are per-item statuses, which are
 // returned, not thrown: dcol::proximity_batch (one status per pair) and
 // dcol::Scene::pairs_within (a pair whose solve did not converge). The plain C structs
-// (dcol_pose, dcol_options, dcol_proximity_result, dcol_distance_result, dcol_derivatives_result,
-// dcol_scene_pair, dcol_scene_stats) are used as is.
+// (dcol_pose, dcol_options, dcol_proximity_result, dcol_distance_result,
+// dcol_signed_distance_result, dcol_derivatives_result, dcol_scene_pair, dcol_scene_stats) are used as is.
 //
 // Shapes are move-only and free themselves; like the C shapes they are immutable and may be
 // shared between threads. A dcol::Scene is move-only, frees itself, keeps its own copies of the
@@ -173,6 +173,16 @@ inline dcol_distance_result distance(const Shape &shape1, const dcol_pose &pose1
                                      const dcol_options *options = nullptr) {
   dcol_distance_result d;
   check(dcol_distance(shape1.get(), &pose1, shape2.get(), &pose2, options, &d));
+  return d;
+}
+
+/// The signed distance (minus the penetration depth when overlapping), the normal from shape 1
+/// to shape 2 and the witness points.
+inline dcol_signed_distance_result signed_distance(const Shape &shape1, const dcol_pose &pose1,
+                                                   const Shape &shape2, const dcol_pose &pose2,
+                                                   const dcol_options *options = nullptr) {
+  dcol_signed_distance_result d;
+  check(dcol_signed_distance(shape1.get(), &pose1, shape2.get(), &pose2, options, &d));
   return d;
 }
 

@@ -6,8 +6,8 @@
 //! rows in a problem uses a per-thread scratch buffer that the first such call allocates), and
 //! then every query of every pair of kinds, on several poses, must make zero heap operations:
 //! `proximity`, `gradient`, `jacobian`, `distance` (its GJK path on the separated poses and,
-//! with `Method::InteriorPoint`, its interior-point path), `distance_gradient` and
-//! `distance_within`, whether they return `Ok` or `Err` (invalid options, and functions not
+//! with `Method::InteriorPoint`, its interior-point path), `distance_gradient`,
+//! `distance_within` and `signed_distance` (GJK, EPA and its polish), whether they return `Ok` or `Err` (invalid options, and functions not
 //! built yet, must not allocate on the error path either).
 
 use dcol::{
@@ -58,7 +58,7 @@ static ALLOCATOR: Counting = Counting;
 type Query = fn(&Shape, &Pose, &Shape, &Pose, &Options) -> Result<(), Error>;
 
 /// Every query, reduced to `Result<(), Error>` without touching the heap.
-const QUERIES: [(&str, Query); 7] = [
+const QUERIES: [(&str, Query); 8] = [
     ("proximity", |a, pa, b, pb, o| {
         proximity(a, pa, b, pb, o).map(|r| {
             black_box(r);
@@ -91,6 +91,11 @@ const QUERIES: [(&str, Query); 7] = [
             ..*o
         };
         distance(a, pa, b, pb, &o).map(|r| {
+            black_box(r);
+        })
+    }),
+    ("signed_distance", |a, pa, b, pb, o| {
+        dcol::signed_distance(a, pa, b, pb, o).map(|r| {
             black_box(r);
         })
     }),

@@ -7,7 +7,7 @@ use super::proximity::{check_inputs, read_inputs};
 use super::shape::dcol_shape;
 use super::status::dcol_status;
 use crate::math::Vec3;
-use crate::query::{self, Distance};
+use crate::query::{self, Distance, SignedDistance};
 
 /// The exact Euclidean distance between two posed (unscaled) shapes, with witness points.
 #[repr(C)]
@@ -113,6 +113,70 @@ pub unsafe extern "C" fn dcol_distance_gradient(
             // `[f64; 14]` has the alignment of `f64`.
             unsafe { gradient.cast::<[f64; 14]>().write(g) };
         }
+        q.outcome(d.status, d.iterations)
+    })
+}
+
+/// The signed distance of two posed shapes: the Euclidean distance when separated, minus the
+/// penetration depth (the minimum translation distance) when overlapping.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct dcol_signed_distance_result {
+    /// Signed distance: > 0 separated, < 0 overlapping (minus the depth), 0 touching.
+    pub distance: f64,
+    /// Unit normal from shape 1 to shape 2 (world): moving shape 2 by depth·normal separates
+    /// overlapping shapes.
+    pub normal: [f64; 3],
+    /// Witness point on shape 1 (world), its support point at `normal`.
+    pub closest1: [f64; 3],
+    /// Witness point on shape 2 (world), its support point at `-normal`;
+    /// closest2 - closest1 = distance·normal.
+    pub closest2: [f64; 3],
+    /// Iterations of the solver that answered (EPA support calls for overlapping pairs).
+    pub iterations: u32,
+}
+
+impl From<&SignedDistance> for dcol_signed_distance_result {
+    fn from(d: &SignedDistance) -> Self {
+        dcol_signed_distance_result {
+            distance: d.distance,
+            normal: arr(&d.normal),
+            closest1: arr(&d.closest1),
+            closest2: arr(&d.closest2),
+            iterations: d.iterations,
+        }
+    }
+}
+
+/// The signed distance, the normal from shape 1 to shape 2 and the witness points.
+///
+/// `options` may be NULL (defaults). Returns DCOL_OK and fills *result; or
+/// DCOL_ERROR_NOT_CONVERGED (the certified bracket did not close) and fills *result with the
+/// best answer found; or an error status, the last error message set, and *result untouched.
+/// Does not allocate.
+///
+/// # Safety
+/// `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
+/// `result` NULL or valid for writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_signed_distance(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_signed_distance_result,
+) -> dcol_status {
+    run("dcol_signed_distance", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        check_out(result, "result")?;
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let d = query::signed_distance(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
+            .map_err(Failure::api)?;
+        // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
+        unsafe { result.write((&d).into()) };
         q.outcome(d.status, d.iterations)
     })
 }

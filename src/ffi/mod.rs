@@ -57,7 +57,10 @@ pub use batch::{dcol_proximity_batch, DCOL_BATCH_MAX_THREADS};
 pub use derivatives::{
     dcol_derivatives, dcol_derivatives_result, dcol_gradient_mrp, dcol_jacobian_mrp,
 };
-pub use distance::{dcol_distance, dcol_distance_gradient, dcol_distance_result};
+pub use distance::{
+    dcol_distance, dcol_distance_gradient, dcol_distance_result, dcol_signed_distance,
+    dcol_signed_distance_result,
+};
 pub use early_exit::{dcol_alpha_below, dcol_intersect};
 pub use info::{dcol_last_error_message, dcol_status_string, dcol_version};
 pub use options::{dcol_options, dcol_options_default};

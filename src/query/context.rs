@@ -64,6 +64,37 @@ pub enum DistancePath {
     GjkPolish,
     /// The closest points of two segments (sphere and capsule pairs), certified as GJK's.
     ClosedForm,
+    /// Signed distance of an overlapping pair: EPA's polytope closed the bracket on its own.
+    Epa,
+    /// Signed distance of an overlapping pair: the Newton polish gave the normal, EPA's
+    /// polytope the certificate.
+    EpaPolish,
+    /// Signed distance of an overlapping sphere or capsule pair: the closest points of their
+    /// segments.
+    Segments,
+}
+
+/// The result of a signed-distance query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SignedDistance {
+    /// The signed distance: the Euclidean distance when separated, minus the penetration
+    /// depth (the minimum translation distance) when overlapping, 0 when touching.
+    pub distance: Real,
+    /// Unit normal from shape 1 to shape 2: moving shape 2 by `−distance·normal` (the depth
+    /// along the normal, when overlapping) makes the shapes touch.
+    pub normal: Vec3,
+    /// Witness point on shape 1 (world): its support point at `normal`.
+    pub closest1: Vec3,
+    /// Witness point on shape 2 (world): its support point at `−normal`;
+    /// `closest2 − closest1 = distance·normal`.
+    pub closest2: Vec3,
+    /// Iterations of the solver that answered: EPA's support calls for overlapping pairs,
+    /// the interior-point iterations of a distance fallback, 0 for GJK.
+    pub iterations: u32,
+    /// `Converged` when the certified bracket closed; otherwise the best answer found.
+    pub status: SolveStatus,
+    /// Which solver answered.
+    pub path: DistancePath,
 }
 
 /// The normalisation between world and solver coordinates.

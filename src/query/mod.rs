@@ -10,12 +10,14 @@ mod early_exit;
 mod geometric;
 mod proximity;
 mod separated;
+mod signed;
 
 pub(crate) use context::Want;
-pub use context::{Distance, DistancePath, Options, Proximity};
+pub use context::{Distance, DistancePath, Options, Proximity, SignedDistance};
 pub use differentiate::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
 pub use distance::{distance, distance_gradient, distance_within};
 pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::proximity;
 pub(crate) use proximity::query_until;
+pub use signed::signed_distance;

@@ -20,8 +20,11 @@
 //! along with a simplex triangle's own normal and any flat face nearby, and the bracket is
 //! certified again.
 
+mod epa;
 mod newton;
 mod simplex;
+
+pub(crate) use epa::{penetration, EpaEnd, Penetration};
 
 use super::raycast::{Pair, Vertex};
 use crate::math::{Real, Vec3};

@@ -188,7 +188,7 @@ fn certify<S: SupportMap>(
 
 /// Damped Newton on `Σ λ_k ∇p_k(n) + μ n = d`, `‖n‖² = 1`, each shape's multipliers summing
 /// to one and its active pieces tied; true when a full step converged to rounding.
-fn newton<S: SupportMap>(
+pub(super) fn newton<S: SupportMap>(
     pair: &Pair<'_, S>,
     d: &Vec3,
     act: &[Active],

@@ -58,7 +58,7 @@ fn segment(a: &Vec3, b: &Vec3) -> (u8, [Real; 2]) {
 }
 
 /// The point of triangle `abc` nearest the origin (Ericson's Voronoi-region tests).
-fn triangle(a: &Vec3, b: &Vec3, c: &Vec3) -> (u8, [Real; 3]) {
+pub(super) fn triangle(a: &Vec3, b: &Vec3, c: &Vec3) -> (u8, [Real; 3]) {
     let ab = b - a;
     let ac = c - a;
     let d1 = -ab.dot(a);

@@ -1,0 +1,466 @@
+//! Penetration depth of overlapping shapes: the expanding polytope algorithm (EPA) on
+//! `K = K₁ ⊕ (−K₂)` around `d`, a Newton polish of the normal on the pieces it identified, and
+//! a two-sided certificate.
+//!
+//! The signed distance is `sd = max over unit n of L(n)`, `L(n) = n·d − h_K(n)`. For `d ∈ K` it
+//! is minus the distance from `d` to K's boundary (the depth).
+//!
+//! - **Lower bound**: `L(n)` at any unit `n` (one support call): `sd ≥ L(n)`. The polish makes
+//!   it exact (to rounding) at the optimal normal; it is the reported value.
+//! - **Upper bound**: the polytope's vertices are support points, so they lie in K. Let S be
+//!   its closed oriented surface (every edge shared by two faces, as EPA's horizon step keeps
+//!   it) and, for each face with unit normal `n_f` (the normalised cross product of its edges),
+//!   `ρ_f = min over its three vertices of n_f·(w_i − d)`. If every `ρ_f > 0` then every face
+//!   has a positive solid angle seen from `d`, so S winds around `d` a positive number of
+//!   times and every ray from `d` crosses S, at a point `x` of a face: `x ∈ conv(vertices) ⊂ K`
+//!   and `‖x − d‖ ≥ n_f·(x − d) ≥ ρ_f`. K being convex, the ball of radius `ρ = min ρ_f` about
+//!   `d` lies in K, so depth ≥ ρ and `sd ≤ −ρ`. This needs neither the polytope's convexity
+//!   nor exact face normals (only the sign of each face's orientation, settled by `ρ_f` far
+//!   above rounding). Otherwise (d not enclosed) `sd ≤ ‖d − q‖` for any point `q` of a face
+//!   (`sd ≤ dist(d, K)`), used near touching.
+//!
+//! Polytope pairs end exactly: the closest face becomes a facet of K. On curved pieces the
+//! polytope approaches K only quadratically in its face size, so the bracket closes by
+//! inserting the support point at the polished normal and refining the faces around it.
+
+use super::newton::newton;
+use super::simplex::triangle;
+use crate::math::{Real, Vec3};
+use crate::shapes::SupportMap;
+use crate::solver::polish::{drop_piece, eval, normalise_multipliers, Active, MAX_PIECES};
+use crate::solver::raycast::{Pair, Vertex};
+
+/// Vertices and faces of the polytope (a closed triangulated sphere has `F = 2V − 4`).
+const MAX_V: usize = 128;
+const MAX_F: usize = 2 * MAX_V;
+/// Horizon edges of one insertion.
+const MAX_HORIZON: usize = 48;
+/// The bracket width (relative to the depth, plus an absolute part) at which curved pairs hand
+/// over to the polish.
+const HANDOVER: Real = 1e-4;
+const HANDOVER_ABS: Real = 1e-8;
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Face {
+    v: [u16; 3],
+    n: Vec3,
+    rho: Real,
+}
+
+/// A penetration answer (normalised units).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Penetration {
+    /// The lower bound `L(n)` at the best normal: the signed distance reported.
+    pub sd: Real,
+    /// The certified upper bound.
+    #[allow(dead_code)]
+    pub upper: Real,
+    pub normal: Vec3,
+    /// Witnesses relative to each shape's origin: `d + b − a ≈ sd·n`.
+    pub a: Vec3,
+    pub b: Vec3,
+    /// The polish's normal gave the lower bound.
+    pub polished: bool,
+    /// Support calls of K made.
+    pub supports: u32,
+}
+
+/// How EPA ended.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum EpaEnd {
+    /// The bracket closed to the tolerance.
+    Closed(Penetration),
+    /// The lower bound is positive: the shapes are separated (the distance query answers).
+    Separated,
+    /// No closed bracket within the budget: the best answer, with its bracket.
+    Open(Penetration),
+    /// No non-degenerate start.
+    Failed,
+}
+
+struct Poly {
+    d: Vec3,
+    verts: [Vertex; MAX_V],
+    nv: usize,
+    faces: [Face; MAX_F],
+    nf: usize,
+}
+
+impl Poly {
+    fn face(&self, v: [u16; 3]) -> Option<Face> {
+        let w = v.map(|i| self.verts[i as usize].w);
+        let c = (w[1] - w[0]).cross(&(w[2] - w[0]));
+        let len = c.norm();
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        let n = c / len;
+        let rho = w
+            .iter()
+            .map(|wi| n.dot(&(wi - self.d)))
+            .fold(Real::INFINITY, Real::min);
+        Some(Face { v, n, rho })
+    }
+
+    /// The face of least `ρ_f`.
+    fn closest(&self) -> usize {
+        let mut best = 0;
+        for k in 1..self.nf {
+            if self.faces[k].rho < self.faces[best].rho {
+                best = k;
+            }
+        }
+        best
+    }
+
+    /// Adds `vtx` to the hull: the faces that see it are replaced by the cone from their
+    /// horizon. False (nothing changed) when it sees no face, or the result would overflow or
+    /// hold a degenerate face.
+    fn insert(&mut self, vtx: Vertex, eps: Real) -> bool {
+        if self.nv >= MAX_V {
+            return false;
+        }
+        let s = vtx.w;
+        let mut visible = [false; MAX_F];
+        let mut any = false;
+        for k in 0..self.nf {
+            let f = &self.faces[k];
+            if f.n.dot(&(s - self.verts[f.v[0] as usize].w)) > eps {
+                visible[k] = true;
+                any = true;
+            }
+        }
+        if !any {
+            return false;
+        }
+        let mut horizon = [[0u16; 2]; MAX_HORIZON];
+        let mut nh = 0;
+        for k in 0..self.nf {
+            if !visible[k] {
+                continue;
+            }
+            let v = self.faces[k].v;
+            for e in 0..3 {
+                let (i, j) = (v[e], v[(e + 1) % 3]);
+                // The twin edge (j, i) lies in exactly one other face.
+                let twin_visible = (0..self.nf).any(|m| {
+                    visible[m] && {
+                        let u = self.faces[m].v;
+                        (0..3).any(|t| u[t] == j && u[(t + 1) % 3] == i)
+                    }
+                });
+                if !twin_visible {
+                    if nh == MAX_HORIZON {
+                        return false;
+                    }
+                    horizon[nh] = [i, j];
+                    nh += 1;
+                }
+            }
+        }
+        let kept = (0..self.nf).filter(|&k| !visible[k]).count();
+        if kept + nh > MAX_F {
+            return false;
+        }
+        let new = self.nv as u16;
+        self.verts[self.nv] = vtx;
+        let mut fresh = [Face::default(); MAX_HORIZON];
+        for (e, f) in horizon[..nh].iter().zip(fresh.iter_mut()) {
+            match self.face([e[0], e[1], new]) {
+                Some(face) => *f = face,
+                None => return false,
+            }
+        }
+        self.nv += 1;
+        let mut m = 0;
+        for k in 0..self.nf {
+            if !visible[k] {
+                self.faces[m] = self.faces[k];
+                m += 1;
+            }
+        }
+        self.faces[m..m + nh].copy_from_slice(&fresh[..nh]);
+        self.nf = m + nh;
+        true
+    }
+}
+
+/// The best lower bound and its witnesses.
+struct Best {
+    lower: Real,
+    normal: Vec3,
+    a: Vec3,
+    b: Vec3,
+    polished: bool,
+}
+
+/// The signed distance of an overlapping (or touching) pair at offset `d` (normalised),
+/// closing the bracket to `tol` within `budget` support calls. `curved`: run the polish.
+pub(crate) fn penetration<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    d: &Vec3,
+    tol: Real,
+    budget: u32,
+    curved: bool,
+) -> EpaEnd {
+    let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
+    let tol = tol.max(4.0 * floor);
+    let eps = floor;
+    let mut poly = Poly {
+        d: *d,
+        verts: [Vertex::default(); MAX_V],
+        nv: 0,
+        faces: [Face::default(); MAX_F],
+        nf: 0,
+    };
+    let mut supports = 0u32;
+    if !start(pair, &mut poly, &mut supports) {
+        return EpaEnd::Failed;
+    }
+    let mut best = Best {
+        lower: Real::NEG_INFINITY,
+        normal: Vec3::x(),
+        a: Vec3::zeros(),
+        b: Vec3::zeros(),
+        polished: false,
+    };
+    let mut upper;
+    let mut polished_once = !curved;
+    loop {
+        let k = poly.closest();
+        let f = poly.faces[k];
+        upper = bound(&poly, &f, floor);
+        let vtx = pair.support(&f.n);
+        supports += 1;
+        let lo = f.n.dot(&(d - vtx.w));
+        if lo > best.lower {
+            let (a, b) = witnesses(&poly, &f);
+            best = Best {
+                lower: lo,
+                normal: f.n,
+                a,
+                b,
+                polished: false,
+            };
+        }
+        if best.lower > floor {
+            return EpaEnd::Separated;
+        }
+        if upper - best.lower <= tol {
+            break;
+        }
+        // Hand over once the pieces are identified, or when EPA stops (the polish then still
+        // makes the lower bound, the answer, exact where the bracket stays open).
+        let narrow =
+            upper - best.lower <= HANDOVER * best.lower.abs().max(upper.abs()) + HANDOVER_ABS;
+        let stop = supports >= budget || (!narrow && !poly.insert(vtx, eps));
+        if !polished_once && (narrow || stop) {
+            polished_once = true;
+            if let Some((n, a, b)) = polish(pair, &poly, &f, best.lower) {
+                let v = pair.support(&n);
+                supports += 1;
+                let lo = n.dot(&(d - v.w));
+                if lo >= best.lower {
+                    best = Best {
+                        lower: lo,
+                        normal: n,
+                        a,
+                        b,
+                        polished: true,
+                    };
+                }
+                if !stop && poly.insert(v, eps) {
+                    continue;
+                }
+            }
+        }
+        if stop || (narrow && !poly.insert(vtx, eps)) {
+            if upper - best.lower > tol {
+                let k = poly.closest();
+                upper = bound(&poly, &poly.faces[k], floor);
+            }
+            break;
+        }
+    }
+    let out = Penetration {
+        sd: best.lower,
+        upper,
+        normal: best.normal,
+        a: best.a,
+        b: best.b,
+        polished: best.polished,
+        supports,
+    };
+    if upper - best.lower <= tol {
+        EpaEnd::Closed(out)
+    } else {
+        EpaEnd::Open(out)
+    }
+}
+
+/// A tetrahedron of support points in the directions of a regular tetrahedron (or of the
+/// opposite one), its faces oriented outward.
+fn start<S: SupportMap>(pair: &Pair<'_, S>, poly: &mut Poly, supports: &mut u32) -> bool {
+    let s = 1.0 / (3.0 as Real).sqrt();
+    let dirs = [
+        Vec3::new(s, s, s),
+        Vec3::new(s, -s, -s),
+        Vec3::new(-s, s, -s),
+        Vec3::new(-s, -s, s),
+    ];
+    for sign in [1.0, -1.0] {
+        for (i, dir) in dirs.iter().enumerate() {
+            poly.verts[i] = pair.support(&(dir * sign));
+            *supports += 1;
+        }
+        let w = [0, 1, 2, 3].map(|i| poly.verts[i].w);
+        let vol = (w[1] - w[0]).cross(&(w[2] - w[0])).dot(&(w[3] - w[0]));
+        let scale = (w[1] - w[0]).norm() * (w[2] - w[0]).norm() * (w[3] - w[0]).norm();
+        if !(vol.abs() > 1e-9 * scale) {
+            continue;
+        }
+        poly.nv = 4;
+        // With vol > 0, (0,1,2) has 3 on its positive side: orient it the other way.
+        let faces: [[u16; 3]; 4] = if vol > 0.0 {
+            [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
+        } else {
+            [[0, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]]
+        };
+        let mut ok = true;
+        for (k, v) in faces.iter().enumerate() {
+            match poly.face(*v) {
+                Some(f) => poly.faces[k] = f,
+                None => ok = false,
+            }
+        }
+        if ok {
+            poly.nf = 4;
+            return true;
+        }
+    }
+    false
+}
+
+/// The certified upper bound on `sd` with closest face `f`: `−(min ρ_f − rounding)` when every
+/// face has `d` strictly on its inner side, else the distance from `d` to that face.
+fn bound(poly: &Poly, f: &Face, floor: Real) -> Real {
+    if f.rho > floor {
+        return -(f.rho - floor);
+    }
+    let w = f.v.map(|i| poly.verts[i as usize].w - poly.d);
+    let (_, t) = triangle(&w[0], &w[1], &w[2]);
+    (w[0] * t[0] + w[1] * t[1] + w[2] * t[2]).norm() + floor
+}
+
+/// The witnesses of face `f`: the barycentric combination of its vertices' shape points at
+/// the projection of `d` onto its plane.
+fn witnesses(poly: &Poly, f: &Face) -> (Vec3, Vec3) {
+    let t = bary(poly, f);
+    let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
+    for (i, ti) in f.v.iter().zip(t) {
+        let v = &poly.verts[*i as usize];
+        a += v.a * ti;
+        b += v.b * ti;
+    }
+    (a, b)
+}
+
+/// Barycentric coordinates of the projection of `d` onto face `f`'s plane.
+fn bary(poly: &Poly, f: &Face) -> [Real; 3] {
+    let w = f.v.map(|i| poly.verts[i as usize].w);
+    let p = poly.d + f.n * f.n.dot(&(w[0] - poly.d));
+    let area = |x: &Vec3, y: &Vec3, z: &Vec3| (y - x).cross(&(z - x)).dot(&f.n);
+    let total = area(&w[0], &w[1], &w[2]);
+    if !(total.abs() > 0.0) {
+        return [1.0 / 3.0; 3];
+    }
+    [
+        area(&p, &w[1], &w[2]) / total,
+        area(&w[0], &p, &w[2]) / total,
+        area(&w[0], &w[1], &p) / total,
+    ]
+}
+
+/// Newton on the optimality conditions of `max L(n)` (`Σ λ ∇p + μ n = d`, `‖n‖ = 1`; μ is the
+/// signed distance) on the pieces of face `f`'s vertices, dropping a piece whose multiplier
+/// turns negative: the normal and the primal witnesses `Σ λ ∇p` of each shape.
+fn polish<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    poly: &Poly,
+    f: &Face,
+    mu0: Real,
+) -> Option<(Vec3, Vec3, Vec3)> {
+    let mut act = [Active { shape: 0, id: 0 }; 2 * MAX_PIECES];
+    let mut lam = [0.0; 2 * MAX_PIECES];
+    let mut p = 0;
+    let t = bary(poly, f);
+    for (i, wt) in f.v.iter().zip(t) {
+        let v = &poly.verts[*i as usize];
+        for shape in 0..2 {
+            let id = v.id[shape];
+            match act[..p].iter().position(|a| a.shape == shape && a.id == id) {
+                Some(k) => lam[k] += wt.max(0.0),
+                None => {
+                    act[p] = Active { shape, id };
+                    lam[p] = wt.max(0.0);
+                    p += 1;
+                }
+            }
+        }
+    }
+    for _attempt in 0..4 {
+        let mut l = lam;
+        normalise_multipliers(&act[..p], &mut l[..p]);
+        let (mut n, mut mu) = (f.n, mu0);
+        let ok = newton(pair, &poly.d, &act[..p], &mut n, &mut mu, &mut l[..p], 1e-6);
+        if ok {
+            // On to rounding (the state stays at the last accepted step if it stalls).
+            newton(
+                pair,
+                &poly.d,
+                &act[..p],
+                &mut n,
+                &mut mu,
+                &mut l[..p],
+                1e-13,
+            );
+            let (kmin, lmin) = (0..p).fold((0, Real::INFINITY), |acc, k| {
+                if l[k] < acc.1 {
+                    (k, l[k])
+                } else {
+                    acc
+                }
+            });
+            if lmin >= -1e-12 {
+                let n = n / n.norm();
+                let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
+                let mut sums = [0.0; 2];
+                for (piece, lk) in act[..p].iter().zip(&l[..p]) {
+                    let lk = lk.max(0.0);
+                    let e = eval(pair, *piece, &n)?;
+                    sums[piece.shape] += lk;
+                    if piece.shape == 0 {
+                        a += e.grad * lk;
+                    } else {
+                        b -= e.grad * lk;
+                    }
+                }
+                if !(sums[0] > 0.0 && sums[1] > 0.0) {
+                    return None;
+                }
+                return Some((n, a / sums[0], b / sums[1]));
+            }
+            if !drop_piece(&mut act, &mut lam, &mut p, kmin) {
+                return None;
+            }
+        } else {
+            let k = (0..p)
+                .filter(|&k| act[..p].iter().filter(|a| a.shape == act[k].shape).count() > 1)
+                .min_by(|&i, &j| lam[i].total_cmp(&lam[j]))?;
+            if !drop_piece(&mut act, &mut lam, &mut p, k) {
+                return None;
+            }
+        }
+    }
+    None
+}

@@ -1,0 +1,421 @@
+//! The signed distance (`signed_distance`): analytic overlaps, separated pairs equal to
+//! `distance`, random pairs of the 8×8 kinds against an independent brute force over unit
+//! normals (support functions written out here from `shared/ALGORITHMS.md` §2), the witness
+//! identity, and continuity across touching.
+
+use dcol::math::rotation_from_quaternion;
+use dcol::{distance, signed_distance, Options, Pose, Shape, SolveStatus, Vec3};
+use std::collections::BTreeMap;
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn unif(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.unif()
+    }
+    fn dir(&mut self) -> Vec3 {
+        loop {
+            let v = Vec3::new(
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            );
+            let n = v.norm();
+            if n > 0.1 && n <= 1.0 {
+                return v / n;
+            }
+        }
+    }
+    fn quat(&mut self) -> [f64; 4] {
+        let v = loop {
+            let q = [0; 4].map(|_| self.range(-1.0, 1.0));
+            let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if n > 0.1 && n <= 1.0 {
+                break q.map(|x| x / n);
+            }
+        };
+        v
+    }
+}
+
+/// A shape with its body support function written out independently.
+enum Oracle {
+    Sphere(f64),
+    Ellipsoid(nalgebra::Matrix3<f64>), // P⁻¹
+    Vertices(Vec<Vec3>),
+    Capsule(f64, f64),
+    Cylinder(f64, f64),
+    Cone(f64, f64),
+    Polygon(Vec<[f64; 2]>, f64),
+}
+
+impl Oracle {
+    fn h(&self, m: &Vec3) -> f64 {
+        let yz = (m.y * m.y + m.z * m.z).sqrt();
+        match self {
+            Oracle::Sphere(r) => r * m.norm(),
+            Oracle::Ellipsoid(q) => m.dot(&(q * m)).sqrt(),
+            Oracle::Vertices(v) => v.iter().map(|p| p.dot(m)).fold(f64::MIN, f64::max),
+            Oracle::Capsule(r, l) => 0.5 * l * m.x.abs() + r * m.norm(),
+            Oracle::Cylinder(r, l) => 0.5 * l * m.x.abs() + r * yz,
+            Oracle::Cone(h, b) => (-0.75 * h * m.x).max(0.25 * h * m.x + h * b.tan() * yz),
+            Oracle::Polygon(w, r) => {
+                w.iter()
+                    .map(|p| p[0] * m.x + p[1] * m.y)
+                    .fold(f64::MIN, f64::max)
+                    + r * m.norm()
+            }
+        }
+    }
+}
+
+/// Vertices of `A x ≤ b` by brute force over triples of planes.
+fn vertices(a: &[[f64; 3]], b: &[f64]) -> Vec<Vec3> {
+    let mut out = Vec::new();
+    let rows: Vec<Vec3> = a.iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect();
+    for i in 0..a.len() {
+        for j in i + 1..a.len() {
+            for k in j + 1..a.len() {
+                let m = nalgebra::Matrix3::from_rows(&[
+                    rows[i].transpose(),
+                    rows[j].transpose(),
+                    rows[k].transpose(),
+                ]);
+                if let Some(x) = m.try_inverse().map(|inv| inv * Vec3::new(b[i], b[j], b[k])) {
+                    if rows.iter().zip(b).all(|(r, bi)| r.dot(&x) <= bi + 1e-9) {
+                        out.push(x);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+fn polygon_vertices(c: &[[f64; 2]], d: &[f64]) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for i in 0..c.len() {
+        for j in i + 1..c.len() {
+            let det = c[i][0] * c[j][1] - c[i][1] * c[j][0];
+            if det.abs() < 1e-12 {
+                continue;
+            }
+            let x = (d[i] * c[j][1] - c[i][1] * d[j]) / det;
+            let y = (c[i][0] * d[j] - d[i] * c[j][0]) / det;
+            if c.iter()
+                .zip(d)
+                .all(|(r, di)| r[0] * x + r[1] * y <= di + 1e-9)
+            {
+                out.push([x, y]);
+            }
+        }
+    }
+    out
+}
+
+const KINDS: [&str; 8] = [
+    "sphere",
+    "ellipsoid",
+    "box",
+    "polytope",
+    "capsule",
+    "cylinder",
+    "cone",
+    "polygon",
+];
+
+fn random_shape(kind: usize, rng: &mut Rng) -> (Shape, Oracle) {
+    match kind {
+        0 => {
+            let r = rng.range(0.3, 1.2);
+            (Shape::sphere(r).unwrap(), Oracle::Sphere(r))
+        }
+        1 => {
+            let m = rotation_from_quaternion(rng.quat());
+            let ax = [0; 3].map(|_| rng.range(0.3, 1.2));
+            let dd = nalgebra::Matrix3::from_diagonal(&Vec3::new(ax[0], ax[1], ax[2]));
+            let p = m * dd.map(|x| if x > 0.0 { 1.0 / (x * x) } else { 0.0 }) * m.transpose();
+            let q = m * dd * dd * m.transpose();
+            let pa = [0, 1, 2].map(|i| [0, 1, 2].map(|j| p[(i, j)]));
+            (Shape::ellipsoid(pa).unwrap(), Oracle::Ellipsoid(q))
+        }
+        2 => {
+            let h = [0; 3].map(|_| rng.range(0.2, 1.0));
+            let a = [
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [-1.0, 0.0, 0.0],
+                [0.0, -1.0, 0.0],
+                [0.0, 0.0, -1.0],
+            ];
+            let b = [h[0], h[1], h[2], h[0], h[1], h[2]];
+            (
+                Shape::cuboid(h[0], h[1], h[2]).unwrap(),
+                Oracle::Vertices(vertices(&a, &b)),
+            )
+        }
+        3 => {
+            let phi = (1.0 + 5f64.sqrt()) / 2.0;
+            let mut a = Vec::new();
+            for s1 in [1.0, -1.0] {
+                for s2 in [1.0, -1.0] {
+                    for v in [
+                        [0.0, s1, s2 * phi],
+                        [s1, s2 * phi, 0.0],
+                        [s2 * phi, 0.0, s1],
+                    ] {
+                        a.push(v.map(|c: f64| c + rng.range(-0.15, 0.15)));
+                    }
+                }
+            }
+            let b: Vec<f64> = (0..12).map(|_| rng.range(0.5, 1.2)).collect();
+            let s = Shape::polytope(&a, &b).unwrap();
+            (s, Oracle::Vertices(vertices(&a, &b)))
+        }
+        4 => {
+            let (r, l) = (rng.range(0.2, 0.7), rng.range(0.3, 1.5));
+            (Shape::capsule(r, l).unwrap(), Oracle::Capsule(r, l))
+        }
+        5 => {
+            let (r, l) = (rng.range(0.2, 0.7), rng.range(0.3, 1.5));
+            (Shape::cylinder(r, l).unwrap(), Oracle::Cylinder(r, l))
+        }
+        6 => {
+            let (h, b) = (rng.range(0.5, 1.8), rng.range(0.25, 1.1));
+            (Shape::cone(h, b).unwrap(), Oracle::Cone(h, b))
+        }
+        _ => {
+            let m = 3 + (rng.next() % 5) as usize;
+            let off = rng.range(0.0, std::f64::consts::TAU);
+            let c: Vec<[f64; 2]> = (0..m)
+                .map(|i| {
+                    let t =
+                        off + std::f64::consts::TAU * (i as f64 + rng.range(-0.2, 0.2)) / m as f64;
+                    [t.cos(), t.sin()]
+                })
+                .collect();
+            let d: Vec<f64> = (0..m).map(|_| rng.range(0.3, 0.9)).collect();
+            let r = rng.range(0.05, 0.3);
+            let w = polygon_vertices(&c, &d);
+            (Shape::polygon(&c, &d, r).unwrap(), Oracle::Polygon(w, r))
+        }
+    }
+}
+
+/// `L(n) = n·d − h₁(n) − h₂(−n)` from the oracles.
+fn lower(o: [&Oracle; 2], rot: [&nalgebra::Matrix3<f64>; 2], d: &Vec3, n: &Vec3) -> f64 {
+    n.dot(d) - o[0].h(&(rot[0].transpose() * n)) - o[1].h(&(rot[1].transpose() * -n))
+}
+
+/// The brute-force maximum of `L` over unit normals: a Fibonacci sphere, then a local search.
+fn brute(
+    o: [&Oracle; 2],
+    rot: [&nalgebra::Matrix3<f64>; 2],
+    d: &Vec3,
+    hint: &Vec3,
+    rng: &mut Rng,
+) -> f64 {
+    let k = 4000;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut best = (f64::MIN, Vec3::x());
+    if hint.norm() > 0.5 {
+        best = (lower(o, rot, d, hint), *hint);
+    }
+    for i in 0..k {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / k as f64;
+        let r = (1.0 - z * z).sqrt();
+        let t = golden * i as f64;
+        let n = Vec3::new(r * t.cos(), r * t.sin(), z);
+        let l = lower(o, rot, d, &n);
+        if l > best.0 {
+            best = (l, n);
+        }
+    }
+    let mut step = 0.05;
+    while step > 1e-9 {
+        let mut improved = false;
+        for _ in 0..40 {
+            let n = (best.1 + rng.dir() * step).normalize();
+            let l = lower(o, rot, d, &n);
+            if l > best.0 {
+                best = (l, n);
+                improved = true;
+            }
+        }
+        if !improved {
+            step *= 0.5;
+        }
+    }
+    best.0
+}
+
+fn pose(p: Vec3, q: [f64; 4]) -> Pose {
+    Pose::new([p.x, p.y, p.z], q).unwrap()
+}
+
+#[test]
+fn analytic_overlaps() {
+    let o = Options::default();
+    let at = |x: f64, y: f64, z: f64| Pose::from_position([x, y, z]).unwrap();
+    // Sphere–sphere: depth R1 + R2 − |d|.
+    let (a, b) = (Shape::sphere(1.0).unwrap(), Shape::sphere(0.5).unwrap());
+    let s = signed_distance(&a, &at(0.0, 0.0, 0.0), &b, &at(0.3, 0.4, 1.0), &o).unwrap();
+    let len = (0.09f64 + 0.16 + 1.0).sqrt();
+    assert!((s.distance - (len - 1.5)).abs() < 1e-10, "{s:?}");
+    assert!((s.normal - Vec3::new(0.3, 0.4, 1.0) / len).norm() < 1e-8);
+    // Box–box, axis aligned: depth is the least overlap over the axes.
+    let (a, b) = (
+        Shape::cuboid(1.0, 0.5, 0.7).unwrap(),
+        Shape::cuboid(0.4, 0.6, 0.3).unwrap(),
+    );
+    let s = signed_distance(&a, &at(0.0, 0.0, 0.0), &b, &at(1.2, 0.3, -0.2), &o).unwrap();
+    let over = [1.4 - 1.2, 1.1 - 0.3, 1.0 - 0.2];
+    let depth = over.iter().cloned().fold(f64::MAX, f64::min);
+    assert!((s.distance + depth).abs() < 1e-10, "{s:?} vs {depth}");
+    assert!((s.normal - Vec3::x()).norm() < 1e-10);
+    // A sphere over a box face: depth R + h − |d_z|.
+    let (a, b) = (
+        Shape::cuboid(2.0, 2.0, 0.5).unwrap(),
+        Shape::sphere(0.4).unwrap(),
+    );
+    let s = signed_distance(&a, &at(0.0, 0.0, 0.0), &b, &at(0.3, -0.2, 0.7), &o).unwrap();
+    assert!((s.distance - (0.7 - 0.9)).abs() < 1e-10, "{s:?}");
+    assert!((s.normal - Vec3::z()).norm() < 1e-8);
+    // Crossing capsules (axes along x and y, offset along z): depth R1 + R2 − |dz|.
+    let (a, b) = (
+        Shape::capsule(0.3, 2.0).unwrap(),
+        Shape::capsule(0.2, 2.0).unwrap(),
+    );
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let pb = Pose::new([0.1, 0.05, 0.35], [h, 0.0, 0.0, h]).unwrap();
+    let s = signed_distance(&a, &at(0.0, 0.0, 0.0), &b, &pb, &o).unwrap();
+    assert!((s.distance - (0.35 - 0.5)).abs() < 1e-10, "{s:?}");
+    assert!((s.normal - Vec3::z()).norm() < 1e-8);
+    let e = (s.closest2 - s.closest1 - s.normal * s.distance).norm();
+    assert!(e < 1e-9, "witness identity {e:e}");
+}
+
+#[test]
+#[allow(clippy::needless_range_loop)]
+fn random_pairs_against_brute_force() {
+    let o = Options::default();
+    let mut rng = Rng(0x5D15_7A4C_E000_0001);
+    let per_pair: usize = std::env::var("DCOL_SD_PAIRS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(6);
+    let mut failures = Vec::new();
+    let mut stats: BTreeMap<String, (usize, usize, u32)> = BTreeMap::new();
+    let (mut worst_hi, mut worst_lo, mut worst_w) = (0.0f64, 0.0f64, 0.0f64);
+    let mut overl = 0;
+    let mut open_worst = 0.0f64;
+    for k1 in 0..8 {
+        for k2 in 0..8 {
+            for i in 0..per_pair {
+                let (s1, o1) = random_shape(k1, &mut rng);
+                let (s2, o2) = random_shape(k2, &mut rng);
+                let (q1, q2) = (rng.quat(), rng.quat());
+                let reach = s1.bounding_radius() + s2.bounding_radius();
+                let d = rng.dir() * rng.range(0.0, 0.9) * reach;
+                let r1 = Vec3::new(0.1, -0.2, 0.3);
+                let (p1, p2) = (pose(r1, q1), pose(r1 + d, q2));
+                let ell = s1.bounding_radius().max(s2.bounding_radius());
+                let s = signed_distance(&s1, &p1, &s2, &p2, &o).unwrap();
+                let (m1, m2) = (rotation_from_quaternion(q1), rotation_from_quaternion(q2));
+                let b = brute([&o1, &o2], [&m1, &m2], &d, &s.normal, &mut rng);
+                // The reported value is attained at the reported normal (independent support
+                // functions), so it is a lower bound on the true maximum.
+                let at_n = lower([&o1, &o2], [&m1, &m2], &d, &s.normal);
+                let name = format!("{}-{}", KINDS[k1], KINDS[k2]);
+                if s.distance < 0.0 {
+                    overl += 1;
+                    let e = stats.entry(format!("{:?}", s.path)).or_default();
+                    e.0 += 1;
+                    e.1 += usize::from(s.status != SolveStatus::Converged);
+                    e.2 = e.2.max(s.iterations);
+                }
+                let hi = (b - s.distance) / ell;
+                let lo = (s.distance - b) / ell;
+                if s.status == SolveStatus::Converged {
+                    worst_hi = worst_hi.max(hi);
+                    worst_lo = worst_lo.max(lo);
+                } else {
+                    open_worst = open_worst.max(hi);
+                }
+                let attained = (s.distance - at_n) / ell;
+                worst_lo = worst_lo.max(attained);
+                // A bracket that did not close (status not converged) gives the best answer only.
+                let strict = s.status == SolveStatus::Converged;
+                if (strict && (hi > 1e-9 || lo > 1e-6))
+                    || attained > 1e-9
+                    || !s.distance.is_finite()
+                {
+                    failures.push(format!(
+                        "{name} #{i}: sd {} vs brute {b}, L(n) {at_n} ({:?}, {:?})",
+                        s.distance, s.path, s.status
+                    ));
+                }
+                let w = (s.closest2 - s.closest1 - s.normal * s.distance).norm() / ell;
+                if s.distance != 0.0 && strict {
+                    worst_w = worst_w.max(w);
+                    if w > 1e-8 {
+                        failures.push(format!(
+                            "{name} #{i}: witness identity off by {w:e} ℓ ({:?})",
+                            s.path
+                        ));
+                    }
+                }
+                if s.distance > 0.0 {
+                    let dd = distance(&s1, &p1, &s2, &p2, &o).unwrap();
+                    if dd.distance != s.distance {
+                        failures.push(format!("{name} #{i}: separated sd != distance"));
+                    }
+                }
+            }
+        }
+    }
+    println!("overlapping {overl}; paths (count, not converged, max supports) {stats:?}");
+    println!("not converged: brute above sd by ≤ {open_worst:e} ℓ");
+    println!("brute above sd by ≤ {worst_hi:e} ℓ; sd above brute by ≤ {worst_lo:e} ℓ; witness identity ≤ {worst_w:e} ℓ");
+    for f in failures.iter().take(40) {
+        println!("{f}");
+    }
+    assert!(failures.is_empty(), "{} failures", failures.len());
+}
+
+#[test]
+fn continuous_across_touching() {
+    let o = Options::default();
+    let (a, b) = (
+        Shape::cylinder(0.5, 1.0).unwrap(),
+        Shape::ellipsoid([[4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]).unwrap(),
+    );
+    let pa = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+    // Ellipsoid semi-axis along y is 1: touching at y = 1.5 (cylinder radius 0.5 along y).
+    let mut prev: Option<f64> = None;
+    for k in -20..=20 {
+        let eps = k as f64 * 1e-11;
+        let pb = Pose::from_position([0.0, 1.5 + eps, 0.0]).unwrap();
+        let s = signed_distance(&a, &pa, &b, &pb, &o).unwrap();
+        assert!(
+            (s.distance - eps).abs() < 1e-12,
+            "eps {eps:e}: sd {:e} ({:?})",
+            s.distance,
+            s.path
+        );
+        if let Some(p) = prev {
+            assert!(s.distance >= p - 1e-13);
+        }
+        prev = Some(s.distance);
+    }
+}
