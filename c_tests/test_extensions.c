@@ -1096,6 +1096,59 @@ static void test_smoothing(void) {
   dcol_shape_free(ball);
 }
 
+/* dcol_signed_distance: separated pairs give the distance, overlapping ones minus the depth,
+ * with the witness identity closest2 - closest1 = distance * normal; bad input is refused. */
+static void test_signed_distance(void) {
+  dcol_shape *a = NULL, *b = NULL, *cube = NULL;
+  dcol_pose p1 = pose_at(0.0, 0.0, 0.0);
+  dcol_signed_distance_result r;
+  dcol_distance_result d;
+  dcol_status st;
+  int k;
+  CHECK(dcol_shape_new_sphere(1.0, &a) == DCOL_OK);
+  CHECK(dcol_shape_new_sphere(0.5, &b) == DCOL_OK);
+  CHECK(dcol_shape_new_box(1.0, 1.0, 1.0, &cube) == DCOL_OK);
+  {
+    /* Spheres 1.2 apart: overlap by 0.3 along (0.6, 0, 0.8). */
+    dcol_pose p2 = pose_at(0.72, 0.0, 0.96);
+    CHECK(dcol_signed_distance(a, &p1, b, &p2, NULL, &r) == DCOL_OK);
+    CHECK_MSG(near(r.distance, -0.3, 1e-12), "%.17g", r.distance);
+    CHECK(near(r.normal[0], 0.6, 1e-12) && near(r.normal[1], 0.0, 1e-12) &&
+          near(r.normal[2], 0.8, 1e-12));
+    for (k = 0; k < 3; k++)
+      CHECK(near(r.closest2[k] - r.closest1[k], r.distance * r.normal[k], 1e-12));
+  }
+  {
+    /* A sphere sunk 0.2 into the cube's top face, away from its edges. */
+    dcol_pose p2 = pose_at(0.3, -0.2, 1.3);
+    CHECK(dcol_signed_distance(cube, &p1, b, &p2, NULL, &r) == DCOL_OK);
+    CHECK_MSG(near(r.distance, -0.2, 1e-10), "%.17g", r.distance);
+    CHECK(near(r.normal[2], 1.0, 1e-10));
+  }
+  {
+    /* Separated: the distance query's answer. */
+    dcol_pose p2 = pose_at(0.0, 3.0, 0.0);
+    CHECK(dcol_signed_distance(cube, &p1, b, &p2, NULL, &r) == DCOL_OK);
+    CHECK(dcol_distance(cube, &p1, b, &p2, NULL, &d) == DCOL_OK);
+    CHECK_MSG(near(r.distance, 1.5, 1e-12) && near(d.distance, r.distance, 1e-12), "%.17g",
+              r.distance);
+  }
+  {
+    dcol_pose bad = pose_at(0.0, NAN, 0.0);
+    memset(&r, SENTINEL, sizeof r);
+    st = dcol_signed_distance(cube, &p1, b, &bad, NULL, &r);
+    CHECK_MSG(st == DCOL_ERROR_INVALID_POSE, "status %d", (int)st);
+    CHECK(contains(dcol_last_error_message(), "dcol_signed_distance"));
+    st = dcol_signed_distance(NULL, &p1, b, &p1, NULL, &r);
+    CHECK_MSG(st == DCOL_ERROR_NULL_POINTER, "status %d", (int)st);
+    st = dcol_signed_distance(cube, &p1, b, &p1, NULL, NULL);
+    CHECK_MSG(st == DCOL_ERROR_NULL_POINTER, "status %d", (int)st);
+  }
+  dcol_shape_free(a);
+  dcol_shape_free(b);
+  dcol_shape_free(cube);
+}
+
 int main(void) {
   test_alpha_below_values();
   test_alpha_below_errors();
@@ -1106,5 +1159,6 @@ int main(void) {
   test_scene_values();
   test_scene_errors();
   test_smoothing();
+  test_signed_distance();
   return check_summary("test_extensions");
 }
