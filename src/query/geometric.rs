@@ -71,18 +71,7 @@ pub(crate) fn proximity(
     let ell = shape1.bounding_radius().max(shape2.bounding_radius());
     let inv = 1.0 / ell;
     let iota = (shape1.inscribed_radius() + shape2.inscribed_radius()) * inv;
-    let pair = Pair {
-        one: Posed {
-            shape: shape1,
-            rot: pose1.rotation(),
-            inv_scale: inv,
-        },
-        two: Posed {
-            shape: shape2,
-            rot: pose2.rotation(),
-            inv_scale: inv,
-        },
-    };
+    let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     // α* = α'·dist/ℓ.
     let world = dist * inv;
     let stop = threshold.map(|(t, stop_below)| Stop {
@@ -179,18 +168,11 @@ fn normalised<'a>(
     let inv = 1.0 / ell;
     let s = dist * inv;
     let alpha_n = prox.alpha / s;
-    let pair = Pair {
-        one: Posed {
-            shape: shapes[0],
-            rot: poses[0].rotation(),
-            inv_scale: inv,
-        },
-        two: Posed {
-            shape: shapes[1],
-            rot: poses[1].rotation(),
-            inv_scale: inv,
-        },
-    };
+    let pair = Pair::new(
+        [shapes[0], shapes[1]],
+        [poses[0].rotation(), poses[1].rotation()],
+        inv,
+    );
     let sol = Solution {
         r: (r2 - r1) / dist,
         // ∂α*/∂d = n·α'/ℓ with n·r = 1.
@@ -275,14 +257,7 @@ type Solved = Result<Option<Answer>, (bool, Real)>;
 
 /// Sphere and capsule pairs, and a sphere with a centred box, in closed form.
 fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
-    let seg = |posed: &Posed<'_, Shape>| {
-        let (half, radius) = posed.shape.rounded_segment()?;
-        Some(RoundedSegment {
-            axis: posed.rot.column(0).into_owned(),
-            half: half * posed.inv_scale,
-            radius: radius * posed.inv_scale,
-        })
-    };
+    let seg = RoundedSegment::of;
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
         Some((0.0, radius)) => Some(radius * posed.inv_scale),
         _ => None,

@@ -14,7 +14,7 @@ use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
-use crate::solver::raycast::{Pair, Posed};
+use crate::solver::raycast::Pair;
 use crate::solver::SolveStatus;
 
 /// GJK iterations before the polish (curved pairs hand over earlier, polytopes end exactly).
@@ -39,18 +39,7 @@ pub(crate) fn separated(
     cutoff: Option<Real>,
 ) -> Option<(Distance, [Real; 14], bool)> {
     let inv = 1.0 / ell;
-    let pair = Pair {
-        one: Posed {
-            shape: shape1,
-            rot: pose1.rotation(),
-            inv_scale: inv,
-        },
-        two: Posed {
-            shape: shape2,
-            rot: pose2.rotation(),
-            inv_scale: inv,
-        },
-    };
+    let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     let r1 = *pose1.position();
     let r2 = *pose2.position();
     let d = (r2 - r1) * inv;
@@ -128,14 +117,7 @@ pub(crate) fn separated(
 
 /// Sphere and capsule pairs: the closest points of their segments, certified.
 fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
-    let seg = |posed: &Posed<'_, Shape>| {
-        let (half, radius) = posed.shape.rounded_segment()?;
-        Some(RoundedSegment {
-            axis: posed.rot.column(0).into_owned(),
-            half: half * posed.inv_scale,
-            radius: radius * posed.inv_scale,
-        })
-    };
+    let seg = RoundedSegment::of;
     let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
     let (x1, x2) = closest_segment_points(&one, d, &two);
     let diff = x2 - x1;

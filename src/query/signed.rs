@@ -15,7 +15,7 @@ use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
 use crate::solver::gjk::{penetration, EpaEnd, Penetration};
-use crate::solver::raycast::{Pair, Posed};
+use crate::solver::raycast::Pair;
 use crate::solver::SolveStatus;
 
 /// The bracket is closed to this fraction of the options' tolerance (units of ℓ).
@@ -95,18 +95,7 @@ pub fn signed_distance(
         }
     }
     let inv = 1.0 / ell;
-    let pair = Pair {
-        one: Posed {
-            shape: shape1,
-            rot: pose1.rotation(),
-            inv_scale: inv,
-        },
-        two: Posed {
-            shape: shape2,
-            rot: pose2.rotation(),
-            inv_scale: inv,
-        },
-    };
+    let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     let d = offset * inv;
     let curved = [shape1, shape2]
         .iter()
@@ -158,14 +147,7 @@ pub fn signed_distance(
 /// Sphere and capsule pairs whose core segments do not meet: `sd = ‖x₂ − x₁‖ − R₁ − R₂` at the
 /// closest points of the segments (exact; K is the segments' difference padded by R₁ + R₂).
 fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
-    let seg = |posed: &Posed<'_, Shape>| {
-        let (half, radius) = posed.shape.rounded_segment()?;
-        Some(RoundedSegment {
-            axis: posed.rot.column(0).into_owned(),
-            half: half * posed.inv_scale,
-            radius: radius * posed.inv_scale,
-        })
-    };
+    let seg = RoundedSegment::of;
     let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
     let (x1, x2) = closest_segment_points(&one, d, &two);
     let diff = x2 - x1;

@@ -21,7 +21,9 @@
 //!
 //! Everything is in the caller's normalised units (unit `d`, lengths over ℓ).
 
+use super::raycast::Posed;
 use crate::math::{Mat3, Real, Vec3};
+use crate::shapes::Shape;
 
 /// A rounded segment in the normalised world frame: unit axis, half-length, radius.
 #[derive(Clone, Copy, Debug)]
@@ -29,6 +31,19 @@ pub(crate) struct RoundedSegment {
     pub axis: Vec3,
     pub half: Real,
     pub radius: Real,
+}
+
+impl RoundedSegment {
+    /// A sphere's or capsule's segment and radius in the normalised world frame (`None` for
+    /// other kinds).
+    pub fn of(posed: &Posed<'_, Shape>) -> Option<Self> {
+        let (half, radius) = posed.shape.rounded_segment()?;
+        Some(RoundedSegment {
+            axis: posed.rot.column(0).into_owned(),
+            half: half * posed.inv_scale,
+            radius: radius * posed.inv_scale,
+        })
+    }
 }
 
 /// The closed-form answer: α' for the unit offset, the segment parameters of the closest

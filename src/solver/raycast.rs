@@ -64,7 +64,23 @@ pub(crate) struct Pair<'a, S: SupportMap> {
     pub two: Posed<'a, S>,
 }
 
-impl<S: SupportMap> Pair<'_, S> {
+impl<'a, S: SupportMap> Pair<'a, S> {
+    /// Two shapes at their attitudes (world from body), lengths scaled by `inv_scale`.
+    pub fn new(shapes: [&'a S; 2], rots: [&'a Mat3; 2], inv_scale: Real) -> Self {
+        Pair {
+            one: Posed {
+                shape: shapes[0],
+                rot: rots[0],
+                inv_scale,
+            },
+            two: Posed {
+                shape: shapes[1],
+                rot: rots[1],
+                inv_scale,
+            },
+        }
+    }
+
     /// The support point of K in direction `n`.
     #[inline]
     pub fn support(&self, n: &Vec3) -> Vertex {
