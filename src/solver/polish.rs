@@ -432,25 +432,22 @@ fn kkt_system<S: SupportMap>(
     rhs: &mut [Real; MAX_DIM],
 ) -> Option<Real> {
     let p = act.len();
-    // The first piece of each shape: the others are tied to it.
-    let first = |shape: usize| act.iter().position(|a| a.shape == shape);
-    let (f0, f1) = (first(0)?, first(1)?);
-    let mut pieces: [Option<WorldPiece>; 2 * MAX_PIECES] = Default::default();
+    let mut value = [0.0; 2 * MAX_PIECES];
+    let mut grad = [Vec3::zeros(); 2 * MAX_PIECES];
+    let mut hsum = Mat3::zeros();
+    let mut gsum = Vec3::zeros();
     for k in 0..p {
-        pieces[k] = Some(eval(pair, act[k], n)?);
+        let e = eval(pair, act[k], n)?;
+        value[k] = e.value;
+        grad[k] = e.grad;
+        hsum += e.hess * lam[k];
+        gsum += e.grad * lam[k];
     }
-    let pc = |k: usize| pieces[k].as_ref().unwrap();
     let dim = 4 + p;
     for row in jac.iter_mut().take(dim) {
         row[..dim].fill(0.0);
     }
     // Rows 0..3: Σ λ_k g_k − μ r.
-    let mut hsum = Mat3::zeros();
-    let mut gsum = Vec3::zeros();
-    for k in 0..p {
-        hsum += pc(k).hess * lam[k];
-        gsum += pc(k).grad * lam[k];
-    }
     let ra = gsum - r * mu;
     for i in 0..3 {
         for j in 0..3 {
@@ -458,7 +455,7 @@ fn kkt_system<S: SupportMap>(
         }
         jac[i][3] = -r[i];
         for k in 0..p {
-            jac[i][4 + k] = pc(k).grad[i];
+            jac[i][4 + k] = grad[k][i];
         }
         rhs[i] = -ra[i];
     }
@@ -467,13 +464,29 @@ fn kkt_system<S: SupportMap>(
         jac[3][j] = r[j];
     }
     rhs[3] = -(n.dot(r) - 1.0);
-    // Rows 4..: the multipliers' sums (one row per shape, at its first piece's slot) and the
-    // ties of the other pieces to the first.
-    let mut scale = ra.norm() + rhs[3].abs();
-    for k in 0..p {
+    let scale = ra.norm() + rhs[3].abs() + piece_rows(act, lam, &value, &grad, jac, rhs)?;
+    scale.is_finite().then_some(scale)
+}
+
+/// Rows 4.. of both polishes' KKT systems (this one's and the GJK polish's): each shape's
+/// multipliers sum to one (the row of its first piece) and its other pieces tie to the first
+/// (`p_k(n) = p_first(n)`). Writes the negated residuals and the rows' Jacobian entries; returns
+/// the residuals' 1-norm, or `None` when a shape has no piece.
+pub(crate) fn piece_rows(
+    act: &[Active],
+    lam: &[Real],
+    value: &[Real],
+    grad: &[Vec3],
+    jac: &mut [[Real; MAX_DIM]; MAX_DIM],
+    rhs: &mut [Real; MAX_DIM],
+) -> Option<Real> {
+    let first = |shape: usize| act.iter().position(|a| a.shape == shape);
+    let firsts = [first(0)?, first(1)?];
+    let mut scale = 0.0;
+    for k in 0..act.len() {
         let row = 4 + k;
         let shape = act[k].shape;
-        let f = if shape == 0 { f0 } else { f1 };
+        let f = firsts[shape];
         if k == f {
             let mut sum = 0.0;
             for (i, a) in act.iter().enumerate() {
@@ -484,15 +497,15 @@ fn kkt_system<S: SupportMap>(
             }
             rhs[row] = -(sum - 1.0);
         } else {
-            let g = pc(k).grad - pc(f).grad;
+            let g = grad[k] - grad[f];
             for j in 0..3 {
                 jac[row][j] = g[j];
             }
-            rhs[row] = -(pc(k).value - pc(f).value);
+            rhs[row] = -(value[k] - value[f]);
         }
         scale += rhs[row].abs();
     }
-    scale.is_finite().then_some(scale)
+    Some(scale)
 }
 
 /// The certificate of a Newton solution: the full support maps at `n` for the lower bound, the

@@ -15,7 +15,8 @@ use super::Cert;
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::SupportMap;
 use crate::solver::polish::{
-    drop_piece, eval, normalise_multipliers, solve_dense, Active, DampedNewton, MAX_DIM, MAX_PIECES,
+    drop_piece, eval, normalise_multipliers, piece_rows, solve_dense, Active, DampedNewton,
+    MAX_DIM, MAX_PIECES,
 };
 use crate::solver::raycast::Pair;
 
@@ -237,8 +238,6 @@ fn system<S: SupportMap>(
     rhs: &mut [Real; MAX_DIM],
 ) -> Option<Real> {
     let p = act.len();
-    let first = |shape: usize| act.iter().position(|a| a.shape == shape);
-    let (f0, f1) = (first(0)?, first(1)?);
     let mut value = [0.0; 2 * MAX_PIECES];
     let mut grad = [Vec3::zeros(); 2 * MAX_PIECES];
     let mut hsum = Mat3::identity() * mu;
@@ -271,29 +270,7 @@ fn system<S: SupportMap>(
         jac[3][j] = n[j];
     }
     rhs[3] = -0.5 * (n.norm_squared() - 1.0);
-    let mut scale = ra.norm() + rhs[3].abs();
-    for k in 0..p {
-        let row = 4 + k;
-        let shape = act[k].shape;
-        let f = if shape == 0 { f0 } else { f1 };
-        if k == f {
-            let mut sum = 0.0;
-            for (i, a) in act.iter().enumerate() {
-                if a.shape == shape {
-                    jac[row][4 + i] = 1.0;
-                    sum += lam[i];
-                }
-            }
-            rhs[row] = -(sum - 1.0);
-        } else {
-            let g = grad[k] - grad[f];
-            for j in 0..3 {
-                jac[row][j] = g[j];
-            }
-            rhs[row] = -(value[k] - value[f]);
-        }
-        scale += rhs[row].abs();
-    }
+    let scale = ra.norm() + rhs[3].abs() + piece_rows(act, lam, &value, &grad, jac, rhs)?;
     scale.is_finite().then_some(scale)
 }
 
