@@ -1117,6 +1117,14 @@ static void test_signed_distance(void) {
           near(r.normal[2], 0.8, 1e-12));
     for (k = 0; k < 3; k++)
       CHECK(near(r.closest2[k] - r.closest1[k], r.distance * r.normal[k], 1e-12));
+    {
+      /* d sd / d r2 = normal = -d sd / d r1; spheres do not depend on their attitudes. */
+      double g[14];
+      CHECK(dcol_signed_distance_gradient(a, &p1, b, &p2, NULL, &r, g) == DCOL_OK);
+      for (k = 0; k < 3; k++)
+        CHECK(near(g[7 + k], r.normal[k], 1e-12) && near(g[k], -r.normal[k], 1e-12));
+      for (k = 0; k < 4; k++) CHECK(g[3 + k] == 0.0 && g[10 + k] == 0.0);
+    }
   }
   {
     /* A sphere sunk 0.2 into the cube's top face, away from its edges. */

@@ -619,6 +619,28 @@ enum dcol_status dcol_distance(const struct dcol_shape *shape1,
                                struct dcol_distance_result *result);
 
 /**
+ * The signed distance (as dcol_signed_distance) and its gradient with respect to
+ * (r1, q1, r2, q2): 14 numbers, in that order, the quaternion columns with respect to the
+ * four numbers given (through the normalisation): d/d r2 = normal = -d/d r1, the rotation
+ * columns from the witness points. Exact where the normal and witness points are unique.
+ *
+ * `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
+ * DCOL_ERROR_NOT_CONVERGED fills *result with the best answer found and writes its gradient
+ * only if all 14 entries are finite. On any other status nothing is written. Does not
+ * allocate.
+ *
+ * # Safety
+ * As dcol_signed_distance; `gradient` must be NULL or valid for writing 14 doubles.
+ */
+enum dcol_status dcol_signed_distance_gradient(const struct dcol_shape *shape1,
+                                               const struct dcol_pose *pose1,
+                                               const struct dcol_shape *shape2,
+                                               const struct dcol_pose *pose2,
+                                               const struct dcol_options *options,
+                                               struct dcol_signed_distance_result *result,
+                                               double *gradient);
+
+/**
  * The distance (as dcol_distance) and its gradient with respect to (r1, q1, r2, q2): 14
  * numbers, in that order, the quaternion columns with respect to the four numbers given
  * (through the normalisation). For touching or overlapping shapes the distance is 0 and the

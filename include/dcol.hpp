@@ -186,6 +186,24 @@ inline dcol_signed_distance_result signed_distance(const Shape &shape1, const dc
   return d;
 }
 
+/// The signed distance (as dcol::signed_distance) and its gradient with respect to
+/// (r1, q1, r2, q2).
+struct SignedDistanceGradient {
+  dcol_signed_distance_result result;
+  std::array<double, 14> gradient;
+};
+
+inline SignedDistanceGradient signed_distance_gradient(const Shape &shape1,
+                                                       const dcol_pose &pose1,
+                                                       const Shape &shape2,
+                                                       const dcol_pose &pose2,
+                                                       const dcol_options *options = nullptr) {
+  SignedDistanceGradient g;
+  check(dcol_signed_distance_gradient(shape1.get(), &pose1, shape2.get(), &pose2, options,
+                                      &g.result, g.gradient.data()));
+  return g;
+}
+
 /// The distance (as dcol::distance) and its gradient with respect to (r1, q1, r2, q2); all zeros
 /// when the shapes touch or overlap.
 struct DistanceGradient {

@@ -40,8 +40,9 @@ pub use error::{Error, ErrorDetail};
 pub use math::{Pose, Real, Vec3};
 pub use query::{
     alpha_below, alpha_bounds, derivatives, distance, distance_gradient, distance_within, gradient,
-    gradient_mrp, intersect, jacobian, jacobian_mrp, proximity, signed_distance, DecidedBy,
-    Decision, Derivatives, Distance, DistancePath, Options, Proximity, SignedDistance,
+    gradient_mrp, intersect, jacobian, jacobian_mrp, proximity, signed_distance,
+    signed_distance_gradient, DecidedBy, Decision, Derivatives, Distance, DistancePath, Options,
+    Proximity, SignedDistance,
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::{DerivativeKind, Method, SolveStatus, Solver};

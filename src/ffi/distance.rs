@@ -74,6 +74,49 @@ pub unsafe extern "C" fn dcol_distance(
     })
 }
 
+/// The signed distance (as dcol_signed_distance) and its gradient with respect to
+/// (r1, q1, r2, q2): 14 numbers, in that order, the quaternion columns with respect to the
+/// four numbers given (through the normalisation): d/d r2 = normal = -d/d r1, the rotation
+/// columns from the witness points. Exact where the normal and witness points are unique.
+///
+/// `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
+/// DCOL_ERROR_NOT_CONVERGED fills *result with the best answer found and writes its gradient
+/// only if all 14 entries are finite. On any other status nothing is written. Does not
+/// allocate.
+///
+/// # Safety
+/// As dcol_signed_distance; `gradient` must be NULL or valid for writing 14 doubles.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_signed_distance_gradient(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_signed_distance_result,
+    gradient: *mut f64,
+) -> dcol_status {
+    run("dcol_signed_distance_gradient", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        check_out(result, "result")?;
+        check_out(gradient, "gradient")?;
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let (d, g) =
+            query::signed_distance_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
+                .map_err(Failure::api)?;
+        // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
+        unsafe { result.write((&d).into()) };
+        if d.status.is_converged() || g.iter().all(|v| v.is_finite()) {
+            // SAFETY: non-NULL (checked); the caller guarantees 14 writable doubles, and
+            // `[f64; 14]` has the alignment of `f64`.
+            unsafe { gradient.cast::<[f64; 14]>().write(g) };
+        }
+        q.outcome(d.status, d.iterations)
+    })
+}
+
 /// The distance (as dcol_distance) and its gradient with respect to (r1, q1, r2, q2): 14
 /// numbers, in that order, the quaternion columns with respect to the four numbers given
 /// (through the normalisation). For touching or overlapping shapes the distance is 0 and the

@@ -59,7 +59,7 @@ pub use derivatives::{
 };
 pub use distance::{
     dcol_distance, dcol_distance_gradient, dcol_distance_result, dcol_signed_distance,
-    dcol_signed_distance_result,
+    dcol_signed_distance_gradient, dcol_signed_distance_result,
 };
 pub use early_exit::{dcol_alpha_below, dcol_intersect};
 pub use info::{dcol_last_error_message, dcol_status_string, dcol_version};

@@ -20,4 +20,4 @@ pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub use proximity::proximity;
 pub(crate) use proximity::query_until;
-pub use signed::signed_distance;
+pub use signed::{signed_distance, signed_distance_gradient};

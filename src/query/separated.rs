@@ -79,26 +79,11 @@ pub(crate) fn separated(
         return None;
     }
     let n = s.normal;
-    let mut grad = [0.0; 14];
-    if gradient {
-        for j in 0..3 {
-            grad[j] = -n[j];
-            grad[7 + j] = n[j];
-        }
-        let beta1 = pose1.rotation().tr_mul(&(closest1 - r1));
-        let beta2 = pose2.rotation().tr_mul(&(closest2 - r2));
-        let d1 = rotation_derivatives(pose1.quaternion());
-        let d2 = rotation_derivatives(pose2.quaternion());
-        let round = [shape1, shape2].map(|sh| sh.kind() == ShapeKind::Sphere);
-        for k in 0..4 {
-            if !round[0] {
-                grad[3 + k] = -n.dot(&(d1[k] * beta1));
-            }
-            if !round[1] {
-                grad[10 + k] = n.dot(&(d2[k] * beta2));
-            }
-        }
-    }
+    let grad = if gradient {
+        witness_gradient(&n, &closest1, &closest2, [shape1, shape2], [pose1, pose2])
+    } else {
+        [0.0; 14]
+    };
     let result = Distance {
         distance: dist,
         closest1,
@@ -113,6 +98,43 @@ pub(crate) fn separated(
         },
     };
     Some((result, grad, false))
+}
+
+/// `∂d/∂(r₁, q₁, r₂, q₂)` of `d = max over unit n of n·(r₂ − r₁) − h₁(n) − h₂(−n)` (the
+/// distance, or the signed distance) by the envelope theorem at the optimal normal `n` and
+/// the witness points: `∂d/∂r₂ = n = −∂d/∂r₁`, `∂d/∂q₁ₖ = −n·(∂R₁/∂q₁ₖ)β₁` and
+/// `∂d/∂q₂ₖ = n·(∂R₂/∂q₂ₖ)β₂` with `βᵢ` the witness in body axes. Exact where the normal and the
+/// witness points are unique; a sphere's rotation columns are exactly zero.
+pub(crate) fn witness_gradient(
+    n: &Vec3,
+    closest1: &Vec3,
+    closest2: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+) -> [Real; 14] {
+    let mut grad = [0.0; 14];
+    for j in 0..3 {
+        grad[j] = -n[j];
+        grad[7 + j] = n[j];
+    }
+    let beta1 = poses[0]
+        .rotation()
+        .tr_mul(&(closest1 - poses[0].position()));
+    let beta2 = poses[1]
+        .rotation()
+        .tr_mul(&(closest2 - poses[1].position()));
+    let d1 = rotation_derivatives(poses[0].quaternion());
+    let d2 = rotation_derivatives(poses[1].quaternion());
+    let round = shapes.map(|sh| sh.kind() == ShapeKind::Sphere);
+    for k in 0..4 {
+        if !round[0] {
+            grad[3 + k] = -n.dot(&(d1[k] * beta1));
+        }
+        if !round[1] {
+            grad[10 + k] = n.dot(&(d2[k] * beta2));
+        }
+    }
+    grad
 }
 
 /// Sphere and capsule pairs: the closest points of their segments, certified.

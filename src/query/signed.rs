@@ -8,7 +8,9 @@
 //! separated pair GJK could not certify goes to the distance query's fallback.
 
 use super::context::{DistancePath, Options, SignedDistance};
+use super::derivatives::check_representable;
 use super::distance::{distance, MAX_OFFSET_RATIO};
+use super::separated::witness_gradient;
 use crate::error::{Error, ErrorDetail};
 use crate::math::Vec3;
 use crate::math::{robust_norm, Pose, Real};
@@ -142,6 +144,47 @@ pub fn signed_distance(
         return Err(Error::Internal("signed_distance: non-finite answer"));
     }
     Ok(out)
+}
+
+/// [`signed_distance`] and its gradient with respect to (r₁, q₁, r₂, q₂): 14 numbers, the
+/// quaternion columns with respect to the four numbers given (through the normalisation), by
+/// the envelope theorem at the normal and the witness points (`∂sd/∂r₂ = normal = −∂sd/∂r₁`).
+/// Exact where the normal and the witness points are unique; flat against flat (a face or an
+/// edge on a face) the rotation columns depend on the witness points returned. A gradient that
+/// overflows (a quaternion so small that derivatives with respect to it are not representable)
+/// is an error or a `NumericalFailure` with zeros.
+///
+/// ```
+/// use dcol::{signed_distance_gradient, Options, Pose, Shape};
+/// let s = Shape::sphere(1.0).unwrap();
+/// let a = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+/// let b = Pose::from_position([1.5, 0.0, 0.0]).unwrap();
+/// let (sd, g) = signed_distance_gradient(&s, &a, &s, &b, &Options::default()).unwrap();
+/// assert!((sd.distance + 0.5).abs() < 1e-9);
+/// assert!((g[7] - 1.0).abs() < 1e-9 && (g[0] + 1.0).abs() < 1e-9);
+/// ```
+pub fn signed_distance_gradient(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<(SignedDistance, [Real; 14]), Error> {
+    let mut sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
+    let g = witness_gradient(
+        &sd.normal,
+        &sd.closest1,
+        &sd.closest2,
+        [shape1, shape2],
+        [pose1, pose2],
+    );
+    let finite = g.iter().all(|v| v.is_finite());
+    check_representable(finite, pose1, pose2)?;
+    if !finite {
+        sd.status = SolveStatus::NumericalFailure;
+        return Ok((sd, [0.0; 14]));
+    }
+    Ok((sd, g))
 }
 
 /// Sphere and capsule pairs whose core segments do not meet: `sd = ‖x₂ − x₁‖ − R₁ − R₂` at the
