@@ -255,10 +255,12 @@ int drop(const std::string &ground, const char *csv, bool only_native = false, s
     char what[128];
     std::snprintf(what, sizeof what, "%s rest height within 1 mm", b.spec.name);
     check(std::fabs(z - b.spec.rest) <= kTol, what);
+    // The sink and energy checks are the adapter's; for the engine's own colliders they are
+    // reported only (the comparison is on rest heights).
     std::snprintf(what, sizeof what, "%s sinks less than 1 mm", b.spec.name);
-    check(sink <= kTol, what);
+    if (!native) check(sink <= kTol, what);
     std::snprintf(what, sizeof what, "%s gains no energy after settling", b.spec.name);
-    check(gain <= 1e-4 * kG, what);  // at most the energy of a 0.1 mm rise of 1 kg
+    if (!native) check(gain <= 1e-4 * kG, what);  // at most the energy of a 0.1 mm rise of 1 kg
     if (heights) heights->push_back(z);
   }
   if (step_time) *step_time = per_step;
