@@ -5,6 +5,8 @@
 //   bullet_scenes drop GROUND     six primitives dropped on a ground; GROUND = box (a dcol box),
 //                                 plane (Bullet's btStaticPlaneShape through the dcol algorithm) or
 //                                 native (Bullet's own shapes, for the four it has centred as dcol's)
+//   bullet_scenes tumble          30 boxes, cylinders and capsules dropped with random attitudes
+//                                 and spins come to rest on a face
 //   bullet_scenes compare         the drop with dcol and with Bullet's shapes: same rest heights,
 //                                 and the time per step of each
 //   bullet_scenes stack KIND      five boxes stacked for 10 s; KIND = dcol or native
@@ -356,6 +358,65 @@ int normal_convention() {
   return 0;
 }
 
+// Boxes, cylinders and capsules dropped with random attitudes and spins, apart from each other:
+// after 6 s each rests on a face (box: one of its half extents; cylinder: its radius or half
+// length; capsule: its radius), within 1 mm.
+int tumble() {
+  Owned owned;
+  World w;
+  btTransform tg;
+  tg.setIdentity();
+  tg.setOrigin(btVector3(0, 0, -0.5f));
+  dcol_shape *g = nullptr, *box = nullptr, *cyl = nullptr, *cap = nullptr;
+  dcol_shape_new_box(20, 20, 0.5, &g);
+  dcol_shape_new_box(0.2, 0.15, 0.1, &box);
+  dcol_shape_new_cylinder(0.15, 0.4, &cyl);
+  dcol_shape_new_capsule(0.1, 0.4, &cap);
+  owned.keep(g);
+  owned.keep(box);
+  owned.keep(cyl);
+  owned.keep(cap);
+  w.add(new dcol_bullet::Shape(g, std::sqrt(800.25), btVector3(20, 20, 0.5f)), 0, tg);
+  unsigned long long state = 12345;
+  auto unif = [&state]() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) / double(1ULL << 53);
+  };
+  std::vector<std::pair<int, btRigidBody *>> items;
+  for (int i = 0; i < 30; ++i) {
+    const int kind = i % 3;
+    const Spec &s = kSpecs[kind == 0 ? 1 : kind == 1 ? 3 : 2];
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(btScalar(-12 + 1.5 * (i % 10) + 0.3 * unif()), btScalar(-3 + 2.0 * (i / 10)),
+                          btScalar(0.5 + unif())));
+    btQuaternion q(btScalar(unif() - 0.5), btScalar(unif() - 0.5), btScalar(unif() - 0.5), btScalar(unif() - 0.5));
+    t.setRotation(q.normalized());
+    btRigidBody *b = w.add(new dcol_bullet::Shape(kind == 0 ? box : kind == 1 ? cyl : cap, s.radius, s.half), 1.0, t);
+    b->setAngularVelocity(btVector3(btScalar(4 * (unif() - 0.5)), btScalar(4 * (unif() - 0.5)), btScalar(4 * (unif() - 0.5))));
+    items.push_back({kind, b});
+  }
+  for (int k = 0; k < static_cast<int>(6.0 / kDt); ++k) w.step();
+  int bad = 0;
+  double worst = 0;
+  static const double rests[3][3] = {{0.2, 0.15, 0.1}, {0.15, 0.2, 0.15}, {0.1, 0.1, 0.1}};
+  for (const auto &it : items) {
+    const double z = it.second->getWorldTransform().getOrigin().z();
+    const double speed = it.second->getLinearVelocity().length();
+    double err = 1e300;
+    for (double r : rests[it.first]) err = std::min(err, std::fabs(z - r));
+    worst = std::max(worst, err);
+    if (err > kTol || (it.first == 0 && speed > 1e-3)) {
+      ++bad;
+      std::printf("  body of kind %d: z %.6f (error %.2e), speed %.2e\n", it.first, z, err, speed);
+    }
+  }
+  std::printf("tumble: 30 bodies (boxes, cylinders, capsules) at rest on a face, worst height error %.2e m\n",
+              worst);
+  check(bad == 0, "every tumbled body rests on a face within 1 mm");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -370,6 +431,7 @@ int main(int argc, char **argv) {
   if (what == "normal") rc = normal_convention();
   if (what == "drop" && argc >= 3) rc = drop(argv[2], csv);
   if (what == "compare") rc = compare();
+  if (what == "tumble") rc = tumble();
   if (what == "stack" && argc >= 3) rc = stack(argv[2]);
   if (rc != 0) return rc;
   std::printf("%s\n", g_failures ? "FAILED" : "ok");
