@@ -474,6 +474,26 @@ void test_scene() {
   CHECK(scene.size() == n);
 }
 
+// dcol::contacts: a cube resting 0.01 deep on a wider box gives its four bottom corners.
+void test_contacts() {
+  const dcol::Shape ground = dcol::Shape::box(1.0, 1.0, 0.5);
+  const dcol::Shape cube = dcol::Shape::box(0.5, 0.5, 0.5);
+  const std::vector<dcol_contact> cs =
+      dcol::contacts(ground, dcol::pose({0, 0, 0}), cube, dcol::pose({0, 0, 0.99}), 0.0);
+  CHECK(cs.size() == 4);
+  for (const dcol_contact &c : cs) {
+    CHECK(close(c.depth, 0.01, 1e-12));
+    CHECK(close(c.normal[2], 1.0, 1e-12));
+    CHECK(close(std::fabs(c.position[0]), 0.5, 1e-12));
+    CHECK(close(c.position[2], 0.495, 1e-12));
+  }
+  CHECK(dcol::contacts(ground, dcol::pose({0, 0, 0}), cube, dcol::pose({0, 0, 0.99}), 0.0, nullptr, 2)
+            .size() == 2);
+  CHECK(dcol::contacts(ground, dcol::pose({0, 0, 0}), cube, dcol::pose({0, 0, 3.0}), 0.1).empty());
+  EXPECT_ERROR(dcol::contacts(ground, dcol::pose({0, 0, 0}), cube, dcol::pose({0, 0, 1}), kNaN),
+               DCOL_ERROR_INVALID_OPTIONS, "dcol_contacts");
+}
+
 }  // namespace
 
 int main() {
@@ -484,6 +504,7 @@ int main() {
     test_mrp();
     test_batch();
     test_scene();
+    test_contacts();
   } catch (const std::exception &e) {
     std::fprintf(stderr, "unexpected exception: %s\n", e.what());
     return 1;

@@ -95,6 +95,11 @@
 #define DCOL_SOLVER_CLOSED_FORM 3
 
 /**
+ * The most contacts one call of dcol_contacts reports.
+ */
+#define DCOL_MAX_CONTACTS 16
+
+/**
  * The most threads one dcol_proximity_batch call uses, the calling thread included; a larger
  * `threads` argument is treated as this value.
  */
@@ -310,6 +315,26 @@ typedef struct dcol_signed_distance_result {
    */
   uint32_t iterations;
 } dcol_signed_distance_result;
+
+/**
+ * One contact point of a manifold.
+ */
+typedef struct dcol_contact {
+  /**
+   * World point midway between the two surfaces.
+   */
+  double position[3];
+  /**
+   * Unit normal from shape 1 to shape 2 (world); the same for every point of a manifold.
+   */
+  double normal[3];
+  /**
+   * Penetration depth at this point: > 0 overlapping, < 0 separated (within the margin),
+   * minus the signed distance there. The surface points are position + depth/2 * normal
+   * (shape 1) and position - depth/2 * normal (shape 2).
+   */
+  double depth;
+} dcol_contact;
 
 /**
  * Everything differentiable about a proximity query, from one solve (dcol_derivatives).
@@ -681,6 +706,35 @@ enum dcol_status dcol_signed_distance(const struct dcol_shape *shape1,
                                       const struct dcol_pose *pose2,
                                       const struct dcol_options *options,
                                       struct dcol_signed_distance_result *result);
+
+/**
+ * The contact manifold of two posed shapes: the points where their signed distance is at most
+ * `margin` (finite, >= 0), one normal (the signed distance's, from shape 1 to shape 2) for
+ * all of them. Face-to-face and segment-to-face contacts give the corners of the clipped
+ * overlap (a cylinder's cap or a cone's base counts as a regular 12-gon); curved contacts
+ * (spheres, ellipsoids, rims) give one point. At most min(capacity, DCOL_MAX_CONTACTS) points
+ * are written, chosen as the deepest and those spanning the largest area; *count is set to
+ * the number written (0 when the shapes are farther apart than the margin).
+ *
+ * `options` may be NULL (defaults); `contacts` may be NULL when `capacity` is 0. Returns
+ * DCOL_OK and fills contacts[0..*count] and *count; or DCOL_ERROR_NOT_CONVERGED (the signed
+ * distance did not certify its answer) and fills them from the best answer found; or an error
+ * status, the last error message set, and nothing written. Does not allocate.
+ *
+ * # Safety
+ * `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
+ * `contacts` NULL or valid for writing `capacity` elements; `count` NULL or valid for writing
+ * one size_t.
+ */
+enum dcol_status dcol_contacts(const struct dcol_shape *shape1,
+                               const struct dcol_pose *pose1,
+                               const struct dcol_shape *shape2,
+                               const struct dcol_pose *pose2,
+                               double margin,
+                               const struct dcol_options *options,
+                               struct dcol_contact *contacts,
+                               size_t capacity,
+                               size_t *count);
 
 /**
  * Is alpha* < `threshold`? Writes 1 to *below when it is, 0 when it is not (alpha* >=

@@ -12,7 +12,7 @@
 // returned, not thrown: dcol::proximity_batch (one status per pair) and
 // dcol::Scene::pairs_within (a pair whose solve did not converge). The plain C structs
 // (dcol_pose, dcol_options, dcol_proximity_result, dcol_distance_result,
-// dcol_signed_distance_result, dcol_derivatives_result, dcol_scene_pair, dcol_scene_stats) are used as is.
+// dcol_signed_distance_result, dcol_contact, dcol_derivatives_result, dcol_scene_pair, dcol_scene_stats) are used as is.
 //
 // Shapes are move-only and free themselves; like the C shapes they are immutable and may be
 // shared between threads. A dcol::Scene is move-only, frees itself, keeps its own copies of the
@@ -202,6 +202,21 @@ inline SignedDistanceGradient signed_distance_gradient(const Shape &shape1,
   check(dcol_signed_distance_gradient(shape1.get(), &pose1, shape2.get(), &pose2, options,
                                       &g.result, g.gradient.data()));
   return g;
+}
+
+/// The contact manifold (as dcol_contacts): the points where the signed distance is at most
+/// `margin`, at most `capacity` of them (and at most DCOL_MAX_CONTACTS), one normal from shape 1
+/// to shape 2; empty when the shapes are farther apart than the margin.
+inline std::vector<dcol_contact> contacts(const Shape &shape1, const dcol_pose &pose1,
+                                          const Shape &shape2, const dcol_pose &pose2,
+                                          double margin, const dcol_options *options = nullptr,
+                                          std::size_t capacity = DCOL_MAX_CONTACTS) {
+  std::vector<dcol_contact> out(capacity);
+  std::size_t count = 0;
+  check(dcol_contacts(shape1.get(), &pose1, shape2.get(), &pose2, margin, options,
+                      capacity > 0 ? out.data() : nullptr, capacity, &count));
+  out.resize(count);
+  return out;
 }
 
 /// The distance (as dcol::distance) and its gradient with respect to (r1, q1, r2, q2); all zeros

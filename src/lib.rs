@@ -39,10 +39,10 @@ pub mod solver;
 pub use error::{Error, ErrorDetail};
 pub use math::{Pose, Real, Vec3};
 pub use query::{
-    alpha_below, alpha_bounds, derivatives, distance, distance_gradient, distance_within, gradient,
-    gradient_mrp, intersect, jacobian, jacobian_mrp, proximity, signed_distance,
-    signed_distance_gradient, DecidedBy, Decision, Derivatives, Distance, DistancePath, Options,
-    Proximity, SignedDistance,
+    alpha_below, alpha_bounds, contact_manifold, derivatives, distance, distance_gradient,
+    distance_within, gradient, gradient_mrp, intersect, jacobian, jacobian_mrp, proximity,
+    signed_distance, signed_distance_gradient, Contact, DecidedBy, Decision, Derivatives, Distance,
+    DistancePath, Manifold, Options, Proximity, SignedDistance,
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::{DerivativeKind, Method, SolveStatus, Solver};

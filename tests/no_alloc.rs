@@ -7,7 +7,7 @@
 //! then every query of every pair of kinds, on several poses, must make zero heap operations:
 //! `proximity`, `gradient`, `jacobian`, `distance` (its GJK path on the separated poses and,
 //! with `Method::InteriorPoint`, its interior-point path), `distance_gradient`,
-//! `distance_within` and `signed_distance` (GJK, EPA and its polish), whether they return `Ok` or `Err` (invalid options, and functions not
+//! `distance_within`, `signed_distance` (GJK, EPA and its polish) and `contact_manifold`, whether they return `Ok` or `Err` (invalid options, and functions not
 //! built yet, must not allocate on the error path either).
 
 use dcol::{
@@ -58,7 +58,7 @@ static ALLOCATOR: Counting = Counting;
 type Query = fn(&Shape, &Pose, &Shape, &Pose, &Options) -> Result<(), Error>;
 
 /// Every query, reduced to `Result<(), Error>` without touching the heap.
-const QUERIES: [(&str, Query); 8] = [
+const QUERIES: [(&str, Query); 10] = [
     ("proximity", |a, pa, b, pb, o| {
         proximity(a, pa, b, pb, o).map(|r| {
             black_box(r);
@@ -101,6 +101,17 @@ const QUERIES: [(&str, Query); 8] = [
     }),
     ("distance_within", |a, pa, b, pb, o| {
         distance_within(a, pa, b, pb, 1.0, o).map(|r| {
+            black_box(r);
+        })
+    }),
+    // Contact manifolds: faces clipped, segments, single points, and beyond the margin.
+    ("contact_manifold", |a, pa, b, pb, o| {
+        dcol::contact_manifold(a, pa, b, pb, 0.05, 8, o).map(|r| {
+            black_box(r);
+        })
+    }),
+    ("contact_manifold_far", |a, pa, b, pb, o| {
+        dcol::contact_manifold(a, pa, b, pb, 10.0, 4, o).map(|r| {
             black_box(r);
         })
     }),

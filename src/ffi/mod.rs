@@ -4,7 +4,7 @@
 //! last error message, the version), [`shape`] (`dcol_shape` and its constructors), [`pose`] (`dcol_pose`),
 //! [`options`] (`dcol_options`), [`proximity`] (`dcol_proximity_result`, `dcol_proximity`,
 //! `dcol_gradient`, `dcol_jacobian`), [`distance`] (`dcol_distance_result`, `dcol_distance`,
-//! `dcol_distance_gradient`), [`early_exit`] (`dcol_alpha_below`, `dcol_intersect`),
+//! `dcol_distance_gradient`), [`contact`] (`dcol_contact`, `dcol_contacts`), [`early_exit`] (`dcol_alpha_below`, `dcol_intersect`),
 //! [`derivatives`] (`dcol_derivatives_result`, `dcol_derivatives`, `dcol_gradient_mrp`,
 //! `dcol_jacobian_mrp`), [`batch`] (`dcol_proximity_batch`) and [`scene`] (`dcol_scene`,
 //! `dcol_scene_pair`, `dcol_scene_stats` and the scene functions).
@@ -43,6 +43,8 @@ pub mod proximity;
 
 pub mod distance;
 
+pub mod contact;
+
 pub mod early_exit;
 
 pub mod derivatives;
@@ -54,6 +56,7 @@ pub mod scene;
 pub mod boundary;
 
 pub use batch::{dcol_proximity_batch, DCOL_BATCH_MAX_THREADS};
+pub use contact::{dcol_contact, dcol_contacts, DCOL_MAX_CONTACTS};
 pub use derivatives::{
     dcol_derivatives, dcol_derivatives_result, dcol_gradient_mrp, dcol_jacobian_mrp,
 };

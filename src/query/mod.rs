@@ -2,6 +2,7 @@
 //! and the exact distance.
 
 mod assemble;
+mod contact;
 mod context;
 mod derivatives;
 mod differentiate;
@@ -12,6 +13,7 @@ mod proximity;
 mod separated;
 mod signed;
 
+pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
 pub(crate) use context::Want;
 pub use context::{Distance, DistancePath, Options, Proximity, SignedDistance};
 pub use differentiate::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};

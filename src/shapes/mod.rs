@@ -227,6 +227,16 @@ impl Shape {
         }
     }
 
+    /// The vertices of a polytope (padding 0) or of a padded polygon's plane polygon (padding
+    /// `R`), body frame: what the contact manifold builds flat faces from.
+    pub(crate) fn flat_vertices(&self) -> Option<(&[Vec3], Real)> {
+        match &self.geometry {
+            Geometry::Polytope(p) => Some((p.vertices(), 0.0)),
+            Geometry::Polygon(p) => Some((p.vertices(), p.radius())),
+            _ => None,
+        }
+    }
+
     /// Half extents when the shape is a box centred at its origin and aligned with its axes
     /// (a polytope with the rows `±e_i` and equal opposite offsets): the sphere–box closed form.
     pub(crate) fn centred_box(&self) -> Option<Vec3> {

@@ -99,6 +99,11 @@ impl Polygon {
         &self.d
     }
 
+    /// The plane polygon's vertices `(y, 0)` (deduplicated).
+    pub(crate) fn vertices(&self) -> &[Vec3] {
+        &self.vertices
+    }
+
     /// The padding radius `R`.
     pub fn radius(&self) -> Real {
         self.radius

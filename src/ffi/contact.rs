@@ -1,0 +1,91 @@
+//! `dcol_contact` and `dcol_contacts`: contact manifolds for rigid-body engines.
+
+use super::boundary::{check_out, run, Failure};
+use super::options::dcol_options;
+use super::pose::dcol_pose;
+use super::proximity::{check_inputs, read_inputs};
+use super::shape::dcol_shape;
+use super::status::dcol_status;
+use crate::query::{self, Contact};
+
+/// One contact point of a manifold.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct dcol_contact {
+    /// World point midway between the two surfaces.
+    pub position: [f64; 3],
+    /// Unit normal from shape 1 to shape 2 (world); the same for every point of a manifold.
+    pub normal: [f64; 3],
+    /// Penetration depth at this point: > 0 overlapping, < 0 separated (within the margin),
+    /// minus the signed distance there. The surface points are position + depth/2 * normal
+    /// (shape 1) and position - depth/2 * normal (shape 2).
+    pub depth: f64,
+}
+
+impl From<&Contact> for dcol_contact {
+    fn from(c: &Contact) -> Self {
+        dcol_contact {
+            position: [c.position.x, c.position.y, c.position.z],
+            normal: [c.normal.x, c.normal.y, c.normal.z],
+            depth: c.depth,
+        }
+    }
+}
+
+/// The most contacts one call of dcol_contacts reports.
+pub const DCOL_MAX_CONTACTS: usize = 16;
+const _: () = assert!(DCOL_MAX_CONTACTS == query::MAX_CONTACTS);
+
+/// The contact manifold of two posed shapes: the points where their signed distance is at most
+/// `margin` (finite, >= 0), one normal (the signed distance's, from shape 1 to shape 2) for
+/// all of them. Face-to-face and segment-to-face contacts give the corners of the clipped
+/// overlap (a cylinder's cap or a cone's base counts as a regular 12-gon); curved contacts
+/// (spheres, ellipsoids, rims) give one point. At most min(capacity, DCOL_MAX_CONTACTS) points
+/// are written, chosen as the deepest and those spanning the largest area; *count is set to
+/// the number written (0 when the shapes are farther apart than the margin).
+///
+/// `options` may be NULL (defaults); `contacts` may be NULL when `capacity` is 0. Returns
+/// DCOL_OK and fills contacts[0..*count] and *count; or DCOL_ERROR_NOT_CONVERGED (the signed
+/// distance did not certify its answer) and fills them from the best answer found; or an error
+/// status, the last error message set, and nothing written. Does not allocate.
+///
+/// # Safety
+/// `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
+/// `contacts` NULL or valid for writing `capacity` elements; `count` NULL or valid for writing
+/// one size_t.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn dcol_contacts(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    margin: f64,
+    options: *const dcol_options,
+    contacts: *mut dcol_contact,
+    capacity: usize,
+    count: *mut usize,
+) -> dcol_status {
+    run("dcol_contacts", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        if capacity > 0 {
+            check_out(contacts, "contacts")?;
+        }
+        check_out(count, "count")?;
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let m = query::contact_manifold(
+            q.shape1, &q.pose1, q.shape2, &q.pose2, margin, capacity, &q.options,
+        )
+        .map_err(Failure::api)?;
+        for (i, c) in m.contacts().iter().enumerate() {
+            // SAFETY: `i < m.len() <= capacity`; `contacts` is non-NULL when capacity > 0
+            // (checked) and valid for writing `capacity` elements (contract).
+            unsafe { contacts.add(i).write(c.into()) };
+        }
+        // SAFETY: `count` is non-NULL (checked) and valid for writes (contract).
+        unsafe { count.write(m.len()) };
+        q.outcome(m.status, m.iterations)
+    })
+}

@@ -1,0 +1,581 @@
+//! Contact manifolds: up to a few contact points with one normal, for rigid-body engines.
+//!
+//! Built on the signed distance. Its normal `n` (from shape 1 to shape 2) picks, on each shape,
+//! the *feature* facing the other: a flat face (a polytope facet, a cylinder's cap or a cone's
+//! base as a regular polygon, a padded polygon's top or bottom), a segment (the support points
+//! of two pieces, e.g. a cylinder or capsule on its side) or a single point (spheres,
+//! ellipsoids, rims, corners). Two faces are clipped against each other in the plane
+//! orthogonal to `n` (Sutherland–Hodgman, the incident face against the reference face, the
+//! face better aligned with `n`); a segment is clipped against a face (Cyrus–Beck); each clipped
+//! point is lifted along `n` onto both features, so that its two surface points differ by a
+//! multiple of `n`. Points separated by more than the margin are dropped and the rest reduced
+//! to the requested number (the deepest first, then the ones spanning the largest area).
+
+use super::context::{Options, SignedDistance};
+use super::signed::signed_distance;
+use crate::error::{Error, ErrorDetail};
+use crate::math::{Pose, Real, Vec3};
+use crate::shapes::{Shape, SupportMap};
+use crate::solver::SolveStatus;
+use nalgebra::Vector2;
+
+/// The most contacts a manifold holds.
+pub const MAX_CONTACTS: usize = 16;
+
+/// The most points a feature (a face polygon) holds; larger facets keep a subset.
+const MAX_FACE: usize = 32;
+/// Clipping output: at most one new point per reference edge.
+const BUF: usize = 2 * MAX_FACE;
+/// Points of the regular polygon standing for a disc (a cylinder's cap, a cone's base).
+const DISC_POINTS: usize = 12;
+/// A curved shape's flat face (a disc, a padded polygon's side) is used when its normal is
+/// within about 25 degrees of the contact normal.
+const COS_CURVED: Real = 0.9;
+/// A polytope's facet is used when its normal is within about 72 degrees of the normal.
+const COS_FACET: Real = 0.3;
+/// Relative tolerance (of the bounding radius) for vertices on a facet.
+const FACET_TOL: Real = 1e-9;
+/// Relative tolerance (of the length scale) on the separation test.
+const SEP_TOL: Real = 1e-9;
+
+type V2 = Vector2<Real>;
+
+/// One contact point.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Contact {
+    /// World point midway between the two surfaces.
+    pub position: Vec3,
+    /// Unit normal from shape 1 to shape 2 (the manifold's normal).
+    pub normal: Vec3,
+    /// Penetration depth at this point: `> 0` overlapping, `< 0` separated (within the margin);
+    /// the surface points are `position ± depth/2 · normal` (shape 1: `+`, shape 2: `−`).
+    pub depth: Real,
+}
+
+/// A contact manifold: up to [`MAX_CONTACTS`] points sharing one normal.
+#[derive(Clone, Copy, Debug)]
+pub struct Manifold {
+    /// Unit normal from shape 1 to shape 2: the signed distance's normal.
+    pub normal: Vec3,
+    /// The signed distance the manifold was built from.
+    pub signed_distance: Real,
+    /// The signed distance's status (`Converged` unless its bracket did not close).
+    pub status: SolveStatus,
+    /// Iterations of the signed distance.
+    pub iterations: u32,
+    contacts: [Contact; MAX_CONTACTS],
+    count: usize,
+}
+
+impl Manifold {
+    /// The contact points (empty when the signed distance exceeds the margin).
+    pub fn contacts(&self) -> &[Contact] {
+        &self.contacts[..self.count]
+    }
+    /// The number of contact points.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+    /// No contact point.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+}
+
+/// The contact manifold of two posed shapes: the points where their signed distance is at most
+/// `margin`, at most `max_points` of them (and at most [`MAX_CONTACTS`]), with the signed
+/// distance's normal. Curved contacts give one point; face-to-face and segment-to-face contacts
+/// give the corners of the clipped overlap. Does not allocate.
+///
+/// ```
+/// use dcol::{contact_manifold, Options, Pose, Shape};
+/// let b = Shape::cuboid(0.5, 0.5, 0.5).unwrap();
+/// let p1 = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+/// let p2 = Pose::from_position([0.0, 0.0, 0.99]).unwrap();
+/// let m = contact_manifold(&b, &p1, &b, &p2, 0.0, 4, &Options::default()).unwrap();
+/// assert_eq!(m.len(), 4);
+/// assert!(m.contacts().iter().all(|c| (c.depth - 0.01).abs() < 1e-9));
+/// ```
+pub fn contact_manifold(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    margin: Real,
+    max_points: usize,
+    options: &Options,
+) -> Result<Manifold, Error> {
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(Error::InvalidOptions(ErrorDetail::new(
+            "margin",
+            margin,
+            "must be finite and nonnegative",
+        )));
+    }
+    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
+    let mut out = Manifold {
+        normal: sd.normal,
+        signed_distance: sd.distance,
+        status: sd.status,
+        iterations: sd.iterations,
+        contacts: [Contact::default(); MAX_CONTACTS],
+        count: 0,
+    };
+    let cap = max_points.min(MAX_CONTACTS);
+    if sd.distance > margin || cap == 0 {
+        return Ok(out);
+    }
+    let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+    let mut pts = Points::new();
+    build(shape1, pose1, shape2, pose2, &sd, margin, ell, &mut pts);
+    if pts.n == 0 {
+        pts.push_witness(&sd);
+    }
+    let mut chosen = [0usize; MAX_CONTACTS];
+    let k = reduce(&pts, cap, &mut chosen);
+    for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
+        *slot = Contact {
+            position: pts.pos[i],
+            normal: sd.normal,
+            depth: pts.depth[i],
+        };
+    }
+    out.count = k;
+    Ok(out)
+}
+
+/// Candidate contacts.
+struct Points {
+    pos: [Vec3; BUF],
+    depth: [Real; BUF],
+    n: usize,
+}
+
+impl Points {
+    fn new() -> Self {
+        Points {
+            pos: [Vec3::zeros(); BUF],
+            depth: [0.0; BUF],
+            n: 0,
+        }
+    }
+    fn push(&mut self, pos: Vec3, depth: Real) {
+        if self.n < BUF {
+            self.pos[self.n] = pos;
+            self.depth[self.n] = depth;
+            self.n += 1;
+        }
+    }
+    fn push_witness(&mut self, sd: &SignedDistance) {
+        self.push(0.5 * (sd.closest1 + sd.closest2), -sd.distance);
+    }
+}
+
+/// A feature in world coordinates: 1 point, a segment (2) or a convex face polygon (≥ 3, in
+/// order) with its outward unit normal.
+struct Feature {
+    pts: [Vec3; MAX_FACE],
+    k: usize,
+    face: Vec3,
+}
+
+impl Feature {
+    fn empty() -> Self {
+        Feature {
+            pts: [Vec3::zeros(); MAX_FACE],
+            k: 0,
+            face: Vec3::zeros(),
+        }
+    }
+    fn push(&mut self, p: Vec3) {
+        if self.k < MAX_FACE {
+            self.pts[self.k] = p;
+            self.k += 1;
+        }
+    }
+}
+
+/// The feature of `shape` at `pose` facing the world direction `dir` (unit); `window` is how
+/// far below the support value a piece's support point may lie to count.
+fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
+    let rot = pose.rotation();
+    let r = pose.position();
+    let m = rot.transpose() * dir;
+    let world = |b: &Vec3| r + rot * b;
+    let mut f = Feature::empty();
+    // Flat faces.
+    if let Some((verts, pad)) = shape.flat_vertices() {
+        let cos_min = if pad > 0.0 { COS_CURVED } else { COS_FACET };
+        if let Some(nrm) = shape.flat_face(&m, cos_min) {
+            let top = verts
+                .iter()
+                .map(|v| v.dot(&nrm))
+                .fold(Real::NEG_INFINITY, Real::max);
+            let tol = FACET_TOL * shape.bounding_radius();
+            for v in verts {
+                if pad > 0.0 || v.dot(&nrm) >= top - tol {
+                    f.push(world(&(v + nrm * pad)));
+                }
+            }
+            f.face = rot * nrm;
+            if f.k >= 3 {
+                order(&mut f);
+                return f;
+            }
+            f.k = 0;
+        }
+    } else if let Some((centre, radius)) = shape.disc(&m, COS_CURVED) {
+        // A regular polygon with a vertex at the rim's support point.
+        let myz = m.y.hypot(m.z);
+        let phase = if myz > 0.0 { m.z.atan2(m.y) } else { 0.0 };
+        for i in 0..DISC_POINTS {
+            let t = phase + std::f64::consts::TAU * i as Real / DISC_POINTS as Real;
+            f.push(world(
+                &(centre + Vec3::new(0.0, radius * t.cos(), radius * t.sin())),
+            ));
+        }
+        f.face = rot * Vec3::new(centre.x.signum(), 0.0, 0.0);
+        return f;
+    }
+    if shape.flat_vertices().is_some_and(|(_, pad)| pad == 0.0) {
+        // A polytope without a facet facing m: its corner.
+        f.push(world(&shape.support(&m).0));
+        return f;
+    }
+    // Pieces: the support point, and the piece point farthest from it within the window.
+    let (s, _) = shape.support(&m);
+    let h = s.dot(&m);
+    f.push(world(&s));
+    let mut far: Option<(Real, Vec3)> = None;
+    for id in 0..shape.piece_count() {
+        let Some(e) = shape.piece(id, &m) else {
+            continue;
+        };
+        if e.value >= h - window {
+            let d = (e.grad - s).norm();
+            if d > 1e-9 * shape.bounding_radius() && far.map_or(true, |(best, _)| d > best) {
+                far = Some((d, e.grad));
+            }
+        }
+    }
+    if let Some((_, p)) = far {
+        match ball_radius(shape) {
+            // Two balls (a capsule's ends, a padded polygon's corners): the surface line
+            // along them, at the direction orthogonal to their centres' segment.
+            Some(rad) => {
+                let mn = m.normalize();
+                let (c0, c1) = (s - mn * rad, p - mn * rad);
+                let e = (c1 - c0).normalize();
+                let w = (mn - e * mn.dot(&e)).try_normalize(0.0).unwrap_or(mn);
+                f.pts[0] = world(&(c0 + w * rad));
+                f.push(world(&(c1 + w * rad)));
+            }
+            None => f.push(world(&p)),
+        }
+    }
+    f
+}
+
+/// The radius of the balls a capsule or padded polygon is made of.
+fn ball_radius(shape: &Shape) -> Option<Real> {
+    match shape.rounded_segment() {
+        Some((half, rad)) if half > 0.0 => Some(rad),
+        Some(_) => None,
+        None => shape
+            .flat_vertices()
+            .and_then(|(_, pad)| (pad > 0.0).then_some(pad)),
+    }
+}
+
+/// Orders a face's points counter-clockwise about its normal.
+fn order(f: &mut Feature) {
+    let k = f.k;
+    let c = f.pts[..k].iter().sum::<Vec3>() / k as Real;
+    let (u, v) = basis(&f.face);
+    let mut key = [0.0; MAX_FACE];
+    for i in 0..k {
+        let d = f.pts[i] - c;
+        key[i] = d.dot(&v).atan2(d.dot(&u));
+    }
+    for i in 1..k {
+        let mut j = i;
+        while j > 0 && key[j - 1] > key[j] {
+            key.swap(j - 1, j);
+            f.pts.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+/// An orthonormal pair `(u, v)` with `u × v = n`.
+fn basis(n: &Vec3) -> (Vec3, Vec3) {
+    let a = if n.x.abs() < 0.6 {
+        Vec3::x()
+    } else if n.y.abs() < 0.6 {
+        Vec3::y()
+    } else {
+        Vec3::z()
+    };
+    let u = (a - n * n.dot(&a)).normalize();
+    (u, n.cross(&u))
+}
+
+fn cross2(a: &V2, b: &V2) -> Real {
+    a.x * b.y - a.y * b.x
+}
+
+/// Lifts the plane point `q` (coordinates on `(u, v)`) along `n` onto a feature: onto a face's
+/// plane, or onto a segment's line.
+fn lift(f: &Feature, q: &V2, u: &Vec3, v: &Vec3, n: &Vec3) -> Vec3 {
+    let x = u * q.x + v * q.y;
+    match f.k {
+        1 => f.pts[0],
+        2 => {
+            let (p0, p1) = (f.pts[0], f.pts[1]);
+            let a = V2::new(p0.dot(u), p0.dot(v));
+            let d = V2::new((p1 - p0).dot(u), (p1 - p0).dot(v));
+            let s = if d.norm_squared() > 0.0 {
+                ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p0 + (p1 - p0) * s
+        }
+        _ => {
+            let c = f.pts[0].dot(&f.face);
+            let t = (c - x.dot(&f.face)) / n.dot(&f.face);
+            x + n * t
+        }
+    }
+}
+
+/// Fills `pts` with the clipped, lifted points within the margin.
+#[allow(clippy::too_many_arguments)]
+fn build(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    sd: &SignedDistance,
+    margin: Real,
+    ell: Real,
+    pts: &mut Points,
+) {
+    let n = sd.normal;
+    let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
+    let f1 = feature(shape1, pose1, &n, window);
+    let f2 = feature(shape2, pose2, &(-n), window);
+    if f1.k == 1 || f2.k == 1 {
+        return;
+    }
+    let (u, v) = basis(&n);
+    let proj = |p: &Vec3| V2::new(p.dot(&u), p.dot(&v));
+    let mut q = [V2::zeros(); BUF];
+    let nq;
+    if f1.k == 2 && f2.k == 2 {
+        nq = segments(
+            &[proj(&f1.pts[0]), proj(&f1.pts[1])],
+            &[proj(&f2.pts[0]), proj(&f2.pts[1])],
+            SEP_TOL * ell,
+            &mut q,
+        );
+    } else {
+        // The reference face: a face better aligned with n (a face beats a segment).
+        let score = |f: &Feature, s: Real| {
+            if f.k >= 3 {
+                (f.face.dot(&n) * s).abs()
+            } else {
+                -1.0
+            }
+        };
+        let (reference, incident) = if score(&f1, 1.0) >= score(&f2, -1.0) {
+            (&f1, &f2)
+        } else {
+            (&f2, &f1)
+        };
+        let mut r2 = [V2::zeros(); MAX_FACE];
+        for (o, p) in r2.iter_mut().zip(&reference.pts[..reference.k]) {
+            *o = proj(p);
+        }
+        let mut i2 = [V2::zeros(); BUF];
+        for (o, p) in i2.iter_mut().zip(&incident.pts[..incident.k]) {
+            *o = proj(p);
+        }
+        nq = if incident.k == 2 {
+            clip_segment(&r2[..reference.k], &[i2[0], i2[1]], &mut q)
+        } else {
+            clip_polygon(&r2[..reference.k], &mut i2, incident.k, &mut q)
+        };
+    }
+    for qi in &q[..nq] {
+        let a = lift(&f1, qi, &u, &v, &n);
+        let b = lift(&f2, qi, &u, &v, &n);
+        let depth = (a - b).dot(&n);
+        if -depth <= margin + SEP_TOL * ell {
+            pts.push(0.5 * (a + b), depth);
+        }
+    }
+}
+
+/// The signed area's sign of a polygon: `1` counter-clockwise, `-1` clockwise.
+fn orientation(poly: &[V2]) -> Real {
+    let mut a = 0.0;
+    for i in 0..poly.len() {
+        let j = (i + 1) % poly.len();
+        a += cross2(&poly[i], &poly[j]);
+    }
+    if a >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// Sutherland–Hodgman: clips the polygon `inc[..k]` against the convex polygon `reference`;
+/// writes the result to `out` and returns its length.
+fn clip_polygon(reference: &[V2], inc: &mut [V2; BUF], k: usize, out: &mut [V2; BUF]) -> usize {
+    let s = orientation(reference);
+    let mut len = k;
+    let mut tmp = [V2::zeros(); BUF];
+    for e in 0..reference.len() {
+        let a = reference[e];
+        let d = reference[(e + 1) % reference.len()] - a;
+        let side = |p: &V2| s * cross2(&d, &(p - a));
+        let mut m = 0;
+        for i in 0..len {
+            let p = inc[i];
+            let c = inc[(i + 1) % len];
+            let (sp, sc) = (side(&p), side(&c));
+            if sp >= 0.0 && m < BUF {
+                tmp[m] = p;
+                m += 1;
+            }
+            if (sp >= 0.0) != (sc >= 0.0) && m < BUF {
+                let t = sp / (sp - sc);
+                tmp[m] = p + (c - p) * t;
+                m += 1;
+            }
+        }
+        inc[..m].copy_from_slice(&tmp[..m]);
+        len = m;
+        if len == 0 {
+            break;
+        }
+    }
+    out[..len].copy_from_slice(&inc[..len]);
+    len
+}
+
+/// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`.
+fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut [V2; BUF]) -> usize {
+    let s = orientation(reference);
+    let (p, d) = (seg[0], seg[1] - seg[0]);
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for e in 0..reference.len() {
+        let a = reference[e];
+        let ed = reference[(e + 1) % reference.len()] - a;
+        // inside: s·cross(ed, x − a) ≥ 0, linear in t: f0 + t·f1.
+        let f0 = s * cross2(&ed, &(p - a));
+        let f1 = s * cross2(&ed, &d);
+        if f1 == 0.0 {
+            if f0 < 0.0 {
+                return 0;
+            }
+        } else {
+            let t = -f0 / f1;
+            if f1 > 0.0 {
+                lo = Real::max(lo, t);
+            } else {
+                hi = Real::min(hi, t);
+            }
+        }
+    }
+    if lo > hi {
+        return 0;
+    }
+    out[0] = p + d * lo;
+    if hi > lo {
+        out[1] = p + d * hi;
+        2
+    } else {
+        1
+    }
+}
+
+/// Two segments in the plane: their overlap if parallel, else their crossing point.
+fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut [V2; BUF]) -> usize {
+    let (da, db) = (a[1] - a[0], b[1] - b[0]);
+    let (la, lb) = (da.norm(), db.norm());
+    if !(la > 0.0 && lb > 0.0) {
+        return 0;
+    }
+    let c = cross2(&da, &db);
+    if c.abs() <= 1e-6 * la * lb {
+        // Parallel: unless the lines coincide (to rounding) the normal does not join them and
+        // the witness point answers; else the overlap of b with a, as parameters along a.
+        if cross2(&da, &(b[0] - a[0])).abs() > tol * la {
+            return 0;
+        }
+        let ta = |p: &V2| (p - a[0]).dot(&da) / (la * la);
+        let (t0, t1) = (ta(&b[0]), ta(&b[1]));
+        let lo = t0.min(t1).max(0.0);
+        let hi = t0.max(t1).min(1.0);
+        if lo > hi {
+            return 0;
+        }
+        out[0] = a[0] + da * lo;
+        out[1] = a[0] + da * hi;
+        return if hi > lo { 2 } else { 1 };
+    }
+    let w = b[0] - a[0];
+    let s = cross2(&w, &db) / c;
+    let t = cross2(&w, &da) / c;
+    if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
+        out[0] = a[0] + da * s;
+        1
+    } else {
+        0
+    }
+}
+
+/// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
+/// largest triangle with those two, then each time the one farthest from those chosen.
+fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize {
+    let n = pts.n;
+    if n <= cap {
+        for (i, c) in chosen.iter_mut().enumerate().take(n) {
+            *c = i;
+        }
+        return n;
+    }
+    let mut used = [false; BUF];
+    let deepest = (0..n)
+        .max_by(|&i, &j| pts.depth[i].total_cmp(&pts.depth[j]))
+        .unwrap_or(0);
+    chosen[0] = deepest;
+    used[deepest] = true;
+    let mut k = 1;
+    while k < cap {
+        let score = |i: usize| -> Real {
+            let p = pts.pos[i];
+            match k {
+                1 => (p - pts.pos[chosen[0]]).norm(),
+                2 => (pts.pos[chosen[1]] - pts.pos[chosen[0]])
+                    .cross(&(p - pts.pos[chosen[0]]))
+                    .norm(),
+                _ => chosen[..k]
+                    .iter()
+                    .map(|&c| (p - pts.pos[c]).norm())
+                    .fold(Real::INFINITY, Real::min),
+            }
+        };
+        let best = (0..n)
+            .filter(|&i| !used[i])
+            .max_by(|&i, &j| score(i).total_cmp(&score(j)));
+        let Some(b) = best else { break };
+        chosen[k] = b;
+        used[b] = true;
+        k += 1;
+    }
+    k
+}
