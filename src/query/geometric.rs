@@ -19,8 +19,10 @@ use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
 /// Portal refinements before the polish takes over.
 const CAST_BUDGET: u32 = 40;
-/// Relative bracket at which a curved pair's cast hands over to the polish.
-const HANDOVER: Real = 1e-5;
+/// Relative bracket at which a curved pair's cast hands over to the polish (1e-3: 10 % faster
+/// than 1e-5 over all pairs, the same accuracy since the Jacobian and the uniqueness test come
+/// from the identified features; 1e-2 gains nothing more).
+const HANDOVER: Real = 1e-3;
 /// Portal refinements allowed after a failed polish, before the interior-point fallback.
 const CAST_RESCUE: u32 = 200;
 /// The narrowest relative bracket asked of the geometric solvers (a few roundings of the bounds).
