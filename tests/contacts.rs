@@ -351,6 +351,17 @@ fn property_points_lie_on_both_surfaces() {
         }
         total += 1;
         multi += usize::from(m.len() > 1);
+        // The deepest point is in the manifold: its depth is minus the signed distance.
+        let deepest = m
+            .contacts()
+            .iter()
+            .fold(f64::NEG_INFINITY, |d, c| d.max(c.depth));
+        let ell0 = s1.bounding_radius().max(s2.bounding_radius());
+        assert!(
+            (deepest + sd.distance).abs() <= 1e-9 * ell0,
+            "trial {trial}: {k1:?} {k2:?}: deepest {deepest} vs {}",
+            -sd.distance
+        );
         let ell = s1.bounding_radius().max(s2.bounding_radius());
         let (rot1, rot2) = (rotation_from_quaternion(q1), rotation_from_quaternion(q2));
         for c in m.contacts() {

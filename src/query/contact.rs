@@ -128,7 +128,13 @@ pub fn contact_manifold(
     let ell = shape1.bounding_radius().max(shape2.bounding_radius());
     let mut pts = Points::new();
     build(shape1, pose1, shape2, pose2, &sd, margin, ell, &mut pts);
-    if pts.n == 0 {
+    // The deepest point is the signed distance's witness pair: when the clipped features miss
+    // it (a capsule or padded polygon tilted against a face, whose surface line is not where
+    // it is deepest), it is added, so that the manifold's largest depth is always −sd.
+    let deepest = pts.depth[..pts.n]
+        .iter()
+        .fold(Real::NEG_INFINITY, |m, d| m.max(*d));
+    if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
     let mut chosen = [0usize; MAX_CONTACTS];
