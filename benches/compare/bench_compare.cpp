@@ -30,12 +30,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "compare_common.h"
+#include "engine_body.hpp"
 #include "fcl_body.hpp"
 
 namespace {
@@ -59,6 +61,21 @@ const char* const kCoalStatus = "Coal " DCOL_BENCH_COAL_VERSION;
 constexpr bool kHaveCoal = false;
 const char* const kCoalStatus = "Coal: not available (" DCOL_BENCH_COAL_MISSING ")";
 #endif
+// ODE and Bullet: the contact-query comparison (dcol_contacts vs dCollide vs GJK/EPA)
+#ifdef DCOL_BENCH_HAVE_ODE
+const char* const kOdeStatus = "ODE " DCOL_BENCH_ODE_VERSION " (dCollide, double precision)";
+#else
+const char* const kOdeStatus = "ODE: not available (" DCOL_BENCH_ODE_MISSING ")";
+#endif
+#ifdef DCOL_BENCH_HAVE_BULLET
+const char* const kBulletStatus =
+    "Bullet " DCOL_BENCH_BULLET_VERSION " (btGjkPairDetector + btGjkEpaPenetrationDepthSolver, "
+    "btScalar float)";
+#else
+const char* const kBulletStatus = "Bullet: not available (" DCOL_BENCH_BULLET_MISSING ")";
+#endif
+constexpr double kDepthAgree = 1e-4;  // deepest-point depth agreement with dcol_contacts
+constexpr double kNoContact = -1e300;  // the value of a contact query that found none
 
 
 void support_fn(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* vec) {
@@ -101,6 +118,12 @@ struct Method {
   long wrong_shown = 0;
   double worst_err = -1;   // the worst separated case
   std::string worst_case = "";
+  // contact queries (dcol_contacts, ODE, Bullet): value = the deepest depth, kNoContact when
+  // there is none; `only`: 0 all pairs, 1 ODE's pair types, 2 Bullet's; last value per case
+  bool contact = false;
+  int only = 0;
+  double last = NAN;
+  bool last_ok = false;
 };
 
 double median(std::vector<double> v) {
@@ -166,6 +189,13 @@ int run() {
   std::unique_ptr<coal::ComputeDistance> coal_dist_functor;
 #endif
   const dcol_options defaults = dcol_options_default();
+#ifdef DCOL_BENCH_HAVE_ODE
+  dInitODE2(0);
+  std::unique_ptr<OdeBody> o1, o2;
+#endif
+#ifdef DCOL_BENCH_HAVE_BULLET
+  std::unique_ptr<BulletBody> u1, u2;
+#endif
 
   std::vector<Method> methods;
   auto prox_with = [&](double tol) {
@@ -283,6 +313,40 @@ int run() {
                        return true;
                      }, {}, 0});
 #endif
+  // contact queries: dcol_contacts (margin 0, capacity 4) on every pair type; ODE's dCollide
+  // (4 contacts) and Bullet's GJK/EPA (one point) on the pair types of sphere, box, polytope,
+  // capsule, cylinder. Value: the deepest depth (> 0 penetrating), kNoContact when none.
+  methods.push_back({"dcol_contacts (margin 0, capacity 4)", 0, false, false, [&](double* v) {
+                       dcol_contact cs[4];
+                       size_t n = 0;
+                       const dcol_status st = dcol_contacts(c.s1.handle, &c.b1.pose, c.s2.handle,
+                                                            &c.b2.pose, 0.0, &defaults, cs, 4, &n);
+                       *v = kNoContact;
+                       for (size_t k = 0; k < n; ++k) *v = std::max(*v, cs[k].depth);
+                       return st == DCOL_OK;
+                     }, {}, 0});
+  methods.back().contact = true;
+#ifdef DCOL_BENCH_HAVE_ODE
+  methods.push_back({"ODE dCollide (4 contacts)", 0, false, false, [&](double* v) {
+                       dContactGeom cg[4];
+                       const int n = dCollide(o1->geom, o2->geom, 4, cg, sizeof(dContactGeom));
+                       *v = kNoContact;
+                       for (int k = 0; k < n; ++k) *v = std::max(*v, static_cast<double>(cg[k].depth));
+                       return true;
+                     }, {}, 0});
+  methods.back().contact = true;
+  methods.back().only = 1;
+#endif
+#ifdef DCOL_BENCH_HAVE_BULLET
+  methods.push_back({"Bullet GJK/EPA (1 point)", 0, false, false, [&](double* v) {
+                       BulletContact res;
+                       bullet_contact(*u1, *u2, res);
+                       *v = res.hit ? -static_cast<double>(res.depth) : kNoContact;
+                       return true;
+                     }, {}, 0});
+  methods.back().contact = true;
+  methods.back().only = 2;
+#endif
   ccd_t ccd;
   CCD_INIT(&ccd);
   ccd.support1 = support_fn;
@@ -310,6 +374,20 @@ int run() {
       std::size(kTols), std::vector<std::vector<double>>(3));
 
   std::vector<std::string> pair_names;
+  std::vector<bool> engine_pair_of;
+  std::vector<int> ode_pair_of;  // 1: ODE has a collider for the pair type
+  // agreement of ODE (0) and Bullet (1) with dcol_contacts, per pair type, outside the band
+  // |alpha* - 1| < 1e-6: contact / no contact, and the deepest depth when both report contact
+  struct Agree {
+    long contact_checked = 0, contact_disagree = 0, contact_disagree4 = 0, depth_checked = 0,
+         depth_disagree = 0, sd_checked = 0, sd_disagree = 0;
+    double depth_max = 0;
+    std::string worst = "";
+  };
+  std::vector<std::vector<Agree>> agree(2, std::vector<Agree>(CMP_KIND_COUNT * (CMP_KIND_COUNT + 1) / 2));
+  // dcol_contacts' deepest depth against dcol_signed_distance (untimed, same case): [2] = the
+  // worst case over all pairs
+  std::vector<Agree> self_agree(CMP_KIND_COUNT * (CMP_KIND_COUNT + 1) / 2 + 1);
   long made = 0, failures = 0, ref_fallbacks = 0;
   const auto t_start = std::chrono::steady_clock::now();
   int pair = 0;
@@ -318,6 +396,14 @@ int run() {
       pair_names.push_back(std::string(cmp_kind_name((cmp_kind)k1)) + "-" +
                            cmp_kind_name((cmp_kind)k2));
       const bool fcl_pair = k1 != CMP_POLYGON && k2 != CMP_POLYGON;
+      const bool engine_pair = engine_kind(k1) && engine_kind(k2);
+      engine_pair_of.push_back(engine_pair);
+      // does ODE have a collider for this pair type? (dCollide on two concentric shapes)
+      int ode_pair = -1;  // -1: not yet checked
+#ifndef DCOL_BENCH_HAVE_ODE
+      ode_pair = 0;
+#endif
+      if (!engine_pair) ode_pair = 0;
       cmp_rng rng;
       cmp_rng_seed(&rng, (uint64_t)seed * 1000003u + (uint64_t)(k1 * 16 + k2));
       for (long i = 0; i < cases; ++i) {
@@ -359,6 +445,25 @@ int run() {
         const bool in_band = std::fabs(alpha_ref - 1) < kBand;
         const int truth = alpha_ref < 1;
         if (fcl_pair) f1 = to_fcl(c.b1), f2 = to_fcl(c.b2);
+#ifdef DCOL_BENCH_HAVE_ODE
+        if (engine_pair) {
+          o1 = to_ode(c.b1), o2 = to_ode(c.b2);
+          if (ode_pair < 0) {
+            // two concentric copies: any collider reports a contact
+            auto q1 = to_ode(c.b1), q2 = to_ode(c.b2);
+            dGeomSetPosition(q1->geom, 0, 0, 0);
+            dGeomSetPosition(q2->geom, 0, 0, 0);
+            dContactGeom cg[4];
+            ode_pair = dCollide(q1->geom, q2->geom, 4, cg, sizeof(dContactGeom)) > 0;
+            if (!ode_pair)
+              printf("ODE: no collider for %s (dCollide reports no contact for concentric "
+                     "shapes): left out\n", pair_names.back().c_str());
+          }
+        }
+#endif
+#ifdef DCOL_BENCH_HAVE_BULLET
+        if (engine_pair) u1 = to_bullet(c.b1), u2 = to_bullet(c.b2);
+#endif
 #ifdef DCOL_BENCH_HAVE_COAL
         if (fcl_pair) {
           g1 = to_coal(c.b1), g2 = to_coal(c.b2);
@@ -378,6 +483,8 @@ int run() {
         for (size_t j = 0; j < nm; ++j) {
           Method& m = methods[(start + j) % nm];
           if (m.fcl_only && !fcl_pair) continue;
+          if ((m.only == 1 && ode_pair != 1) || (m.only == 2 && !engine_pair)) continue;
+          m.last_ok = false;
           double v = NAN;
           bool ok = true;
           const auto t0 = std::chrono::steady_clock::now();
@@ -397,7 +504,10 @@ int run() {
                     label(m).c_str(), i, dcol_last_error_message());
             continue;
           }
-          if (m.boolean) {
+          if (m.contact) {
+            if (!in_band) s.wrong = ((v > kNoContact) != (truth != 0));
+            m.last = v, m.last_ok = true;
+          } else if (m.boolean) {
             if (!in_band) s.wrong = (static_cast<int>(v) != truth);
             if (s.wrong == 1 && m.name.rfind("coal::", 0) == 0 && ++m.wrong_shown <= 8)
               fprintf(stderr, "%s: %s case %ld: says %s, alpha* %.17g\n",
@@ -442,8 +552,76 @@ int run() {
           }
           m.samples.push_back(s);
         }
+        // contact agreement with dcol_contacts (this case's values)
+        dcol_signed_distance_result sd{};
+        bool sd_ok = false;
+        if (!in_band) {
+          const Method* dm = nullptr;
+          for (const Method& m : methods)
+            if (m.contact && m.only == 0) dm = &m;
+          sd_ok = dcol_signed_distance(c.s1.handle, &c.b1.pose, c.s2.handle, &c.b2.pose,
+                                       &defaults, &sd) == DCOL_OK;
+          if (dm->last_ok && dm->last > kNoContact && sd_ok) {
+            Agree& a = self_agree[pair];
+            a.depth_checked++;
+            const double e = std::fabs(dm->last + sd.distance);
+            if (e > kDepthAgree) a.depth_disagree++;
+            if (e > a.depth_max) {
+              char b[200];
+              snprintf(b, sizeof b, "%s case %ld: %.9g vs %.9g, alpha* %.6g",
+                       pair_names.back().c_str(), i, dm->last, -sd.distance, alpha_ref);
+              a.depth_max = e, a.worst = b;
+            }
+          }
+        }
+        if (engine_pair && !in_band) {
+          const Method* dm = nullptr;
+          for (const Method& m : methods)
+            if (m.contact && m.only == 0) dm = &m;
+          for (const Method& m : methods) {
+            if (!m.contact || m.only == 0 || !dm->last_ok || !m.last_ok) continue;
+            Agree& a = agree[m.only - 1][pair];
+            const bool hd = dm->last > kNoContact, he = m.last > kNoContact;
+            a.contact_checked++;
+            if (hd != he) {
+              if (std::fabs(alpha_ref - 1) >= 1e-4) a.contact_disagree4++;
+              if (a.contact_disagree++ < 3)
+                fprintf(stderr, "%s: %s case %ld: %s, dcol_contacts %s (alpha* %.17g)\n",
+                        pair_names.back().c_str(), m.name.c_str(), i, he ? "contact" : "none",
+                        hd ? "contact" : "none", alpha_ref);
+            } else if (hd) {
+              // the engine's depth against dcol_signed_distance (-distance), when it certified
+              if (sd_ok && sd.distance < 0) {
+                a.sd_checked++;
+                if (std::fabs(m.last + sd.distance) > kDepthAgree) a.sd_disagree++;
+              }
+              a.depth_checked++;
+              const double e = std::fabs(m.last - dm->last);
+              if (e > kDepthAgree) a.depth_disagree++;
+              if (e > a.depth_max) {
+                char b[320];
+                dcol_signed_distance_result sd{};
+                dcol_signed_distance(c.s1.handle, &c.b1.pose, c.s2.handle, &c.b2.pose, &defaults,
+                                     &sd);
+                snprintf(b, sizeof b, "case %ld: %.9g vs dcol_contacts %.9g (dcol_signed_distance "
+                         "%.9g), alpha* %.6g", i, m.last, dm->last, -sd.distance, alpha_ref);
+#ifdef DCOL_BENCH_HAVE_COAL
+                {
+                  // a third opinion: Coal's signed distance (default request, EPA), untimed
+                  coal::DistanceRequest req;
+                  coal::DistanceResult res;
+                  const double d = coal::distance(g1.geom.get(), g1.tf, g2.geom.get(), g2.tf, req, res);
+                  snprintf(b + strlen(b), sizeof b - strlen(b), ", Coal %.9g", -d);
+                }
+#endif
+                a.depth_max = e, a.worst = b;
+              }
+            }
+          }
+        }
         cmp_case_release(&c);
       }
+      ode_pair_of.push_back(ode_pair == 1);
       fprintf(stderr, "%s done (%ld cases so far)\n", pair_names.back().c_str(), made);
     }
   const double seconds =
@@ -536,6 +714,7 @@ int run() {
               "%smedian error | max error | wrong / compared | failed calls |\n|---|--:|--:|--:|%s--:|--:|--:|--:|\n",
           coal_ref ? "ratio to Coal distance | " : "", coal_ref ? "--:|" : "");
   for (const Method& m : methods) {
+    if (m.contact) continue;  // their own table below
     const Stats a = stats(m, [](const Sample&) { return true; });
     const Stats f = stats(m, [](const Sample& x) { return x.fcl_pair; });
     const Stats e = m.fcl_only ? f : a;
@@ -553,7 +732,7 @@ int run() {
   // CSV over the 28 FCL pair types (the same cases for every method)
   fprintf(csv, "method,tolerance,median_ns,median_error,max_error\n");
   for (const Method& m : methods) {
-    if (m.boolean) continue;
+    if (m.boolean || m.contact) continue;
     const Stats f = stats(m, [](const Sample& x) { return x.fcl_pair; });
     fprintf(csv, "%s,%s,%.1f,%.6e,%.6e\n", m.name.c_str(),
             m.tol > 0 ? fmt(m.tol, "%.0e").c_str() : "default", f.med_ns, f.med_err, f.max_err);
@@ -707,6 +886,168 @@ int run() {
     fprintf(md, "\n## dcol vs Coal\n\n%s\n", kCoalStatus);
   }
   printf("%s\n", kCoalStatus);
+
+  // contact queries: dcol_contacts vs ODE dCollide vs Bullet GJK/EPA, per pair type
+  {
+    const Method* dc = nullptr;
+    const Method* eng[2] = {nullptr, nullptr};
+    for (const Method& m : methods)
+      if (m.contact) (m.only == 0 ? dc : eng[m.only - 1]) = &m;
+    const char* ename[2] = {"ODE", "Bullet"};
+    const char* estat[2] = {kOdeStatus, kBulletStatus};
+    fprintf(md, "\n## Contact queries: dcol_contacts vs ODE dCollide vs Bullet GJK/EPA\n\n");
+    fprintf(md, "%s. %s.\n\n", kOdeStatus, kBulletStatus);
+    fprintf(md,
+            "On the same cases (the pair types of sphere, box, 12-facet polytope, capsule, "
+            "cylinder: the kinds both engines have; ODE only where it has a collider), the same "
+            "interleaved timing: `dcol_contacts` with margin 0 and capacity 4 (the manifold, "
+            "default tolerance); ODE `dCollide(g1, g2, 4, ...)` with ODE's own geoms (capsule "
+            "and cylinder along z, rotated as for FCL; polytope: dCreateConvex from its faces "
+            "and planes); Bullet: one `btGjkPairDetector::getClosestPoints` (btVoronoiSimplexSolver, "
+            "btGjkEpaPenetrationDepthSolver, maximum distance the sum of the margins as in "
+            "btConvexConvexAlgorithm, reported distances > 0 dropped) on btSphereShape, btBoxShape, "
+            "btCapsuleShapeX, btCylinderShapeX, btConvexHullShape (margins 0 on box, cylinder, "
+            "hull), what btConvexConvexAlgorithm does for one contact point, with btScalar = "
+            "float. Shapes are built outside the timed calls. Median ns per pair type; "
+            "`all-pairs median`: the median over the pair types of each column (ratios: the "
+            "median of the per-pair ratios); min / max: the per-pair extremes.\n\n"
+            "Agreement with dcol_contacts, cases with |alpha* - 1| >= 1e-6: contact / no "
+            "contact disagreements, and, when both report contact, the deepest point's depth "
+            "differing by more than %.0e (max difference in the last columns; the worst case "
+            "overall is printed with Coal's signed distance, default request, as a third opinion "
+            "when Coal is there). `wrong`: contact against alpha* < 1 (same band). dcol_contacts "
+            "calls that returned an error (not converged) are left out of its times and of the "
+            "agreement counts (failed calls below).\n\n", kDepthAgree);
+    fprintf(md, "| pair | dcol_contacts ns | ODE ns | Bullet ns | dcol / ODE | dcol / Bullet | "
+                "ODE contact disagree / checked | ODE depth > 1e-4 / checked | Bullet contact "
+                "disagree / checked | Bullet depth > 1e-4 / checked | max depth diff ODE | max "
+                "depth diff Bullet | dcol_contacts depth vs dcol_signed_distance > 1e-4 / checked |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+    std::vector<double> col[3], rat[2];
+    double rmin[2] = {INFINITY, INFINITY}, rmax[2] = {-1, -1};
+    std::string pmin[2], pmax[2];
+    Agree tot[2];
+    for (int p = 0; p < static_cast<int>(pair_names.size()); ++p) {
+      if (!engine_pair_of[p]) continue;
+      double v[3];
+      for (int k = 0; k < 3; ++k) {
+        const Method* m = k == 0 ? dc : eng[k - 1];
+        v[k] = m ? stats(*m, [p](const Sample& x) { return x.pair == p; }).med_ns : NAN;
+        if (!std::isnan(v[k])) col[k].push_back(v[k]);
+      }
+      fprintf(md, "| %s | %s | %s | %s |", pair_names[p].c_str(), fmt(v[0], "%.0f").c_str(),
+              fmt(v[1], "%.0f").c_str(), fmt(v[2], "%.0f").c_str());
+      for (int e = 0; e < 2; ++e) {
+        const double r = v[0] / v[e + 1];
+        fprintf(md, " %s |", fmt(r, "%.2f").c_str());
+        if (std::isnan(r)) continue;
+        rat[e].push_back(r);
+        if (r < rmin[e]) rmin[e] = r, pmin[e] = pair_names[p];
+        if (r > rmax[e]) rmax[e] = r, pmax[e] = pair_names[p];
+      }
+      for (int e = 0; e < 2; ++e) {
+        const Agree& a = agree[e][p];
+        if (!eng[e] || a.contact_checked == 0)
+          fprintf(md, " – | – |");
+        else
+          fprintf(md, " %ld / %ld | %ld / %ld |", a.contact_disagree, a.contact_checked,
+                  a.depth_disagree, a.depth_checked);
+        tot[e].contact_checked += a.contact_checked, tot[e].contact_disagree += a.contact_disagree;
+        tot[e].contact_disagree4 += a.contact_disagree4;
+        tot[e].sd_checked += a.sd_checked, tot[e].sd_disagree += a.sd_disagree;
+        tot[e].depth_checked += a.depth_checked, tot[e].depth_disagree += a.depth_disagree;
+        if (a.depth_max > tot[e].depth_max)
+          tot[e].depth_max = a.depth_max, tot[e].worst = pair_names[p] + " " + a.worst;
+      }
+      for (int e = 0; e < 2; ++e)
+        fprintf(md, " %s |", eng[e] && agree[e][p].depth_checked
+                                 ? fmt(agree[e][p].depth_max, "%.1e").c_str() : "–");
+      fprintf(md, " %ld / %ld |\n", self_agree[p].depth_disagree, self_agree[p].depth_checked);
+    }
+    const double m0 = median(col[0]), m1 = median(col[1]), m2 = median(col[2]);
+    fprintf(md, "| **all-pairs median** | **%s** | **%s** | **%s** | **%s** | **%s** |",
+            fmt(m0, "%.0f").c_str(), fmt(m1, "%.0f").c_str(), fmt(m2, "%.0f").c_str(),
+            fmt(median(rat[0]), "%.2f").c_str(), fmt(median(rat[1]), "%.2f").c_str());
+    for (int e = 0; e < 2; ++e)
+      fprintf(md, " %ld / %ld | %ld / %ld |", tot[e].contact_disagree, tot[e].contact_checked,
+              tot[e].depth_disagree, tot[e].depth_checked);
+    Agree self_eng, self_all;
+    for (int p = 0; p < static_cast<int>(pair_names.size()); ++p) {
+      for (Agree* t : {&self_all, &self_eng}) {
+        if (t == &self_eng && !engine_pair_of[p]) continue;
+        t->depth_checked += self_agree[p].depth_checked;
+        t->depth_disagree += self_agree[p].depth_disagree;
+        if (self_agree[p].depth_max > t->depth_max)
+          t->depth_max = self_agree[p].depth_max, t->worst = self_agree[p].worst;
+      }
+    }
+    fprintf(md, " %s | %s | %ld / %ld |\n", fmt(tot[0].depth_max, "%.1e").c_str(),
+            fmt(tot[1].depth_max, "%.1e").c_str(), self_eng.depth_disagree, self_eng.depth_checked);
+    fprintf(md, "| ratio of the all-pairs medians | | | | %s | %s |\n",
+            fmt(m0 / m1, "%.2f").c_str(), fmt(m0 / m2, "%.2f").c_str());
+    fprintf(md, "| min / max per-pair ratio | | | | %s (%s) / %s (%s) | %s (%s) / %s (%s) |\n\n",
+            fmt(rat[0].empty() ? NAN : rmin[0], "%.2f").c_str(), pmin[0].c_str(),
+            fmt(rat[0].empty() ? NAN : rmax[0], "%.2f").c_str(), pmax[0].c_str(),
+            fmt(rat[1].empty() ? NAN : rmin[1], "%.2f").c_str(), pmin[1].c_str(),
+            fmt(rat[1].empty() ? NAN : rmax[1], "%.2f").c_str(), pmax[1].c_str());
+    printf("contact queries (all-pairs medians over the engine pair types, ns): dcol_contacts %s, "
+           "ODE %s, Bullet %s\n", fmt(m0, "%.0f").c_str(), fmt(m1, "%.0f").c_str(),
+           fmt(m2, "%.0f").c_str());
+    printf("  dcol_contacts' deepest depth vs dcol_signed_distance: %ld / %ld differ by more than "
+           "%.0e on the engine pair types, %ld / %ld on all 36 (largest %.2e: %s)\n",
+           self_eng.depth_disagree, self_eng.depth_checked, kDepthAgree, self_all.depth_disagree,
+           self_all.depth_checked, self_all.depth_max, self_all.worst.c_str());
+    fprintf(md, "dcol_contacts' deepest depth against dcol_signed_distance on the same case "
+                "(untimed): %ld / %ld differ by more than %.0e on these pair types, %ld / %ld on "
+                "all 36 (largest %.2e: %s).\n\n", self_eng.depth_disagree,
+            self_eng.depth_checked, kDepthAgree, self_all.depth_disagree, self_all.depth_checked,
+            self_all.depth_max, self_all.worst.c_str());
+    for (int e = 0; e < 2; ++e) {
+      if (!eng[e]) {
+        printf("  %s\n", estat[e]);
+        fprintf(md, "%s: no %s columns.\n\n", estat[e], ename[e]);
+        continue;
+      }
+      printf("  dcol_contacts / %s: median of per-pair ratios %.2f, ratio of medians %.2f, "
+             "min %.2f (%s), max %.2f (%s)\n", ename[e], median(rat[e]),
+             m0 / (e ? m2 : m1), rmin[e], pmin[e].c_str(), rmax[e], pmax[e].c_str());
+      printf("  %s vs dcol_contacts: contact disagreements %ld / %ld (%ld with |alpha*-1| >= 1e-4), "
+             "depth > %.0e: %ld / %ld (max %.2e, %s)\n", ename[e], tot[e].contact_disagree,
+             tot[e].contact_checked, tot[e].contact_disagree4,
+             kDepthAgree, tot[e].depth_disagree, tot[e].depth_checked, tot[e].depth_max,
+             tot[e].worst.c_str());
+      printf("  %s depth vs dcol_signed_distance: %ld / %ld off by more than %.0e\n", ename[e],
+             tot[e].sd_disagree, tot[e].sd_checked, kDepthAgree);
+      fprintf(md, "%s depth against dcol_signed_distance (where both dcol_contacts and %s report "
+                  "contact and the signed distance converged): %ld / %ld off by more than %.0e.\n\n",
+              ename[e], ename[e], tot[e].sd_disagree, tot[e].sd_checked, kDepthAgree);
+      fprintf(md, "%s vs dcol_contacts: %ld / %ld contact disagreements (%ld of them with "
+                  "|alpha* - 1| >= 1e-4), %ld / %ld depths off by "
+                  "more than %.0e (largest %.2e: %s).\n\n", ename[e], tot[e].contact_disagree,
+              tot[e].contact_checked, tot[e].contact_disagree4, tot[e].depth_disagree, tot[e].depth_checked, kDepthAgree,
+              tot[e].depth_max, tot[e].worst.c_str());
+    }
+    fprintf(md, "| method | pair types | median ns (all its cases) | wrong / compared | failed "
+                "calls |\n|---|--:|--:|--:|--:|\n");
+    for (const Method* m : {dc, eng[0], eng[1]}) {
+      if (!m) continue;
+      const Stats all = stats(*m, [](const Sample&) { return true; });
+      const Stats ep = stats(*m, [&](const Sample& x) { return engine_pair_of[x.pair]; });
+      fprintf(md, "| %s (engine pair types) | %d | %.0f | %ld / %ld | %ld |\n", m->name.c_str(),
+              static_cast<int>(m == eng[0] ? std::count(ode_pair_of.begin(), ode_pair_of.end(), true)
+                                           : std::count(engine_pair_of.begin(), engine_pair_of.end(), true)),
+              ep.med_ns, ep.wrong, ep.compared, m->failures);
+      printf("  %s: %ld / %ld wrong against alpha* < 1\n", m->name.c_str(), ep.wrong, ep.compared);
+      if (m == dc)
+        fprintf(md, "| %s (all 36 pair types) | 36 | %.0f | %ld / %ld | |\n", m->name.c_str(),
+                all.med_ns, all.wrong, all.compared);
+    }
+    if (eng[0])
+      for (int p = 0; p < static_cast<int>(pair_names.size()); ++p)
+        if (engine_pair_of[p] && !ode_pair_of[p])
+          fprintf(md, "\nODE has no collider for %s: left out of its columns.\n",
+                  pair_names[p].c_str());
+  }
+  printf("%s\n%s\n", kOdeStatus, kBulletStatus);
 
   // iterations per regime
   const char* cat_names[] = {"separated", "near touching", "overlapping"};
