@@ -25,25 +25,16 @@
 #include <vector>
 
 #include "dcol_bullet.hpp"
+#include "../engine_scenes.hpp"
 
 namespace {
 
-const double kG = 9.81;
-const double kDt = 0.005;
-const double kTol = 1e-3;  // 1 mm
-
-int g_failures = 0;
-
-void check(bool ok, const char *what) {
-  if (!ok) {
-    ++g_failures;
-    std::printf("FAILED: %s\n", what);
-  }
-}
-
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+using engine_scenes::check;
+using engine_scenes::kDt;
+using engine_scenes::kG;
+using engine_scenes::kTol;
+using engine_scenes::make;
+using engine_scenes::now;
 
 struct World {
   btDefaultCollisionConfiguration config;
@@ -104,25 +95,6 @@ const Spec kSpecs[] = {
     {"cone", 0.1, std::max(0.3, std::hypot(0.1, 0.4 * std::tan(0.5))), btVector3(0.2f, 0.22f, 0.22f), false},
     {"ellipsoid", 0.12, 0.25, btVector3(0.25f, 0.2f, 0.12f), false},
 };
-
-dcol_shape *make(const char *name) {
-  dcol_shape *s = nullptr;
-  dcol_status st = DCOL_ERROR_INVALID_SHAPE;
-  if (!std::strcmp(name, "sphere")) st = dcol_shape_new_sphere(0.2, &s);
-  if (!std::strcmp(name, "box")) st = dcol_shape_new_box(0.2, 0.15, 0.1, &s);
-  if (!std::strcmp(name, "capsule")) st = dcol_shape_new_capsule(0.1, 0.4, &s);
-  if (!std::strcmp(name, "cylinder")) st = dcol_shape_new_cylinder(0.15, 0.4, &s);
-  if (!std::strcmp(name, "cone")) st = dcol_shape_new_cone(0.4, 0.5, &s);
-  if (!std::strcmp(name, "ellipsoid")) {
-    const double P[9] = {1 / 0.0625, 0, 0, 0, 1 / 0.04, 0, 0, 0, 1 / 0.0144};
-    st = dcol_shape_new_ellipsoid(P, &s);
-  }
-  if (st != DCOL_OK) {
-    std::printf("shape %s: %s\n", name, dcol_last_error_message());
-    std::exit(2);
-  }
-  return s;
-}
 
 // Bullet's own shapes with dcol's frames (capsule and cylinder along x).
 btCollisionShape *native_shape(const char *name) {
@@ -434,6 +406,6 @@ int main(int argc, char **argv) {
   if (what == "tumble") rc = tumble();
   if (what == "stack" && argc >= 3) rc = stack(argv[2]);
   if (rc != 0) return rc;
-  std::printf("%s\n", g_failures ? "FAILED" : "ok");
-  return g_failures ? 1 : 0;
+  std::printf("%s\n", engine_scenes::failures() ? "FAILED" : "ok");
+  return engine_scenes::failures() ? 1 : 0;
 }

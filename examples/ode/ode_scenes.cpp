@@ -21,21 +21,16 @@
 #include <vector>
 
 #include "dcol_ode.hpp"
+#include "../engine_scenes.hpp"
 
 namespace {
 
-const double kG = 9.81;
-const double kDt = 0.005;
-const double kTol = 1e-3;  // 1 mm
-
-int g_failures = 0;
-
-void check(bool ok, const char *what) {
-  if (!ok) {
-    ++g_failures;
-    std::printf("FAILED: %s\n", what);
-  }
-}
+using engine_scenes::check;
+using engine_scenes::kDt;
+using engine_scenes::kG;
+using engine_scenes::kTol;
+using engine_scenes::make;
+using engine_scenes::now;
 
 struct World {
   dWorldID world;
@@ -109,25 +104,6 @@ struct Body {
   dcol_shape *shape;
 };
 
-dcol_shape *make(const char *name) {
-  dcol_shape *s = nullptr;
-  dcol_status st = DCOL_ERROR_INVALID_SHAPE;
-  if (!std::strcmp(name, "sphere")) st = dcol_shape_new_sphere(0.2, &s);
-  if (!std::strcmp(name, "box")) st = dcol_shape_new_box(0.2, 0.15, 0.1, &s);
-  if (!std::strcmp(name, "capsule")) st = dcol_shape_new_capsule(0.1, 0.4, &s);
-  if (!std::strcmp(name, "cylinder")) st = dcol_shape_new_cylinder(0.15, 0.4, &s);
-  if (!std::strcmp(name, "cone")) st = dcol_shape_new_cone(0.4, 0.5, &s);
-  if (!std::strcmp(name, "ellipsoid")) {
-    const double P[9] = {1 / 0.0625, 0, 0, 0, 1 / 0.04, 0, 0, 0, 1 / 0.0144};
-    st = dcol_shape_new_ellipsoid(P, &s);
-  }
-  if (st != DCOL_OK) {
-    std::printf("shape %s: %s\n", name, dcol_last_error_message());
-    std::exit(2);
-  }
-  return s;
-}
-
 const Spec kSpecs[] = {
     {"sphere", 0.2, 0.2, true},
     {"box", 0.1, std::sqrt(0.04 + 0.0225 + 0.01), true},
@@ -160,10 +136,6 @@ dGeomID native_geom(dSpaceID space, const char *name) {
   if (!std::strcmp(name, "cylinder")) return dCreateCylinder(space, 0.15, 0.4);
   (void)z_to_x;
   return nullptr;
-}
-
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 int drop(const std::string &ground, const char *csv, bool only_native = false, std::vector<double> *heights = nullptr,
@@ -475,6 +447,6 @@ int main(int argc, char **argv) {
   if (what == "tumble") rc = tumble();
   dCloseODE();
   if (rc != 0) return rc;
-  std::printf("%s\n", g_failures ? "FAILED" : "ok");
-  return g_failures ? 1 : 0;
+  std::printf("%s\n", engine_scenes::failures() ? "FAILED" : "ok");
+  return engine_scenes::failures() ? 1 : 0;
 }
