@@ -431,10 +431,44 @@ fn kkt_system<S: SupportMap>(
     jac: &mut [[Real; MAX_DIM]; MAX_DIM],
     rhs: &mut [Real; MAX_DIM],
 ) -> Option<Real> {
+    // Σ λ_k g_k − μ r = 0 and n·r − 1 = 0.
+    let form = Stationarity {
+        hess: Mat3::zeros(),
+        mu_column: -r,
+        offset: -r * mu,
+        last_row: *r,
+        last_residual: n.dot(r) - 1.0,
+    };
+    assemble_kkt(pair, act, n, lam, &form, jac, rhs)
+}
+
+/// How the two polishes' KKT systems differ in their first four rows: rows 0..3 are
+/// `Σ λ_k ∇p_k(n) + offset = 0` with Jacobian `Σ λ_k H_k + hess` in n and `mu_column` in μ;
+/// row 3 is a normalisation of n with gradient `last_row` and residual `last_residual`.
+pub(crate) struct Stationarity {
+    pub hess: Mat3,
+    pub mu_column: Vec3,
+    pub offset: Vec3,
+    pub last_row: Vec3,
+    pub last_residual: Real,
+}
+
+/// The residual (negated, into `rhs`) and Jacobian of a polish's KKT system at `(n, μ, λ)` in
+/// the form `form`, with the multiplier and tie rows of [`piece_rows`]; the residual's 1-norm,
+/// or `None` where a piece is not differentiable.
+pub(crate) fn assemble_kkt<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    act: &[Active],
+    n: &Vec3,
+    lam: &[Real],
+    form: &Stationarity,
+    jac: &mut [[Real; MAX_DIM]; MAX_DIM],
+    rhs: &mut [Real; MAX_DIM],
+) -> Option<Real> {
     let p = act.len();
     let mut value = [0.0; 2 * MAX_PIECES];
     let mut grad = [Vec3::zeros(); 2 * MAX_PIECES];
-    let mut hsum = Mat3::zeros();
+    let mut hsum = form.hess;
     let mut gsum = Vec3::zeros();
     for k in 0..p {
         let e = eval(pair, act[k], n)?;
@@ -447,23 +481,21 @@ fn kkt_system<S: SupportMap>(
     for row in jac.iter_mut().take(dim) {
         row[..dim].fill(0.0);
     }
-    // Rows 0..3: Σ λ_k g_k − μ r.
-    let ra = gsum - r * mu;
+    let ra = gsum + form.offset;
     for i in 0..3 {
         for j in 0..3 {
             jac[i][j] = hsum[(i, j)];
         }
-        jac[i][3] = -r[i];
+        jac[i][3] = form.mu_column[i];
         for k in 0..p {
             jac[i][4 + k] = grad[k][i];
         }
         rhs[i] = -ra[i];
     }
-    // Row 3: n·r − 1.
     for j in 0..3 {
-        jac[3][j] = r[j];
+        jac[3][j] = form.last_row[j];
     }
-    rhs[3] = -(n.dot(r) - 1.0);
+    rhs[3] = -form.last_residual;
     let scale = ra.norm() + rhs[3].abs() + piece_rows(act, lam, &value, &grad, jac, rhs)?;
     scale.is_finite().then_some(scale)
 }

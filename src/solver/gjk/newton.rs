@@ -15,8 +15,8 @@ use super::Cert;
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::SupportMap;
 use crate::solver::polish::{
-    drop_piece, eval, normalise_multipliers, piece_rows, solve_dense, Active, DampedNewton,
-    MAX_DIM, MAX_PIECES,
+    assemble_kkt, drop_piece, eval, normalise_multipliers, solve_dense, Active, DampedNewton,
+    Stationarity, MAX_DIM, MAX_PIECES,
 };
 use crate::solver::raycast::Pair;
 
@@ -237,41 +237,15 @@ fn system<S: SupportMap>(
     jac: &mut [[Real; MAX_DIM]; MAX_DIM],
     rhs: &mut [Real; MAX_DIM],
 ) -> Option<Real> {
-    let p = act.len();
-    let mut value = [0.0; 2 * MAX_PIECES];
-    let mut grad = [Vec3::zeros(); 2 * MAX_PIECES];
-    let mut hsum = Mat3::identity() * mu;
-    let mut gsum = Vec3::zeros();
-    for k in 0..p {
-        let e = eval(pair, act[k], n)?;
-        value[k] = e.value;
-        grad[k] = e.grad;
-        hsum += e.hess * lam[k];
-        gsum += e.grad * lam[k];
-    }
-    let dim = 4 + p;
-    for row in jac.iter_mut().take(dim) {
-        row[..dim].fill(0.0);
-    }
-    // Rows 0..3: Σ λ_k g_k + μ n − d.
-    let ra = gsum + n * mu - d;
-    for i in 0..3 {
-        for j in 0..3 {
-            jac[i][j] = hsum[(i, j)];
-        }
-        jac[i][3] = n[i];
-        for k in 0..p {
-            jac[i][4 + k] = grad[k][i];
-        }
-        rhs[i] = -ra[i];
-    }
-    // Row 3: (‖n‖² − 1)/2.
-    for j in 0..3 {
-        jac[3][j] = n[j];
-    }
-    rhs[3] = -0.5 * (n.norm_squared() - 1.0);
-    let scale = ra.norm() + rhs[3].abs() + piece_rows(act, lam, &value, &grad, jac, rhs)?;
-    scale.is_finite().then_some(scale)
+    // Σ λ_k ∇p_k(n) + μ n − d = 0 and (‖n‖² − 1)/2 = 0.
+    let form = Stationarity {
+        hess: Mat3::identity() * mu,
+        mu_column: *n,
+        offset: n * mu - d,
+        last_row: *n,
+        last_residual: 0.5 * (n.norm_squared() - 1.0),
+    };
+    assemble_kkt(pair, act, n, lam, &form, jac, rhs)
 }
 
 /// [`solve_dense`] for the leading 4×4 block (one piece per shape), by nalgebra's LU with
