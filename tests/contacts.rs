@@ -5,7 +5,7 @@
 use dcol::ffi::{dcol_contact, dcol_contacts, dcol_pose, dcol_shape_free, dcol_shape_new_box};
 use dcol::ffi::{dcol_shape_new_sphere, dcol_status};
 use dcol::math::rotation_from_quaternion;
-use dcol::{contact_manifold, signed_distance, Contact, Options, Pose, Shape, Vec3};
+use dcol::{contact_manifold, signed_distance, Contact, Manifold, Options, Pose, Shape, Vec3};
 
 fn pose(p: [f64; 3], q: [f64; 4]) -> Pose {
     Pose::new(p, q).unwrap()
@@ -30,20 +30,17 @@ fn has_point(cs: &[Contact], p: [f64; 3], tol: f64) -> bool {
     cs.iter().any(|c| (c.position - Vec3::from(p)).norm() < tol)
 }
 
+/// The manifold (margin 0, at most `cap` points) of `shape` at `at` against `ground` at the
+/// origin.
+fn on_ground(ground: &Shape, shape: &Shape, at: &Pose, cap: usize) -> Manifold {
+    contact_manifold(ground, &pose([0.0; 3], ID), shape, at, 0.0, cap, &opts()).unwrap()
+}
+
 #[test]
 fn box_on_box_face_to_face() {
     let ground = Shape::cuboid(1.0, 1.0, 0.5).unwrap();
     let cube = Shape::cuboid(0.5, 0.5, 0.5).unwrap();
-    let m = contact_manifold(
-        &ground,
-        &pose([0.0; 3], ID),
-        &cube,
-        &pose([0.0, 0.0, 0.99], ID),
-        0.0,
-        8,
-        &opts(),
-    )
-    .unwrap();
+    let m = on_ground(&ground, &cube, &pose([0.0, 0.0, 0.99], ID), 8);
     assert_eq!(m.len(), 4, "{:?}", m.contacts());
     for c in m.contacts() {
         assert!((c.depth - 0.01).abs() < 1e-12);
@@ -85,16 +82,12 @@ fn offset_rotated_box_is_clipped() {
     let ground = Shape::cuboid(1.0, 1.0, 0.5).unwrap();
     let cube = Shape::cuboid(0.5, 0.5, 0.5).unwrap();
     let a = std::f64::consts::FRAC_PI_8;
-    let m = contact_manifold(
+    let m = on_ground(
         &ground,
-        &pose([0.0; 3], ID),
         &cube,
         &pose([0.9, 0.0, 0.99], [a.cos(), 0.0, 0.0, a.sin()]),
-        0.0,
         8,
-        &opts(),
-    )
-    .unwrap();
+    );
     // The cube's footprint is a diamond of half-diagonal r = 0.5·√2 about (0.9, 0), cut by
     // the ground's edge x = 1.
     let r = 0.5 * 2f64.sqrt();
@@ -111,16 +104,12 @@ fn offset_rotated_box_is_clipped() {
         assert!(has_point(m.contacts(), p, 1e-12), "missing {p:?}");
     }
     // Reduced to 4: the deepest (all equal) and the widest spread.
-    let m4 = contact_manifold(
+    let m4 = on_ground(
         &ground,
-        &pose([0.0; 3], ID),
         &cube,
         &pose([0.9, 0.0, 0.99], [a.cos(), 0.0, 0.0, a.sin()]),
-        0.0,
         4,
-        &opts(),
-    )
-    .unwrap();
+    );
     assert_eq!(m4.len(), 4);
 }
 
@@ -128,16 +117,7 @@ fn offset_rotated_box_is_clipped() {
 fn cylinder_on_its_cap_gives_points_on_the_circle() {
     let ground = Shape::cuboid(1.0, 1.0, 0.5).unwrap();
     let cyl = Shape::cylinder(0.3, 1.0).unwrap();
-    let m = contact_manifold(
-        &ground,
-        &pose([0.0; 3], ID),
-        &cyl,
-        &pose([0.1, 0.2, 0.99], x_to_z()),
-        0.0,
-        16,
-        &opts(),
-    )
-    .unwrap();
+    let m = on_ground(&ground, &cyl, &pose([0.1, 0.2, 0.99], x_to_z()), 16);
     assert_eq!(m.len(), 12);
     for c in m.contacts() {
         let d = (c.position.x - 0.1).hypot(c.position.y - 0.2);
@@ -145,16 +125,7 @@ fn cylinder_on_its_cap_gives_points_on_the_circle() {
         assert!((c.position.z - 0.495).abs() < 1e-12);
         assert!((c.depth - 0.01).abs() < 1e-12);
     }
-    let m4 = contact_manifold(
-        &ground,
-        &pose([0.0; 3], ID),
-        &cyl,
-        &pose([0.1, 0.2, 0.99], x_to_z()),
-        0.0,
-        4,
-        &opts(),
-    )
-    .unwrap();
+    let m4 = on_ground(&ground, &cyl, &pose([0.1, 0.2, 0.99], x_to_z()), 4);
     assert_eq!(m4.len(), 4);
 }
 
@@ -162,30 +133,12 @@ fn cylinder_on_its_cap_gives_points_on_the_circle() {
 fn cylinder_on_its_side_gives_two_points() {
     let ground = Shape::cuboid(1.0, 1.0, 0.5).unwrap();
     let cyl = Shape::cylinder(0.3, 1.0).unwrap();
-    let m = contact_manifold(
-        &ground,
-        &pose([0.0; 3], ID),
-        &cyl,
-        &pose([0.0, 0.0, 0.79], ID),
-        0.0,
-        4,
-        &opts(),
-    )
-    .unwrap();
+    let m = on_ground(&ground, &cyl, &pose([0.0, 0.0, 0.79], ID), 4);
     assert_eq!(m.len(), 2, "{:?}", m.contacts());
     assert!(has_point(m.contacts(), [0.5, 0.0, 0.495], 1e-9));
     assert!(has_point(m.contacts(), [-0.5, 0.0, 0.495], 1e-9));
     // Hanging over the edge: clipped at x = 1.
-    let m = contact_manifold(
-        &ground,
-        &pose([0.0; 3], ID),
-        &cyl,
-        &pose([0.8, 0.0, 0.79], ID),
-        0.0,
-        4,
-        &opts(),
-    )
-    .unwrap();
+    let m = on_ground(&ground, &cyl, &pose([0.8, 0.0, 0.79], ID), 4);
     assert_eq!(m.len(), 2);
     assert!(has_point(m.contacts(), [0.3, 0.0, 0.495], 1e-9));
     assert!(has_point(m.contacts(), [1.0, 0.0, 0.495], 1e-9));
@@ -195,16 +148,7 @@ fn cylinder_on_its_side_gives_two_points() {
 fn sphere_on_box_gives_one_point() {
     let ground = Shape::cuboid(1.0, 1.0, 0.5).unwrap();
     let ball = Shape::sphere(0.3).unwrap();
-    let m = contact_manifold(
-        &ground,
-        &pose([0.0; 3], ID),
-        &ball,
-        &pose([0.2, 0.0, 0.79], ID),
-        0.0,
-        4,
-        &opts(),
-    )
-    .unwrap();
+    let m = on_ground(&ground, &ball, &pose([0.2, 0.0, 0.79], ID), 4);
     assert_eq!(m.len(), 1);
     let c = m.contacts()[0];
     assert!((c.depth - 0.01).abs() < 1e-9);
