@@ -418,39 +418,37 @@ fn tiny_gaps_sphere_cylinder_side() {
 /// offsets spanning 1e-3..1e3, from deep overlap to well apart (`DCOL_RANDOM_PAIRS`, default
 /// 20 000): the default distance agrees with the interior-point distance to 1e-8·ℓ wherever
 /// the latter converges, and separated pairs rarely fall back.
-#[test]
-fn random_pairs_across_scales_match_interior_point() {
-    let n = std::env::var("DCOL_RANDOM_PAIRS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(20_000);
-    let mut rng = Scaled(0x5EED_0DC1);
-    let mut bad = Vec::new();
-    let (mut separated, mut fell_back, mut ipm_failed) = (0, 0, 0);
-    let mut worst = 0.0f64;
-    for i in 0..n {
-        let scale = rng.log(-3.0, 3.0);
-        let (s1, s2) = random_shapes(&mut rng, i, scale);
-        let reach = s1.bounding_radius() + s2.bounding_radius();
-        let len = reach * rng.log(-1.3, 0.7);
-        let (p1, p2) = random_poses(&mut rng, scale, len);
+/// A sweep comparing the default distance with the interior-point one: separated pairs, those
+/// answered by the fallback, interior-point solves that did not converge (not compared), the
+/// worst difference (over ℓ) and the pairs that differ by more than 1e-8·ℓ.
+#[derive(Default)]
+struct Sweep {
+    separated: usize,
+    fell_back: usize,
+    ipm_failed: usize,
+    worst: f64,
+    bad: Vec<String>,
+}
+
+impl Sweep {
+    fn compare(&mut self, i: usize, s1: &Shape, p1: &Pose, s2: &Shape, p2: &Pose) {
         let ell = s1.bounding_radius().max(s2.bounding_radius());
-        let g = distance(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
-        let q = distance(&s1, &p1, &s2, &p2, &ipm()).unwrap();
+        let g = distance(s1, p1, s2, p2, &Options::default()).unwrap();
+        let q = distance(s1, p1, s2, p2, &ipm()).unwrap();
         if !q.status.is_converged() {
-            ipm_failed += 1;
-            continue;
+            self.ipm_failed += 1;
+            return;
         }
         if q.distance > 1e-6 * ell {
-            separated += 1;
+            self.separated += 1;
             if g.path == DistancePath::InteriorPoint {
-                fell_back += 1;
+                self.fell_back += 1;
             }
         }
         let e = (g.distance - q.distance).abs() / ell;
-        worst = worst.max(e);
+        self.worst = self.worst.max(e);
         if e.is_nan() || e > 1e-8 {
-            bad.push(format!(
+            self.bad.push(format!(
                 "#{i} {:?}-{:?}: {} vs interior point {} ({e:e} ℓ, {:?})",
                 s1.kind(),
                 s2.kind(),
@@ -460,6 +458,31 @@ fn random_pairs_across_scales_match_interior_point() {
             ));
         }
     }
+}
+
+#[test]
+fn random_pairs_across_scales_match_interior_point() {
+    let n = std::env::var("DCOL_RANDOM_PAIRS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20_000);
+    let mut rng = Scaled(0x5EED_0DC1);
+    let mut sweep = Sweep::default();
+    for i in 0..n {
+        let scale = rng.log(-3.0, 3.0);
+        let (s1, s2) = random_shapes(&mut rng, i, scale);
+        let reach = s1.bounding_radius() + s2.bounding_radius();
+        let len = reach * rng.log(-1.3, 0.7);
+        let (p1, p2) = random_poses(&mut rng, scale, len);
+        sweep.compare(i, &s1, &p1, &s2, &p2);
+    }
+    let Sweep {
+        separated,
+        fell_back,
+        ipm_failed,
+        worst,
+        bad,
+    } = sweep;
     println!(
         "{n} random pairs: {separated} separated, {fell_back} of them by the fallback, {} \
          disagree (max {worst:e} ℓ), {ipm_failed} interior-point solves did not converge",
@@ -606,9 +629,7 @@ fn thin_shapes_match_interior_point() {
             .unwrap(),
         }
     };
-    let (mut separated, mut fell_back) = (0, 0);
-    let mut bad = Vec::new();
-    let mut worst = 0.0f64;
+    let mut sweep = Sweep::default();
     for i in 0..n {
         let s1 = thin(&mut rng, i);
         let s2 = if i % 2 == 0 {
@@ -619,31 +640,15 @@ fn thin_shapes_match_interior_point() {
         let reach = s1.bounding_radius() + s2.bounding_radius();
         let len = reach * rng.log(-1.0, 0.3);
         let (p1, p2) = random_poses(&mut rng, 1.0, len);
-        let ell = s1.bounding_radius().max(s2.bounding_radius());
-        let g = distance(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
-        let q = distance(&s1, &p1, &s2, &p2, &ipm()).unwrap();
-        if !q.status.is_converged() {
-            continue;
-        }
-        if q.distance > 1e-6 * ell {
-            separated += 1;
-            if g.path == DistancePath::InteriorPoint {
-                fell_back += 1;
-            }
-        }
-        let e = (g.distance - q.distance).abs() / ell;
-        worst = worst.max(e);
-        if e.is_nan() || e > 1e-8 {
-            bad.push(format!(
-                "#{i} {:?}-{:?}: {} vs interior point {} ({e:e} ℓ, {:?})",
-                s1.kind(),
-                s2.kind(),
-                g.distance,
-                q.distance,
-                g.path
-            ));
-        }
+        sweep.compare(i, &s1, &p1, &s2, &p2);
     }
+    let Sweep {
+        separated,
+        fell_back,
+        worst,
+        bad,
+        ..
+    } = sweep;
     println!(
         "{n} thin pairs: {separated} separated, {fell_back} of them by the fallback, {} \
          disagree (max {worst:e} ℓ)",
