@@ -1,6 +1,8 @@
 //! The solvers. The geometric ones know shapes only through their support maps
-//! (`crate::shapes::SupportMap`): `raycast` (the certified ray cast of α* on the Minkowski
-//! difference), `polish` (Newton on the contact features the cast identified, certified again)
+//! (`crate::shapes::SupportMap`): `direct` (Newton's method on the support function itself,
+//! tried first on every pair with a curved shape), `raycast` (the certified ray cast of α* on
+//! the Minkowski difference), `polish` (Newton on the contact features the cast identified,
+//! certified again)
 //! `closed_form` (sphere and capsule pairs) and `gjk` (the exact distance of separated shapes,
 //! certified, with its own Newton polish). The interior-point method (`ipm/`, below) knows
 //! shapes only through the rows of a cone program. None of them knows queries or the C ABI.
@@ -14,6 +16,7 @@
 
 pub(crate) mod closed_form;
 pub(crate) mod dense;
+pub(crate) mod direct;
 pub(crate) mod gjk;
 mod ipm;
 pub(crate) mod polish;

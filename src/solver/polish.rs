@@ -20,6 +20,7 @@
 //! `α_hi` from a point of K (a convex combination of the pieces' support points, which lie in
 //! the shapes) on or next to the ray. An answer is returned only when the bracket is closed.
 
+use super::dense::{lu_factor_in_place, lu_solve_one};
 use super::raycast::{upper_from_point, Cast, Pair};
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::SupportMap;
@@ -78,7 +79,7 @@ pub(crate) fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> 
 
 /// Tries a flat face of either shape whose normal is within a small angle of `normal`: its
 /// normal is the exact optimum's if the ray meets K's face there, which the certificate checks.
-fn snap_to_face<S: SupportMap>(
+pub(crate) fn snap_to_face<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     normal: &Vec3,
@@ -206,7 +207,7 @@ pub(crate) fn polish<S: SupportMap>(
 
 /// Newton from `n0`, dropping pieces as their multipliers turn negative, then the certificate.
 #[allow(clippy::too_many_arguments)]
-fn from_start<S: SupportMap>(
+pub(crate) fn from_start<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     n0: Vec3,
@@ -542,7 +543,7 @@ pub(crate) fn piece_rows(
 
 /// The certificate of a Newton solution: the full support maps at `n` for the lower bound, the
 /// primal point `Σ λ_k ∇p_k` (a point of K when λ ≥ 0) for the upper bound.
-fn certify<S: SupportMap>(
+pub(crate) fn certify<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     act: &[Active],
@@ -593,37 +594,14 @@ pub(crate) fn solve_dense(
             amax = amax.max(v.abs());
         }
     }
+    let Some(ipiv) = lu_factor_in_place(a, dim) else {
+        return false;
+    };
+    // The pivots chosen are the diagonal of U: each must stand clear of rounding.
     let floor = 1e-13 * amax;
-    for c in 0..dim {
-        let (mut piv, mut best) = (c, a[c][c].abs());
-        for rr in (c + 1)..dim {
-            if a[rr][c].abs() > best {
-                best = a[rr][c].abs();
-                piv = rr;
-            }
-        }
-        if !(best > floor) {
-            return false;
-        }
-        a.swap(c, piv);
-        b.swap(c, piv);
-        let inv = 1.0 / a[c][c];
-        for rr in (c + 1)..dim {
-            let f = a[rr][c] * inv;
-            if f != 0.0 {
-                for k in c..dim {
-                    a[rr][k] -= f * a[c][k];
-                }
-                b[rr] -= f * b[c];
-            }
-        }
+    if !(0..dim).all(|k| a[k][k].abs() > floor) {
+        return false;
     }
-    for c in (0..dim).rev() {
-        let mut s = b[c];
-        for k in (c + 1)..dim {
-            s -= a[c][k] * b[k];
-        }
-        b[c] = s / a[c][c];
-    }
+    lu_solve_one(a, &ipiv, dim, b);
     true
 }

@@ -1,0 +1,429 @@
+//! α* by Newton's method on the support function itself, before (and mostly instead of) a ray
+//! cast.
+//!
+//! By duality (`../shared/ALGORITHMS.md` §1), `1/α' = min { h_K(n) : n·r = 1 }`, a convex
+//! problem: `h_K(n) = h₁(n) + h₂(−n)` is convex, and so is its restriction to the plane
+//! `n·r = 1`. Where the support points at the optimum lie on one smooth piece of each shape
+//! (`crate::shapes::SupportMap`: a ball or ellipsoid patch, a rim point, a vertex against a
+//! curved patch), `h_K` is smooth there with a positive definite Hessian in the plane, and
+//! Newton's method in two variables, from `n = r` with a backtracking line search on `h_K`
+//! itself (every accepted step lowers it), converges quadratically. A step costs one support
+//! call of K (the line search's, which also names the pieces for the next step) and the two
+//! pieces' Hessians: a few hundred nanoseconds in all, where the ray cast needs a dozen
+//! portal refinements before its polish.
+//!
+//! Where the optimum sits on a kink of `h_K` (an edge or a flat face of a shape, a capsule's
+//! side, a cylinder's side: two or more pieces of a shape tie there), the pieces named by the
+//! support alternate between steps, or the reduced Hessian is singular. A flat face near the
+//! current normal is then tried outright, and the pieces seen are handed to the polish's
+//! Newton on the KKT system with several active pieces (`super::polish::from_start`). Every
+//! answer ends in the polish's certificate; `None` sends the caller to the ray cast.
+
+use super::polish::{certify, eval, from_start, snap_to_face, Active, Polished, MAX_PIECES};
+use super::raycast::Pair;
+use crate::math::{Real, Vec3};
+use crate::shapes::SupportMap;
+
+/// Newton steps before giving up (quadratic convergence needs 4–6 from a fair start).
+const MAX_STEPS: usize = 12;
+/// A full step at most this (relative to ‖n‖) is taken and then certified: the iterate it leads
+/// to is within about its square.
+const CONVERGED_STEP: Real = 1e-7;
+/// Armijo's sufficient-decrease fraction.
+const ARMIJO: Real = 1e-4;
+/// Halvings of a step before the line search gives up (a kink in the way).
+const MAX_HALVINGS: u32 = 8;
+/// A reduced Hessian whose determinant is below this fraction of the product of its diagonal
+/// is singular (linear pieces: an edge or a vertex against a rim).
+const SINGULAR: Real = 1e-10;
+
+/// An orthonormal basis of the plane orthogonal to the unit vector `r`.
+fn plane_basis(r: &Vec3) -> (Vec3, Vec3) {
+    let a = if r.x.abs() < 0.6 {
+        Vec3::x()
+    } else if r.y.abs() < 0.6 {
+        Vec3::y()
+    } else {
+        Vec3::z()
+    };
+    let t1 = (a - r * r.dot(&a)).normalize();
+    (t1, r.cross(&t1))
+}
+
+/// The pieces each shape's support named along the way (at most [`MAX_PIECES`] each).
+#[derive(Default)]
+struct Seen {
+    ids: [[u32; MAX_PIECES]; 2],
+    len: [usize; 2],
+}
+
+impl Seen {
+    fn add(&mut self, ids: [u32; 2]) {
+        for (s, id) in ids.into_iter().enumerate() {
+            let l = self.len[s];
+            if !self.ids[s][..l].contains(&id) && l < MAX_PIECES {
+                self.ids[s][l] = id;
+                self.len[s] += 1;
+            }
+        }
+    }
+}
+
+/// α' by Newton's method on `h_K` from `n = r` (unit ray), certified to `rel_tol`; `None`
+/// where it could not certify (the caller then casts the ray).
+pub(crate) fn direct<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    let (t1, t2) = plane_basis(r);
+    let mut n = *r;
+    let mut v = pair.support(&n);
+    let mut f = v.w.dot(&n);
+    let mut seen = Seen::default();
+    seen.add(v.id);
+    let mut previous = [u32::MAX; 2];
+    for _ in 0..MAX_STEPS {
+        let act = [
+            Active {
+                shape: 0,
+                id: v.id[0],
+            },
+            Active {
+                shape: 1,
+                id: v.id[1],
+            },
+        ];
+        let (Some(e1), Some(e2)) = (eval(pair, act[0], &n), eval(pair, act[1], &n)) else {
+            break;
+        };
+        let g = e1.grad + e2.grad;
+        let h = e1.hess + e2.hess;
+        let (h1, h2) = (h * t1, h * t2);
+        let (a, b, c) = (t1.dot(&h1), t1.dot(&h2), t2.dot(&h2));
+        let (g1, g2) = (t1.dot(&g), t2.dot(&g));
+        let det = a * c - b * b;
+        if !(a > 0.0 && c > 0.0 && det > SINGULAR * a * c) {
+            break;
+        }
+        let y1 = -(c * g1 - b * g2) / det;
+        let y2 = -(a * g2 - b * g1) / det;
+        let dn = t1 * y1 + t2 * y2;
+        let step = dn.norm() / n.norm();
+        if !step.is_finite() {
+            break;
+        }
+        if step <= CONVERGED_STEP {
+            let nt = n + dn;
+            return certify(pair, r, &act, &nt, &[1.0, 1.0], iota, rel_tol);
+        }
+        // Backtracking on h_K (the directional derivative along dn is g·dn < 0).
+        let slope = g.dot(&dn);
+        if !(slope < 0.0) {
+            break;
+        }
+        let mut t = 1.0;
+        let mut accepted = false;
+        for _ in 0..=MAX_HALVINGS {
+            let nt = n + dn * t;
+            let vt = pair.support(&nt);
+            let ft = vt.w.dot(&nt);
+            if ft <= f + ARMIJO * t * slope {
+                n = nt;
+                v = vt;
+                f = ft;
+                accepted = true;
+                break;
+            }
+            t *= 0.5;
+        }
+        if !accepted {
+            break;
+        }
+        // Pieces returning to those of two steps back: the optimum is on a kink between them.
+        let ids = act.map(|a| a.id);
+        let back = v.id != ids && v.id == previous;
+        previous = ids;
+        seen.add(v.id);
+        if back {
+            break;
+        }
+    }
+    kink(pair, r, (t1, t2), &n, f, &seen, iota, rel_tol)
+}
+
+/// The optimum on a kink of `h_K` near `n`: a flat face of either shape, else Newton's method
+/// on the pieces seen with the ties between them as constraints ([`tied`]), else the polish's
+/// Newton with every piece seen active.
+#[allow(clippy::too_many_arguments)]
+fn kink<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    basis: (Vec3, Vec3),
+    n: &Vec3,
+    f: Real,
+    seen: &Seen,
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    if let Some(out) = snap_to_face(pair, r, n, iota, rel_tol) {
+        return Some(out);
+    }
+    if seen.len[0] + seen.len[1] <= 2 {
+        return None;
+    }
+    // Each shape's (at most) two pieces seen with the highest values at n.
+    let mut act = [Active { shape: 0, id: 0 }; 4];
+    let mut p = 0;
+    for s in 0..2 {
+        let mut best = [(Real::NEG_INFINITY, u32::MAX); 2];
+        for &id in &seen.ids[s][..seen.len[s]] {
+            let v = eval(pair, Active { shape: s, id }, n).map_or(Real::NEG_INFINITY, |e| e.value);
+            if v > best[0].0 {
+                best[1] = best[0];
+                best[0] = (v, id);
+            } else if v > best[1].0 {
+                best[1] = (v, id);
+            }
+        }
+        for (v, id) in best {
+            if v > Real::NEG_INFINITY {
+                act[p] = Active { shape: s, id };
+                p += 1;
+            }
+        }
+    }
+    if let Some(out) = tied(pair, r, basis, *n, &act[..p], iota, rel_tol) {
+        return Some(out);
+    }
+    let mut act6 = [Active { shape: 0, id: 0 }; 2 * MAX_PIECES];
+    let mut lam = [0.0; 2 * MAX_PIECES];
+    for k in 0..p {
+        act6[k] = act[k];
+        let count = act[..p].iter().filter(|a| a.shape == act[k].shape).count();
+        lam[k] = 1.0 / count as Real;
+    }
+    let nr = n.dot(r);
+    if !(nr > 0.0) {
+        return None;
+    }
+    from_start(pair, r, n / nr, f / nr, act6, lam, p, iota, rel_tol)
+}
+
+/// Newton's method for `min h_K(n)` on the plane `n·r = 1` with one shape's two pieces (or
+/// each shape's two) tied, `p_k(n) = p_f(n)`, as equality constraints: the Lagrangian
+/// `Σ_shapes [(1 − ν) p_f + ν p_k]` in the plane's two coordinates and the multipliers `ν`
+/// (one tie: three unknowns; two ties: the ties fix `n`, and `ν` follows from
+/// stationarity). The multipliers are the pieces' weights `λ = (1 − ν, ν)`: an answer needs
+/// them in [0, 1], which the certificate checks.
+fn tied<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    (t1, t2): (Vec3, Vec3),
+    mut n: Vec3,
+    act: &[Active],
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    // Per shape: its first piece and, if tied, its second.
+    let mut first = [usize::MAX; 2];
+    let mut second = [usize::MAX; 2];
+    for (k, a) in act.iter().enumerate() {
+        if first[a.shape] == usize::MAX {
+            first[a.shape] = k;
+        } else {
+            second[a.shape] = k;
+        }
+    }
+    if first.contains(&usize::MAX) {
+        return None;
+    }
+    let ties: usize = second.iter().filter(|&&k| k != usize::MAX).count();
+    let mut nu = [0.5; 2];
+    for _ in 0..MAX_STEPS {
+        // Gradient and Hessian of the Lagrangian, the ties' values and gradients.
+        let mut g = Vec3::zeros();
+        let mut h = crate::math::Mat3::zeros();
+        let mut cval = [0.0; 2];
+        let mut cgrad = [Vec3::zeros(); 2];
+        let mut m = 0;
+        for s in 0..2 {
+            let ef = eval(pair, act[first[s]], &n)?;
+            if second[s] == usize::MAX {
+                g += ef.grad;
+                h += ef.hess;
+                continue;
+            }
+            let ek = eval(pair, act[second[s]], &n)?;
+            let w = nu[s];
+            g += ef.grad * (1.0 - w) + ek.grad * w;
+            h += ef.hess * (1.0 - w) + ek.hess * w;
+            cval[m] = ek.value - ef.value;
+            cgrad[m] = ek.grad - ef.grad;
+            m += 1;
+        }
+        let (h1, h2) = (h * t1, h * t2);
+        let (a11, a12, a22) = (t1.dot(&h1), t1.dot(&h2), t2.dot(&h2));
+        // The gradient of the objective alone (the first pieces): the Lagrangian's minus the
+        // ties' multiplier terms, so that the step solves for the new multipliers outright.
+        let mut gf = g;
+        let mut mm = 0;
+        for s in 0..2 {
+            if second[s] != usize::MAX {
+                gf -= cgrad[mm] * nu[s];
+                mm += 1;
+            }
+        }
+        let gy = [t1.dot(&gf), t2.dot(&gf)];
+        let cy = [
+            [t1.dot(&cgrad[0]), t2.dot(&cgrad[0])],
+            [t1.dot(&cgrad[1]), t2.dot(&cgrad[1])],
+        ];
+        let (dy, new_nu) = if ties == 1 {
+            // [A c; cᵀ 0] [dy; ν] = [−gy; −c].
+            let a = [
+                [a11, a12, cy[0][0]],
+                [a12, a22, cy[0][1]],
+                [cy[0][0], cy[0][1], 0.0],
+            ];
+            let x = solve3(&a, &[-gy[0], -gy[1], -cval[0]])?;
+            ([x[0], x[1]], [x[2], 0.0])
+        } else {
+            // The ties fix n: cᵢ + cyᵢ·dy = 0; then gy + A dy + Σ νᵢ cyᵢ = 0 for ν.
+            let det = cy[0][0] * cy[1][1] - cy[0][1] * cy[1][0];
+            if !(det.abs()
+                > 1e-12 * (cy[0][0].abs() + cy[0][1].abs()) * (cy[1][0].abs() + cy[1][1].abs()))
+            {
+                return None;
+            }
+            let dy = [
+                (-cval[0] * cy[1][1] + cval[1] * cy[0][1]) / det,
+                (-cval[1] * cy[0][0] + cval[0] * cy[1][0]) / det,
+            ];
+            let rhs = [
+                -(gy[0] + a11 * dy[0] + a12 * dy[1]),
+                -(gy[1] + a12 * dy[0] + a22 * dy[1]),
+            ];
+            // [cy₀ cy₁] ν = rhs (columns are the ties' gradients).
+            let nu0 = (rhs[0] * cy[1][1] - rhs[1] * cy[1][0]) / det;
+            let nu1 = (cy[0][0] * rhs[1] - cy[0][1] * rhs[0]) / det;
+            (dy, [nu0, nu1])
+        };
+        let dn = t1 * dy[0] + t2 * dy[1];
+        let step = dn.norm() / n.norm();
+        if !step.is_finite() {
+            return None;
+        }
+        n += dn;
+        let mut mm = 0;
+        for s in 0..2 {
+            if second[s] != usize::MAX {
+                nu[s] = new_nu[mm];
+                mm += 1;
+            }
+        }
+        if step <= CONVERGED_STEP {
+            let mut lam = [0.0; 4];
+            for s in 0..2 {
+                if second[s] == usize::MAX {
+                    lam[first[s]] = 1.0;
+                } else {
+                    lam[first[s]] = 1.0 - nu[s];
+                    lam[second[s]] = nu[s];
+                }
+            }
+            if lam[..act.len()].iter().any(|l| *l < -1e-9) {
+                return None;
+            }
+            return certify(pair, r, act, &n, &lam[..act.len()], iota, rel_tol);
+        }
+    }
+    None
+}
+
+/// Solves a 3×3 system by Cramer's rule (`None` when singular to rounding).
+fn solve3(a: &[[Real; 3]; 3], b: &[Real; 3]) -> Option<[Real; 3]> {
+    let col = |j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
+    let (c0, c1, c2) = (col(0), col(1), col(2));
+    let bv = Vec3::new(b[0], b[1], b[2]);
+    let det = c0.dot(&c1.cross(&c2));
+    let size = c0.norm() * c1.norm() * c2.norm();
+    if !(det.abs() > 1e-13 * size) {
+        return None;
+    }
+    Some([
+        bv.dot(&c1.cross(&c2)) / det,
+        c0.dot(&bv.cross(&c2)) / det,
+        c0.dot(&c1.cross(&bv)) / det,
+    ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Mat3, Pose};
+    use crate::shapes::Shape;
+    use crate::solver::raycast::cast;
+
+    fn rot(q: [Real; 4]) -> Mat3 {
+        *Pose::new([0.0; 3], q).unwrap().rotation()
+    }
+
+    /// `direct` against the ray cast closed to 1e-14: α' within 1e-12 relative, and the
+    /// answer's own bracket certified (its point of K on the ray, its normal's support value).
+    fn check(a: &Shape, qa: [Real; 4], b: &Shape, qb: [Real; 4], r: Vec3) -> Polished {
+        let (ra, rb) = (rot(qa), rot(qb));
+        let pair = Pair::new([a, b], [&ra, &rb], 1.0);
+        let r = r.normalize();
+        let iota = a.inscribed_radius() + b.inscribed_radius();
+        let d = direct(&pair, &r, iota, 1e-12).expect("direct certifies");
+        let c = cast(&pair, &r, iota, 1e-14, 400, None);
+        assert!(c.alpha_hi - c.alpha_lo <= 1e-13 * c.alpha_lo, "{c:?}");
+        assert!(
+            (d.alpha_lo - c.alpha_lo).abs() <= 1e-12 * c.alpha_lo,
+            "direct {} cast {}",
+            d.alpha_lo,
+            c.alpha_lo
+        );
+        // a − b lies on the ray at 1/α'.
+        let w = d.a - d.b;
+        assert!((w - r / d.alpha_lo).norm() <= 1e-10 * w.norm(), "{w:?}");
+        d
+    }
+
+    #[test]
+    fn smooth_pairs_converge_without_a_cast() {
+        let e = Shape::ellipsoid([[1.0, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap();
+        let s = Shape::sphere(0.4).unwrap();
+        let q = [0.3, 0.5, -0.2, 0.7];
+        check(&e, [1.0, 0.0, 0.0, 0.0], &e, q, Vec3::new(0.3, -1.0, 0.4));
+        check(&s, q, &e, [0.1, 0.9, 0.3, -0.2], Vec3::new(-2.0, 0.5, 1.0));
+        // A cylinder's rim against an ellipsoid (a circle piece against a quadric).
+        let y = Shape::cylinder(0.5, 1.2).unwrap();
+        check(&y, [0.9, 0.3, 0.2, 0.1], &e, q, Vec3::new(1.0, 0.8, 0.6));
+    }
+
+    #[test]
+    fn single_and_double_ties_are_solved() {
+        // A capsule's side against an ellipsoid: the two end balls tie (one tie). The ray is
+        // perpendicular to the capsule's axis (e_x), so the contact is on its side.
+        let c = Shape::capsule(0.3, 2.0).unwrap();
+        let e = Shape::ellipsoid([[4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]).unwrap();
+        let id = [1.0, 0.0, 0.0, 0.0];
+        let d = check(&c, id, &e, [0.95, 0.0, 0.3, 0.0], Vec3::new(0.1, 1.0, 0.2));
+        assert!(
+            d.a.x.abs() < 1.0 - 1e-3,
+            "on the side, not an end: {:?}",
+            d.a
+        );
+        // A cylinder's side against a capsule's side, crossed: both shapes tie (two ties).
+        let y = Shape::cylinder(0.4, 2.0).unwrap();
+        let crossed = [0.5_f64.sqrt(), 0.0, 0.0, 0.5_f64.sqrt()];
+        let d = check(&y, id, &c, crossed, Vec3::new(0.05, -0.03, 1.0));
+        assert!(
+            d.a.x.abs() < 1.0 - 1e-3 && d.b.y.abs() < 1.0 - 1e-3,
+            "{d:?}"
+        );
+    }
+}
