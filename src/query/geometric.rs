@@ -261,16 +261,17 @@ pub(crate) fn jacobian(
 type Solved = Result<Option<Answer>, (bool, Real)>;
 
 /// Whether Newton's method on the support function goes first: with a sphere or an ellipsoid
-/// (strictly convex, so the optimum is mostly on a smooth patch of K), or between capsules,
-/// cylinders and cones (their kinks are single ties). Against a polytope or a padded polygon
-/// the optimum lies mostly on an edge or face of K where the support alternates between many
-/// pieces: the ray cast identifies those faster (measured: direct first costs 1.5–2.5× there).
+/// (strictly convex, so the optimum is mostly on a smooth patch of K), with a capsule (its
+/// side is a single tie), or between cylinders and cones. A cylinder or cone against a polytope
+/// or padded polygon, or two of those, meets mostly on an edge or face of K where the support
+/// alternates between many pieces, or a vertex against a rim where the Hessian is singular:
+/// the ray cast identifies those faster (measured: direct first costs 1.1–2.5× there).
 fn direct_first(pair: &Pair<'_, Shape>) -> bool {
     use ShapeKind::*;
     let kinds = [pair.one.shape.kind(), pair.two.shape.kind()];
     let round = |k: &ShapeKind| matches!(k, Sphere | Ellipsoid);
     let faceted = |k: &ShapeKind| matches!(k, Polytope | Polygon);
-    kinds.iter().any(round) || !kinds.iter().any(faceted)
+    kinds.iter().any(round) || kinds.contains(&Capsule) || !kinds.iter().any(faceted)
 }
 
 /// Sphere and capsule pairs, and a sphere with a centred box, in closed form.

@@ -77,20 +77,25 @@ pub(crate) fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> 
     })
 }
 
-/// Tries a flat face of either shape whose normal is within a small angle of `normal`: its
-/// normal is the exact optimum's if the ray meets K's face there, which the certificate checks.
+/// The cosine of the largest angle between a cast's normal and a flat face's that the polish
+/// tries snapping to.
+pub(crate) const SNAP_COS: Real = 1.0 - 1e-3;
+
+/// Tries a flat face of either shape whose normal makes an angle with `normal` of cosine at
+/// least `cos_min`: its normal is the exact optimum's if the ray meets K's face there, which the
+/// certificate checks.
 pub(crate) fn snap_to_face<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     normal: &Vec3,
+    cos_min: Real,
     iota: Real,
     rel_tol: Real,
 ) -> Option<Polished> {
-    const COS_MIN: Real = 1.0 - 1e-3;
     for shape in 0..2 {
         let (posed, sign) = pair.side(shape);
         let m = posed.rot.tr_mul(normal) * sign;
-        let Some(f) = posed.shape.flat_face(&m, COS_MIN) else {
+        let Some(f) = posed.shape.flat_face(&m, cos_min) else {
             continue;
         };
         let n = posed.rot * f * sign;
@@ -189,7 +194,7 @@ pub(crate) fn polish<S: SupportMap>(
     }
     // A flat face near any of those normals fixes the normal outright.
     for start in starts.iter().flatten() {
-        if let Some(out) = snap_to_face(pair, r, start, iota, rel_tol) {
+        if let Some(out) = snap_to_face(pair, r, start, SNAP_COS, iota, rel_tol) {
             return Some(out);
         }
     }
@@ -207,7 +212,7 @@ pub(crate) fn polish<S: SupportMap>(
 
 /// Newton from `n0`, dropping pieces as their multipliers turn negative, then the certificate.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn from_start<S: SupportMap>(
+fn from_start<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     n0: Vec3,
