@@ -128,6 +128,7 @@ fn start_alpha_factor() -> Real {
 
 /// Solves the proximity problem and computes what `want` asks for. Never allocates when both
 /// shapes have ≤ 32 orthant rows in total (otherwise a per-thread buffer, allocated once).
+#[inline]
 pub(crate) fn query(
     shape1: &Shape,
     pose1: &Pose,
@@ -141,6 +142,7 @@ pub(crate) fn query(
 
 /// [`query`] that may stop early once α* is proven above `threshold.0` (or below it, when
 /// `threshold.1`).
+#[inline]
 pub(crate) fn query_until(
     shape1: &Shape,
     pose1: &Pose,
