@@ -1,7 +1,8 @@
 //! Proximity on support maps: closed forms where the pair has one; else, on pairs with a curved
 //! shape, Newton's method on the support function from the ray's direction
-//! (`crate::solver::direct`); else a ray cast (MPR) that identifies the contact features and a
-//! Newton polish on them. Each is certified;
+//! (`crate::solver::direct`); else a ray cast (MPR) that identifies the contact features and
+//! Newton's method on them (the tie solve of `direct`, else the polish's KKT Newton). Each is
+//! certified;
 //! `Outcome::Fallback` sends the query to the interior-point solver.
 //!
 //! The frame is the interior-point path's: origin at `r₁`, lengths divided by `ℓ = max(ρ₁, ρ₂)`;
@@ -14,7 +15,7 @@ use super::derivatives::rotation_axes;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, RoundedSegment};
-use crate::solver::direct::direct;
+use crate::solver::direct::{after_cast, direct};
 use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
 use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
@@ -386,7 +387,9 @@ fn solve(
     // Elsewhere a portal pins α' (to second order) but not the normal or the point: a tiny
     // portal on a curved patch also ends "flat" to rounding, with its normal and point only as
     // good as the portal is small. The polish finishes both.
-    if let Some(p) = polish(pair, ray, &c, iota, tol) {
+    if let Some(p) =
+        after_cast(pair, ray, &c, iota, tol).or_else(|| polish(pair, ray, &c, iota, tol))
+    {
         return Ok(Some(Answer {
             alpha: p.alpha_lo,
             normal: p.normal,

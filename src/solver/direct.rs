@@ -19,7 +19,8 @@
 //! the pieces seen as equality constraints. Every answer ends in the polish's certificate;
 //! `None` sends the caller to the ray cast.
 
-use super::polish::{certify, eval, snap_to_face, Active, Polished, MAX_PIECES};
+use super::polish::{certify, eval, snap_to_face, Active, Polished, MAX_PIECES, SNAP_COS};
+use super::raycast::Cast;
 use super::raycast::Pair;
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
@@ -197,6 +198,82 @@ pub(crate) fn direct<S: SupportMap>(
     kink(pair, r, (t1, t2), &n, &seen, iota, rel_tol)
 }
 
+/// After a ray cast: its normal and the pieces of its portal, solved by [`tied`] (two pieces
+/// a shape at most, the two with the highest values at the normal), after a flat face near the
+/// normal. Cheaper than the polish's KKT Newton, which answers where this does not.
+pub(crate) fn after_cast<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    cast: &Cast,
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    let n = cast.normal / cast.normal.dot(r);
+    if let Some(out) = snap_to_face(pair, r, &n, SNAP_COS, iota, rel_tol) {
+        return Some(out);
+    }
+    let mut seen = Seen::default();
+    for v in &cast.portal {
+        seen.add(v.id);
+    }
+    let (t1, t2) = plane_basis(r);
+    tied(
+        pair,
+        r,
+        (t1, t2),
+        n,
+        &top_pieces(pair, &n, &seen),
+        iota,
+        rel_tol,
+    )
+}
+
+/// Each shape's (at most) two pieces of `seen` with the highest values at `n`.
+fn top_pieces<S: SupportMap>(pair: &Pair<'_, S>, n: &Vec3, seen: &Seen) -> ArrayPieces {
+    let mut out = ArrayPieces::default();
+    for s in 0..2 {
+        let mut best = [(Real::NEG_INFINITY, u32::MAX); 2];
+        for &id in &seen.ids[s][..seen.len[s]] {
+            let v = eval(pair, Active { shape: s, id }, n).map_or(Real::NEG_INFINITY, |e| e.value);
+            if v > best[0].0 {
+                best[1] = best[0];
+                best[0] = (v, id);
+            } else if v > best[1].0 {
+                best[1] = (v, id);
+            }
+        }
+        for (v, id) in best {
+            if v > Real::NEG_INFINITY {
+                out.act[out.len] = Active { shape: s, id };
+                out.len += 1;
+            }
+        }
+    }
+    out
+}
+
+/// Up to two pieces a shape.
+struct ArrayPieces {
+    act: [Active; 4],
+    len: usize,
+}
+
+impl Default for ArrayPieces {
+    fn default() -> Self {
+        ArrayPieces {
+            act: [Active { shape: 0, id: 0 }; 4],
+            len: 0,
+        }
+    }
+}
+
+impl std::ops::Deref for ArrayPieces {
+    type Target = [Active];
+    fn deref(&self) -> &[Active] {
+        &self.act[..self.len]
+    }
+}
+
 /// The optimum on a kink of `h_K` near `n`: a flat face of either shape, else Newton's method
 /// on the pieces seen with the ties between them as constraints ([`tied`]). (The polish's KKT
 /// Newton with every piece seen active, tried after these, certified 2–4 % of kinks and cost
@@ -217,28 +294,15 @@ fn kink<S: SupportMap>(
     if seen.len[0] + seen.len[1] <= 2 {
         return None;
     }
-    // Each shape's (at most) two pieces seen with the highest values at n.
-    let mut act = [Active { shape: 0, id: 0 }; 4];
-    let mut p = 0;
-    for s in 0..2 {
-        let mut best = [(Real::NEG_INFINITY, u32::MAX); 2];
-        for &id in &seen.ids[s][..seen.len[s]] {
-            let v = eval(pair, Active { shape: s, id }, n).map_or(Real::NEG_INFINITY, |e| e.value);
-            if v > best[0].0 {
-                best[1] = best[0];
-                best[0] = (v, id);
-            } else if v > best[1].0 {
-                best[1] = (v, id);
-            }
-        }
-        for (v, id) in best {
-            if v > Real::NEG_INFINITY {
-                act[p] = Active { shape: s, id };
-                p += 1;
-            }
-        }
-    }
-    tied(pair, r, basis, *n, &act[..p], iota, rel_tol)
+    tied(
+        pair,
+        r,
+        basis,
+        *n,
+        &top_pieces(pair, n, seen),
+        iota,
+        rel_tol,
+    )
 }
 
 /// Newton's method for `min h_K(n)` on the plane `n·r = 1` with one shape's two pieces (or
