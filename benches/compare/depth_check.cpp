@@ -50,7 +50,18 @@ void refine(const cmp_body& b1, const cmp_body& b2, Dir& n, double& f, double st
     }
     phase += M_PI * (3 - std::sqrt(5.0));
     if (best_f < f) {
+      // a pattern move (Hooke-Jeeves): keep going the way the last move went, doubling while
+      // it helps; in a V-shaped valley of f the moves zig-zag across the crease and this
+      // follows it
+      const Dir d = {best_n[0] - n[0], best_n[1] - n[1], best_n[2] - n[2]};
       n = best_n, f = best_f;
+      for (double t = 1; t < 1e6; t *= 2) {
+        const Dir m = normalized({n[0] + t * d[0], n[1] + t * d[1], n[2] + t * d[2]});
+        const double fm = overlap_along(b1, b2, m);
+        ++evals;
+        if (!(fm < f)) break;
+        n = m, f = fm;
+      }
       step = std::min(step0, 1.5 * step);
     } else {
       step *= 0.5;

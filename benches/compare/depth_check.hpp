@@ -7,8 +7,9 @@
 // world support h1(n) + n.r1 directly, so f(n) = hw1(n) + hw2(-n)). Every f(n) is an upper bound
 // on the depth; the minimum over the sphere is a global problem (f restricted to the sphere has
 // local minima), so it is searched by dense sampling (a Fibonacci sphere) and a local refinement
-// (a pattern search on the sphere with a shrinking step, the pattern turned by the golden angle
-// each round so that it does not stall on a crease of f) from the best samples and from the
+// (a pattern search on the sphere with a shrinking step: 12 directions turned by the golden
+// angle each round, and a Hooke-Jeeves pattern move after each success to follow the V-shaped
+// valleys (creases) of f) from the best samples and from the
 // candidate directions the caller passes (e.g. the libraries' normals: candidates only, their
 // value is f evaluated here).
 #ifndef DCOL_BENCH_DEPTH_CHECK_HPP

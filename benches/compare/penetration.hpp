@@ -30,6 +30,8 @@ struct DepthPeerStats {
   long checked = 0, agree = 0;
   long no_depth = 0;       // returned a non-negative distance, or exactly -1 (FCL: EPA failed)
   long dcol_closer = 0, peer_closer = 0;  // disagreements: closer to the independent depth
+  long peer_deeper = 0;    // disagreements where the peer is deeper than the independent depth
+                           // (an upper bound) by more than its tolerance: wrong for certain
   double max_diff = 0;     // max |depth - dcol depth| over the checked cases
   double max_ind = 0;      // max |depth - independent depth|
   std::string worst = "";  // the case of max_diff
@@ -43,6 +45,7 @@ struct DepthRow {
   long ind_checked = 0, ind_within9 = 0, ind_within6 = 0;
   long dcol_deeper = 0;     // dcol's depth above the independent one (an upper bound) by > 1e-9
   long sampling_missed = 0; // the Fibonacci seeds alone stayed > 1e-9 above the final minimum
+  double sampling_gap_max = 0;  // the largest such gap
   double ind_max = 0;
   std::string ind_worst = "";
   double own_normal_max = 0;  // max |f(dcol's normal) - dcol's depth|: dcol's normal checked
