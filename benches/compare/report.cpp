@@ -376,7 +376,7 @@ int write_report(const BenchRun& R) {
               "solver, with the interior-point iterations of the calls that solver answered "
               "(median / max; `iterations` counts interior-point iterations only, so it is 0 for "
               "the other solvers).\n\n"
-              "| tolerance | regime | calls | closed form | ray cast | polish | interior point | "
+              "| tolerance | regime | calls | closed form | ray cast | polish | interior point (calls) | "
               "interior-point iterations (its calls) |\n|---|---|--:|--:|--:|--:|--:|--:|\n");
   printf("dcol_proximity: which solver answered (closed form / ray cast / polish / interior "
          "point, %% of calls):\n");
@@ -392,7 +392,9 @@ int write_report(const BenchRun& R) {
       const double mx = v.empty() ? NAN : *std::max_element(v.begin(), v.end());
       fprintf(md, "| %s | %s | %ld | %s | %s | %s | %s | %s / %s |\n", tl.c_str(), cat_names[k],
               tot, pct(n[DCOL_SOLVER_CLOSED_FORM]).c_str(), pct(n[DCOL_SOLVER_RAY_CAST]).c_str(),
-              pct(n[DCOL_SOLVER_POLISH]).c_str(), pct(n[DCOL_SOLVER_INTERIOR_POINT]).c_str(),
+              pct(n[DCOL_SOLVER_POLISH]).c_str(),
+              (pct(n[DCOL_SOLVER_INTERIOR_POINT]) + " (" +
+               std::to_string(n[DCOL_SOLVER_INTERIOR_POINT]) + ")").c_str(),
               fmt(median(v), "%.0f").c_str(), fmt(mx, "%.0f").c_str());
       printf("  %s %s/%s/%s/%s", cat_names[k], pct(n[DCOL_SOLVER_CLOSED_FORM]).c_str(),
              pct(n[DCOL_SOLVER_RAY_CAST]).c_str(), pct(n[DCOL_SOLVER_POLISH]).c_str(),
