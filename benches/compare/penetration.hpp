@@ -34,6 +34,7 @@ struct DepthPeerStats {
                            // (an upper bound) by more than its tolerance: wrong for certain
   double max_diff = 0;     // max |depth - dcol depth| over the checked cases
   double max_ind = 0;      // max |depth - independent depth|
+  double max_short = 0;    // max (independent depth - depth): how much shallower at most
   std::string worst = "";  // the case of max_diff
 };
 
