@@ -371,47 +371,63 @@ fn tiny_gaps_sphere_box_face() {
     }
 }
 
-/// A sphere beside a cylinder's side (the polish on the two rims and the ball): gap
-/// `‖(y, z)‖ − R − ρ` in the cylinder's axes.
+/// A sphere beside a cylinder's side: gap `‖(y, z)‖ − R − ρ` in the cylinder's axes. As a
+/// sphere it takes the closed form (the cylinder's point closest to the centre); as the same
+/// ball written as an ellipsoid (`P = I/ρ²`) it takes GJK and the polish on the two rims and the
+/// quadric.
 #[test]
 fn tiny_gaps_sphere_cylinder_side() {
     let (radius, length, rho) = (0.4, 1.0, 0.3);
     let cyl = Shape::cylinder(radius, length).unwrap();
-    let ball = Shape::sphere(rho).unwrap();
+    let sphere = Shape::sphere(rho).unwrap();
+    let inv = 1.0 / (rho * rho);
+    let quadric = Shape::ellipsoid([[inv, 0.0, 0.0], [0.0, inv, 0.0], [0.0, 0.0, inv]]).unwrap();
     let ell = cyl.bounding_radius().max(rho);
     let mut rng = Rng(13);
-    let mut polished = 0;
-    for g in GAPS {
-        for _ in 0..20 {
-            let p1 = Pose::new([0.1, 0.2, 0.3], rng.quaternion()).unwrap();
-            let phi = rng.uniform(0.0, std::f64::consts::TAU);
-            let radial = radius + rho + g * ell;
-            let local = Vec3::new(
-                rng.uniform(-0.3, 0.3),
-                radial * phi.cos(),
-                radial * phi.sin(),
-            );
-            let p2 = Pose::new(
-                (p1.position() + p1.rotation() * local).into(),
-                rng.quaternion(),
-            )
-            .unwrap();
-            let along = p1.rotation().tr_mul(&(p2.position() - p1.position()));
-            let exact = along.y.hypot(along.z) - radius - rho;
-            let d = distance(&cyl, &p1, &ball, &p2, &Options::default()).unwrap();
-            if d.path == DistancePath::GjkPolish {
-                polished += 1;
+    let (mut polished, mut closed) = (0, 0);
+    for (ball, expect) in [
+        (&sphere, DistancePath::ClosedForm),
+        (&quadric, DistancePath::GjkPolish),
+    ] {
+        for g in GAPS {
+            for _ in 0..20 {
+                let p1 = Pose::new([0.1, 0.2, 0.3], rng.quaternion()).unwrap();
+                let phi = rng.uniform(0.0, std::f64::consts::TAU);
+                let radial = radius + rho + g * ell;
+                let local = Vec3::new(
+                    rng.uniform(-0.3, 0.3),
+                    radial * phi.cos(),
+                    radial * phi.sin(),
+                );
+                let p2 = Pose::new(
+                    (p1.position() + p1.rotation() * local).into(),
+                    rng.quaternion(),
+                )
+                .unwrap();
+                let along = p1.rotation().tr_mul(&(p2.position() - p1.position()));
+                let exact = along.y.hypot(along.z) - radius - rho;
+                let d = distance(&cyl, &p1, ball, &p2, &Options::default()).unwrap();
+                if d.path == expect {
+                    if expect == DistancePath::ClosedForm {
+                        closed += 1;
+                    } else {
+                        polished += 1;
+                    }
+                }
+                assert!(d.distance > 0.0, "gap {g}: {d:?}");
+                assert!(
+                    (d.distance - exact).abs() <= 4e-15 * ell + 1e-3 * exact,
+                    "gap {g}ℓ: {} vs {exact} ({:?})",
+                    d.distance,
+                    d.path
+                );
             }
-            assert!(d.distance > 0.0, "gap {g}: {d:?}");
-            assert!(
-                (d.distance - exact).abs() <= 4e-15 * ell + 1e-3 * exact,
-                "gap {g}ℓ: {} vs {exact} ({:?})",
-                d.distance,
-                d.path
-            );
         }
     }
-    assert!(polished > 0);
+    assert!(
+        polished > 0 && closed > 0,
+        "polished {polished}, closed form {closed}"
+    );
 }
 
 /// Random pairs over the 64 ordered pairs of the eight kinds (the box included), sizes and

@@ -12,9 +12,11 @@
 use super::context::{Distance, DistancePath};
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
-use crate::solver::closed_form::{closest_segment_points, RoundedSegment};
+use crate::solver::closed_form::{
+    closest_on_box, closest_on_cylinder, closest_segment_points, RoundedSegment,
+};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
-use crate::solver::raycast::Pair;
+use crate::solver::raycast::{Pair, Posed};
 use crate::solver::SolveStatus;
 
 /// GJK iterations before the polish (curved pairs hand over earlier, polytopes end exactly).
@@ -137,8 +139,12 @@ pub(crate) fn witness_gradient(
     grad
 }
 
-/// Sphere and capsule pairs: the closest points of their segments, certified.
+/// Sphere and capsule pairs (the closest points of their segments), and a sphere with a
+/// centred box or a cylinder (the point of those closest to its centre), certified.
 fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
+    if let Some(s) = sphere_and_solid(pair, d, tol) {
+        return Some(s);
+    }
     let seg = RoundedSegment::of;
     let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
     let (x1, x2) = closest_segment_points(&one, d, &two);
@@ -150,5 +156,47 @@ fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation
     let n = diff / len;
     let a = x1 + n * one.radius;
     let b = x2 - d - n * two.radius;
+    gjk::certify_candidate(pair, d, tol, &n, a, b)
+}
+
+/// A sphere (either side) against a centred box or a cylinder: the solid's point closest to the
+/// sphere's centre, in the solid's body frame; `None` when the centre is inside the solid or
+/// the pair is not one of these.
+fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
+    let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+        Some((0.0, radius)) => Some(radius * posed.inv_scale),
+        _ => None,
+    };
+    // The solid's closest point to `c` (body frame, normalised units).
+    let closest = |posed: &Posed<'_, Shape>, c: &Vec3| {
+        let s = posed.inv_scale;
+        if let Some(h) = posed.shape.centred_box() {
+            return Some(closest_on_box(&(c / s), &h) * s);
+        }
+        let (radius, half) = posed.shape.cylinder_dims()?;
+        Some(closest_on_cylinder(&(c / s), radius, half) * s)
+    };
+    // The sphere's radius, the solid, the sphere's centre relative to the solid's origin
+    // (world axes), and whether the solid is shape 1.
+    let (rho, solid, centre, solid_first) = if let Some(rho) = ball(&pair.two) {
+        (rho, &pair.one, *d, true)
+    } else {
+        (ball(&pair.one)?, &pair.two, -d, false)
+    };
+    let body = solid.rot.tr_mul(&centre);
+    let p = solid.rot * closest(solid, &body)?;
+    let gap = centre - p;
+    let len = gap.norm();
+    if !(len > rho) {
+        return None;
+    }
+    let u = gap / len;
+    // u points from the solid to the sphere. The normal from shape 1 to shape 2, and the
+    // witnesses relative to each shape's origin.
+    let (n, a, b) = if solid_first {
+        (u, p, -u * rho)
+    } else {
+        (-u, -u * rho, p)
+    };
     gjk::certify_candidate(pair, d, tol, &n, a, b)
 }

@@ -246,6 +246,14 @@ impl Shape {
         }
     }
 
+    /// `(radius, half-length)` of a cylinder: the sphere–cylinder distance in closed form.
+    pub(crate) fn cylinder_dims(&self) -> Option<(Real, Real)> {
+        match &self.geometry {
+            Geometry::Cylinder(c) => Some((c.radius(), 0.5 * c.length())),
+            _ => None,
+        }
+    }
+
     /// Which primitive this is (a box reports [`ShapeKind::Polytope`]).
     pub fn kind(&self) -> ShapeKind {
         match &self.geometry {
