@@ -264,6 +264,23 @@ pub(crate) fn closest_segment_points(
     (p1 + d1 * s, p2 + d2 * t)
 }
 
+/// The point of the box `|uᵢ| ≤ hᵢ` closest to `c` (body frame): `c` clamped.
+pub(crate) fn closest_on_box(c: &Vec3, half: &Vec3) -> Vec3 {
+    Vec3::new(
+        c.x.clamp(-half.x, half.x),
+        c.y.clamp(-half.y, half.y),
+        c.z.clamp(-half.z, half.z),
+    )
+}
+
+/// The point of the cylinder of radius `radius` about body x, `|u_x| ≤ half_length`, closest
+/// to `c` (body frame): the axial coordinate clamped, the radial part shortened to the radius.
+pub(crate) fn closest_on_cylinder(c: &Vec3, radius: Real, half_length: Real) -> Vec3 {
+    let rho = c.y.hypot(c.z);
+    let k = if rho > radius { radius / rho } else { 1.0 };
+    Vec3::new(c.x.clamp(-half_length, half_length), c.y * k, c.z * k)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -338,21 +355,4 @@ mod tests {
         assert!((h.alpha - 2.0).abs() < 1e-15 && h.s.abs() < 1e-15 && h.t.abs() < 1e-15);
         assert!((h.normal - d).norm() < 1e-15);
     }
-}
-
-/// The point of the box `|uᵢ| ≤ hᵢ` closest to `c` (body frame): `c` clamped.
-pub(crate) fn closest_on_box(c: &Vec3, half: &Vec3) -> Vec3 {
-    Vec3::new(
-        c.x.clamp(-half.x, half.x),
-        c.y.clamp(-half.y, half.y),
-        c.z.clamp(-half.z, half.z),
-    )
-}
-
-/// The point of the cylinder of radius `radius` about body x, `|u_x| ≤ half_length`, closest
-/// to `c` (body frame): the axial coordinate clamped, the radial part shortened to the radius.
-pub(crate) fn closest_on_cylinder(c: &Vec3, radius: Real, half_length: Real) -> Vec3 {
-    let rho = c.y.hypot(c.z);
-    let k = if rho > radius { radius / rho } else { 1.0 };
-    Vec3::new(c.x.clamp(-half_length, half_length), c.y * k, c.z * k)
 }
