@@ -23,8 +23,10 @@ use crate::solver::SolveStatus;
 /// The bracket is closed to this fraction of the options' tolerance (units of ℓ).
 const MARGIN: Real = 0.1;
 const TOL_FLOOR: Real = 1e-13;
-/// Support calls of K in EPA.
-const BUDGET: u32 = 120;
+/// Support calls of K in EPA. On curved pairs the polytope must be refined round the optimum
+/// until its faces there lie within the tolerance of K's boundary: 120 left 187 of 11 200
+/// random overlapping pairs (1.7 %) open, 250 leaves 7, at the same median time.
+const BUDGET: u32 = 250;
 
 /// The signed distance of two posed shapes, the unit normal from shape 1 to shape 2 and the
 /// witness points (`closest2 − closest1 = distance·normal`).

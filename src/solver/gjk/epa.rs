@@ -30,8 +30,9 @@ use crate::shapes::SupportMap;
 use crate::solver::polish::{drop_piece, eval, normalise_multipliers, Active, MAX_PIECES};
 use crate::solver::raycast::{Pair, Vertex};
 
-/// Vertices and faces of the polytope (a closed triangulated sphere has `F = 2V − 4`).
-const MAX_V: usize = 128;
+/// Vertices and faces of the polytope (a closed triangulated sphere has `F = 2V − 4`): room for
+/// the signed distance's budget of support calls (about 45 kB of stack).
+const MAX_V: usize = 256;
 const MAX_F: usize = 2 * MAX_V;
 /// Horizon edges of one insertion.
 const MAX_HORIZON: usize = 48;
