@@ -4,6 +4,7 @@
 mod assemble;
 mod contact;
 mod context;
+mod cores;
 mod derivatives;
 mod differentiate;
 mod distance;

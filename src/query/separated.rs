@@ -10,6 +10,7 @@
 //! Lagrangian form at its optimum). A sphere's columns are exactly zero.
 
 use super::context::{Distance, DistancePath};
+use super::cores::Core;
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{
@@ -49,24 +50,33 @@ pub(crate) fn separated(
         .iter()
         .all(|s| s.kind() == ShapeKind::Polytope);
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
-    let s = match closed_form(&pair, &d, tol) {
-        Some(s) => s,
-        None => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff.map(|c| c * inv)) {
-            GjkEnd::Separated(s) => s,
-            GjkEnd::Beyond => {
-                let beyond = Distance {
-                    distance: Real::INFINITY,
-                    closest1: Vec3::zeros(),
-                    closest2: Vec3::zeros(),
-                    normal: Vec3::zeros(),
-                    iterations: 0,
-                    status: SolveStatus::Converged,
-                    path: DistancePath::Gjk,
-                };
-                return Some((beyond, [0.0; 14], true));
-            }
-            _ => return None,
-        },
+    let cutoff = cutoff.map(|c| c * inv);
+    let beyond = || {
+        let far = Distance {
+            distance: Real::INFINITY,
+            closest1: Vec3::zeros(),
+            closest2: Vec3::zeros(),
+            normal: Vec3::zeros(),
+            iterations: 0,
+            status: SolveStatus::Converged,
+            path: DistancePath::Gjk,
+        };
+        Some((far, [0.0; 14], true))
+    };
+    let s = if let Some(s) = closed_form(&pair, &d, tol) {
+        s
+    } else {
+        // Spheres and capsules by their cores first; where those do not certify a positive
+        // gap (touching within the tolerance, or closer), the shapes themselves.
+        match cored([shape1, shape2], &pair, &d, tol, cutoff) {
+            Some(GjkEnd::Separated(s)) => s,
+            Some(GjkEnd::Beyond) => return beyond(),
+            _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff) {
+                GjkEnd::Separated(s) => s,
+                GjkEnd::Beyond => return beyond(),
+                _ => return None,
+            },
+        }
     };
     let dist = s.distance * ell;
     let closest1 = r1 + s.a * ell;
@@ -199,4 +209,54 @@ fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separ
         (-u, -u * rho, p)
     };
     gjk::certify_candidate(pair, d, tol, &n, a, b)
+}
+
+/// GJK on the cores when a shape is a sphere or capsule (`crate::query::cores`): the cores'
+/// certified distance minus the radii, the witnesses moved by the radii along the normal.
+/// Only a gap certified positive (the cores' bracket above the radii) is an answer;
+/// `GjkEnd::Beyond` when the cores' lower bound exceeds the cutoff plus the radii; `None`
+/// when neither shape is padded or the cores do not settle it.
+fn cored(
+    shapes: [&Shape; 2],
+    pair: &Pair<'_, Shape>,
+    d: &Vec3,
+    tol: Real,
+    cutoff: Option<Real>,
+) -> Option<GjkEnd> {
+    let (c1, p1) = Core::of(shapes[0]);
+    let (c2, p2) = Core::of(shapes[1]);
+    let inv = pair.one.inv_scale;
+    let (p1, p2) = (p1 * inv, p2 * inv);
+    if p1 + p2 == 0.0 {
+        return None;
+    }
+    let cores = Pair::new([&c1, &c2], [pair.one.rot, pair.two.rot], inv);
+    let polyhedral = c1.polyhedral() && c2.polyhedral();
+    let end = gjk::distance(
+        &cores,
+        d,
+        tol,
+        BUDGET,
+        polyhedral,
+        cutoff.map(|c| c + p1 + p2),
+    );
+    match end {
+        GjkEnd::Separated(s) => {
+            // The cores' bracket is [upper − tol, upper] (closed to tol).
+            let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
+            if !(s.distance - tol.max(floor) - (p1 + p2) > floor) {
+                return None;
+            }
+            let n = s.normal;
+            Some(GjkEnd::Separated(Separation {
+                distance: s.distance - p1 - p2,
+                normal: n,
+                a: s.a + n * p1,
+                b: s.b - n * p2,
+                route: s.route,
+            }))
+        }
+        GjkEnd::Beyond => Some(GjkEnd::Beyond),
+        _ => None,
+    }
 }

@@ -1,0 +1,115 @@
+//! Shapes with their padding taken off, for GJK: a sphere is its centre and a capsule its
+//! segment, padded by their radius; every other shape is itself.
+//!
+//! The distance of two padded shapes is the distance of their cores minus the two radii
+//! (where that is positive), with witness points moved by the radii along the normal: what
+//! Coal and FCL do for spheres and capsules. GJK then meets no curvature from the padding: a
+//! sphere or capsule against a polytope ends exactly, in a few iterations, as two polytopes do.
+
+use crate::math::{Real, Vec3};
+use crate::shapes::{PieceEval, Shape, SupportMap};
+
+/// A shape for GJK: whole, or the core of a padded one.
+#[derive(Clone, Copy)]
+pub(crate) enum Core<'a> {
+    /// Any shape, as it is.
+    Whole(&'a Shape),
+    /// The segment `[−h, h]·e_x` (a point when `h = 0`) of a capsule or sphere.
+    Segment(Real),
+}
+
+impl<'a> Core<'a> {
+    /// The core of `shape` and the radius taken off (0 for a shape used whole).
+    pub(crate) fn of(shape: &'a Shape) -> (Core<'a>, Real) {
+        match shape.rounded_segment() {
+            Some((half, radius)) => (Core::Segment(half), radius),
+            None => (Core::Whole(shape), 0.0),
+        }
+    }
+
+    /// Whether GJK on this core ends exactly (no curvature): a polytope, segment or point.
+    pub(crate) fn polyhedral(&self) -> bool {
+        match self {
+            Core::Whole(s) => s.kind() == crate::shapes::ShapeKind::Polytope,
+            Core::Segment(_) => true,
+        }
+    }
+}
+
+/// The end `id` (0: +h, 1: −h) of a segment.
+fn end(h: Real, id: u32) -> Vec3 {
+    Vec3::new(if id == 0 { h } else { -h }, 0.0, 0.0)
+}
+
+impl SupportMap for Core<'_> {
+    #[inline]
+    fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        match self {
+            Core::Whole(s) => s.support(m),
+            Core::Segment(h) => {
+                // A point (a sphere's core) is one piece.
+                let id = u32::from(m.x < 0.0 && *h > 0.0);
+                (end(*h, id), id)
+            }
+        }
+    }
+    fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
+        match self {
+            Core::Whole(s) => s.piece(id, m),
+            Core::Segment(h) => {
+                let a = end(*h, id);
+                (id < self.piece_count()).then(|| PieceEval {
+                    value: a.dot(m),
+                    grad: a,
+                    hess: crate::math::Mat3::zeros(),
+                })
+            }
+        }
+    }
+    fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
+        match self {
+            Core::Whole(s) => s.flat_face(m, cos_min),
+            Core::Segment(_) => None,
+        }
+    }
+    /// A segment has no interior: the gauge of a point on it is `|x|/h`, of any other point
+    /// infinite (no scaling of the segment reaches it).
+    fn gauge(&self, p: &Vec3) -> Real {
+        match self {
+            Core::Whole(s) => s.gauge(p),
+            Core::Segment(h) => {
+                if p.y == 0.0 && p.z == 0.0 && *h > 0.0 {
+                    p.x.abs() / h
+                } else if *p == Vec3::zeros() {
+                    0.0
+                } else {
+                    Real::INFINITY
+                }
+            }
+        }
+    }
+    fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
+        match self {
+            Core::Whole(s) => s.normal_at(id, p),
+            Core::Segment(_) => None,
+        }
+    }
+    fn piece_count(&self) -> u32 {
+        match self {
+            Core::Whole(s) => s.piece_count(),
+            Core::Segment(h) => {
+                if *h > 0.0 {
+                    2
+                } else {
+                    1
+                }
+            }
+        }
+    }
+    fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
+        match self {
+            Core::Whole(s) => s.disc(m, cos_min),
+            Core::Segment(_) => None,
+        }
+    }
+}
