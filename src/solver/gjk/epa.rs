@@ -36,6 +36,8 @@ const MAX_V: usize = 256;
 const MAX_F: usize = 2 * MAX_V;
 /// Horizon edges of one insertion.
 const MAX_HORIZON: usize = 48;
+/// Faces one insertion may see (the horizon search is quadratic in them, not in all faces).
+const MAX_VISIBLE: usize = 2 * MAX_HORIZON;
 /// The bracket width (relative to the depth, plus an absolute part) at which curved pairs hand
 /// over to the polish.
 const HANDOVER: Real = 1e-4;
@@ -123,32 +125,33 @@ impl Poly {
         }
         let s = vtx.w;
         let mut visible = [false; MAX_F];
-        let mut any = false;
+        // The visible faces, listed: the horizon search runs over them only.
+        let mut seen = [0u16; MAX_VISIBLE];
+        let mut ns = 0;
         for k in 0..self.nf {
             let f = &self.faces[k];
             if f.n.dot(&(s - self.verts[f.v[0] as usize].w)) > eps {
+                if ns == MAX_VISIBLE {
+                    return false;
+                }
                 visible[k] = true;
-                any = true;
+                seen[ns] = k as u16;
+                ns += 1;
             }
         }
-        if !any {
+        if ns == 0 {
             return false;
         }
         let mut horizon = [[0u16; 2]; MAX_HORIZON];
         let mut nh = 0;
-        for k in 0..self.nf {
-            if !visible[k] {
-                continue;
-            }
-            let v = self.faces[k].v;
+        for &k in &seen[..ns] {
+            let v = self.faces[k as usize].v;
             for e in 0..3 {
                 let (i, j) = (v[e], v[(e + 1) % 3]);
                 // The twin edge (j, i) lies in exactly one other face.
-                let twin_visible = (0..self.nf).any(|m| {
-                    visible[m] && {
-                        let u = self.faces[m].v;
-                        (0..3).any(|t| u[t] == j && u[(t + 1) % 3] == i)
-                    }
+                let twin_visible = seen[..ns].iter().any(|&m| {
+                    let u = self.faces[m as usize].v;
+                    (0..3).any(|t| u[t] == j && u[(t + 1) % 3] == i)
                 });
                 if !twin_visible {
                     if nh == MAX_HORIZON {
