@@ -413,6 +413,7 @@ fn query_ipm_until(
 /// assert!((p.alpha - 2.0).abs() < 1e-9); // ‖r₁ − r₂‖/(R₁ + R₂)
 /// assert!((p.contact1.x - 1.0).abs() < 1e-6);
 /// ```
+#[inline]
 pub fn proximity(
     shape1: &Shape,
     pose1: &Pose,

@@ -81,6 +81,17 @@ pub(crate) fn rounded_segments(
     let (a1, a2) = (one.axis, two.axis);
     let (h1, h2) = (one.half, two.half);
     let d2 = d.norm_squared();
+    // Two spheres: K is the ball of radius ρ, α = ‖d‖/ρ along d.
+    if h1 == 0.0 && h2 == 0.0 {
+        let len = d2.sqrt();
+        let alpha = len / rho;
+        return (alpha.is_finite() && len > 0.0).then(|| SegmentHit {
+            alpha,
+            s: 0.0,
+            t: 0.0,
+            normal: d / len,
+        });
+    }
     // Best so far: (α, s, t) with the point s a₁ − t a₂ of P (unscaled).
     let mut best = (Real::INFINITY, 0.0, 0.0);
     let mut consider = |alpha: Real, s: Real, t: Real| {
