@@ -124,7 +124,6 @@ impl Poly {
             return false;
         }
         let s = vtx.w;
-        let mut visible = [false; MAX_F];
         // The visible faces, listed: the horizon search runs over them only.
         let mut seen = [0u16; MAX_VISIBLE];
         let mut ns = 0;
@@ -134,7 +133,6 @@ impl Poly {
                 if ns == MAX_VISIBLE {
                     return false;
                 }
-                visible[k] = true;
                 seen[ns] = k as u16;
                 ns += 1;
             }
@@ -162,7 +160,7 @@ impl Poly {
                 }
             }
         }
-        let kept = (0..self.nf).filter(|&k| !visible[k]).count();
+        let kept = self.nf - ns;
         if kept + nh > MAX_F {
             return false;
         }
@@ -176,15 +174,15 @@ impl Poly {
             }
         }
         self.nv += 1;
-        let mut m = 0;
-        for k in 0..self.nf {
-            if !visible[k] {
-                self.faces[m] = self.faces[k];
-                m += 1;
-            }
+        // Remove the visible faces by moving the last face into each hole, largest index
+        // first (so the face moved is never one still to be removed): the order of the faces
+        // does not matter, and the rest of the array is not copied.
+        for &k in seen[..ns].iter().rev() {
+            self.nf -= 1;
+            self.faces[k as usize] = self.faces[self.nf];
         }
-        self.faces[m..m + nh].copy_from_slice(&fresh[..nh]);
-        self.nf = m + nh;
+        self.faces[self.nf..self.nf + nh].copy_from_slice(&fresh[..nh]);
+        self.nf += nh;
         true
     }
 }
