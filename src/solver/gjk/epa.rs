@@ -48,6 +48,9 @@ struct Face {
     v: [u16; 3],
     n: Vec3,
     rho: Real,
+    /// The face across each edge `(v[e], v[e + 1])`.
+    adj: [u16; 3],
+    alive: bool,
 }
 
 /// A penetration answer (normalised units).
@@ -85,8 +88,14 @@ struct Poly {
     d: Vec3,
     verts: [Vertex; MAX_V],
     nv: usize,
+    /// Face slots `0..nf`, the dead ones listed in `free`.
     faces: [Face; MAX_F],
     nf: usize,
+    free: [u16; MAX_F],
+    nfree: usize,
+    /// Visit stamps of an insertion's search (`stamp` the current one), by face slot.
+    mark: [u32; MAX_F],
+    stamp: u32,
 }
 
 impl Poly {
@@ -102,87 +111,171 @@ impl Poly {
             .iter()
             .map(|wi| n.dot(&(wi - self.d)))
             .fold(Real::INFINITY, Real::min);
-        Some(Face { v, n, rho })
+        Some(Face {
+            v,
+            n,
+            rho,
+            adj: [0; 3],
+            alive: true,
+        })
     }
 
     /// The face of least `ρ_f`.
     fn closest(&self) -> usize {
-        let mut best = 0;
-        for k in 1..self.nf {
-            if self.faces[k].rho < self.faces[best].rho {
+        let mut best = usize::MAX;
+        let mut rho = Real::INFINITY;
+        for (k, f) in self.faces[..self.nf].iter().enumerate() {
+            if f.alive && (f.rho < rho || best == usize::MAX) {
                 best = k;
+                rho = f.rho;
             }
         }
         best
     }
 
-    /// Adds `vtx` to the hull: the faces that see it are replaced by the cone from their
-    /// horizon. False (nothing changed) when it sees no face, or the result would overflow or
-    /// hold a degenerate face.
-    fn insert(&mut self, vtx: Vertex, eps: Real) -> bool {
+    /// Sets every face's neighbours by matching twin edges (the starting tetrahedron).
+    fn link_all(&mut self) -> bool {
+        for k in 0..self.nf {
+            for e in 0..3 {
+                let (i, j) = (self.faces[k].v[e], self.faces[k].v[(e + 1) % 3]);
+                let twin = (0..self.nf).find(|&m| {
+                    let u = self.faces[m].v;
+                    (0..3).any(|t| u[t] == j && u[(t + 1) % 3] == i)
+                });
+                match twin {
+                    Some(m) => self.faces[k].adj[e] = m as u16,
+                    None => return false,
+                }
+            }
+        }
+        true
+    }
+
+    /// Adds `vtx` to the hull: the faces that see it (the connected set found by walking the
+    /// neighbours from `hint`, or from the first face that sees it) are replaced by the cone
+    /// from their horizon. False (nothing changed) when it sees no face, or the result would
+    /// overflow, hold a degenerate face or a horizon that is not one loop.
+    fn insert(&mut self, vtx: Vertex, eps: Real, hint: usize) -> bool {
         if self.nv >= MAX_V {
             return false;
         }
         let s = vtx.w;
-        // The visible faces, listed: the horizon search runs over them only.
+        let sees =
+            |f: &Face, verts: &[Vertex]| f.alive && f.n.dot(&(s - verts[f.v[0] as usize].w)) > eps;
+        let seed = if hint < self.nf && sees(&self.faces[hint], &self.verts) {
+            hint
+        } else {
+            match (0..self.nf).find(|&k| sees(&self.faces[k], &self.verts)) {
+                Some(k) => k,
+                None => return false,
+            }
+        };
+        // The visible faces: a walk over neighbours from the seed.
+        self.stamp = self.stamp.wrapping_add(1);
+        let stamp = self.stamp;
         let mut seen = [0u16; MAX_VISIBLE];
         let mut ns = 0;
-        for k in 0..self.nf {
-            let f = &self.faces[k];
-            if f.n.dot(&(s - self.verts[f.v[0] as usize].w)) > eps {
-                if ns == MAX_VISIBLE {
-                    return false;
-                }
-                seen[ns] = k as u16;
-                ns += 1;
+        let mut stack = [0u16; MAX_VISIBLE];
+        let mut top = 1;
+        stack[0] = seed as u16;
+        self.mark[seed] = stamp;
+        while top > 0 {
+            top -= 1;
+            let k = stack[top] as usize;
+            if ns == MAX_VISIBLE {
+                return false;
             }
-        }
-        if ns == 0 {
-            return false;
-        }
-        let mut horizon = [[0u16; 2]; MAX_HORIZON];
-        let mut nh = 0;
-        for &k in &seen[..ns] {
-            let v = self.faces[k as usize].v;
+            seen[ns] = k as u16;
+            ns += 1;
             for e in 0..3 {
-                let (i, j) = (v[e], v[(e + 1) % 3]);
-                // The twin edge (j, i) lies in exactly one other face.
-                let twin_visible = seen[..ns].iter().any(|&m| {
-                    let u = self.faces[m as usize].v;
-                    (0..3).any(|t| u[t] == j && u[(t + 1) % 3] == i)
-                });
-                if !twin_visible {
-                    if nh == MAX_HORIZON {
+                let m = self.faces[k].adj[e] as usize;
+                if self.mark[m] != stamp && sees(&self.faces[m], &self.verts) {
+                    if top == MAX_VISIBLE {
                         return false;
                     }
-                    horizon[nh] = [i, j];
-                    nh += 1;
+                    self.mark[m] = stamp;
+                    stack[top] = m as u16;
+                    top += 1;
                 }
             }
         }
-        let kept = self.nf - ns;
-        if kept + nh > MAX_F {
+        // The horizon: edges of visible faces whose neighbour is not visible, with that
+        // neighbour and the index of the twin edge in it.
+        let mut horizon = [([0u16; 2], 0u16, 0u8); MAX_HORIZON];
+        let mut nh = 0;
+        for &k in &seen[..ns] {
+            let f = self.faces[k as usize];
+            for e in 0..3 {
+                let m = f.adj[e] as usize;
+                if self.mark[m] == stamp {
+                    continue;
+                }
+                let (i, j) = (f.v[e], f.v[(e + 1) % 3]);
+                let u = self.faces[m].v;
+                let Some(t) = (0..3).find(|&t| u[t] == j && u[(t + 1) % 3] == i) else {
+                    return false;
+                };
+                if nh == MAX_HORIZON {
+                    return false;
+                }
+                horizon[nh] = ([i, j], m as u16, t as u8);
+                nh += 1;
+            }
+        }
+        if self.nfree + (MAX_F - self.nf) + ns < nh {
             return false;
         }
+        // The cone's faces, and which of them starts and ends at each horizon vertex (each
+        // exactly once on a single loop).
         let new = self.nv as u16;
         self.verts[self.nv] = vtx;
         let mut fresh = [Face::default(); MAX_HORIZON];
-        for (e, f) in horizon[..nh].iter().zip(fresh.iter_mut()) {
+        let mut starts = [u8::MAX; MAX_V];
+        let mut ends = [u8::MAX; MAX_V];
+        for (h, (e, _, _)) in horizon[..nh].iter().enumerate() {
+            let (i, j) = (e[0] as usize, e[1] as usize);
+            if starts[i] != u8::MAX || ends[j] != u8::MAX {
+                return false;
+            }
+            starts[i] = h as u8;
+            ends[j] = h as u8;
             match self.face([e[0], e[1], new]) {
-                Some(face) => *f = face,
+                Some(face) => fresh[h] = face,
                 None => return false,
             }
         }
-        self.nv += 1;
-        // Remove the visible faces by moving the last face into each hole, largest index
-        // first (so the face moved is never one still to be removed): the order of the faces
-        // does not matter, and the rest of the array is not copied.
-        for &k in seen[..ns].iter().rev() {
-            self.nf -= 1;
-            self.faces[k as usize] = self.faces[self.nf];
+        for (e, _, _) in &horizon[..nh] {
+            if starts[e[1] as usize] == u8::MAX || ends[e[0] as usize] == u8::MAX {
+                return false;
+            }
         }
-        self.faces[self.nf..self.nf + nh].copy_from_slice(&fresh[..nh]);
-        self.nf += nh;
+        // Commit: free the visible faces, then place the cone's.
+        self.nv += 1;
+        for &k in &seen[..ns] {
+            self.faces[k as usize].alive = false;
+            self.free[self.nfree] = k;
+            self.nfree += 1;
+        }
+        let mut slot = [0u16; MAX_HORIZON];
+        for s in slot[..nh].iter_mut() {
+            *s = if self.nfree > 0 {
+                self.nfree -= 1;
+                self.free[self.nfree]
+            } else {
+                self.nf += 1;
+                (self.nf - 1) as u16
+            };
+        }
+        for (h, (e, m, t)) in horizon[..nh].iter().enumerate() {
+            let mut f = fresh[h];
+            f.adj = [
+                *m,
+                slot[starts[e[1] as usize] as usize],
+                slot[ends[e[0] as usize] as usize],
+            ];
+            self.faces[slot[h] as usize] = f;
+            self.faces[*m as usize].adj[*t as usize] = slot[h];
+        }
         true
     }
 }
@@ -214,6 +307,10 @@ pub(crate) fn penetration<S: SupportMap>(
         nv: 0,
         faces: [Face::default(); MAX_F],
         nf: 0,
+        free: [0; MAX_F],
+        nfree: 0,
+        mark: [0; MAX_F],
+        stamp: 0,
     };
     let mut supports = 0u32;
     if !start(pair, &mut poly, &mut supports) {
@@ -255,7 +352,7 @@ pub(crate) fn penetration<S: SupportMap>(
         // makes the lower bound, the answer, exact where the bracket stays open).
         let narrow =
             upper - best.lower <= HANDOVER * best.lower.abs().max(upper.abs()) + HANDOVER_ABS;
-        let stop = supports >= budget || (!narrow && !poly.insert(vtx, eps));
+        let stop = supports >= budget || (!narrow && !poly.insert(vtx, eps, k));
         if !polished_once && (narrow || stop) {
             polished_once = true;
             if let Some((n, a, b)) = polish(pair, &poly, &f, best.lower) {
@@ -271,12 +368,12 @@ pub(crate) fn penetration<S: SupportMap>(
                         polished: true,
                     };
                 }
-                if !stop && poly.insert(v, eps) {
+                if !stop && poly.insert(v, eps, k) {
                     continue;
                 }
             }
         }
-        if stop || (narrow && !poly.insert(vtx, eps)) {
+        if stop || (narrow && !poly.insert(vtx, eps, k)) {
             if upper - best.lower > tol {
                 let k = poly.closest();
                 upper = bound(&poly, &poly.faces[k], floor);
@@ -337,7 +434,9 @@ fn start<S: SupportMap>(pair: &Pair<'_, S>, poly: &mut Poly, supports: &mut u32)
         }
         if ok {
             poly.nf = 4;
-            return true;
+            if poly.link_all() {
+                return true;
+            }
         }
     }
     false
