@@ -151,6 +151,10 @@ pub(crate) fn query_until(
     threshold: Option<(Real, bool)>,
 ) -> Result<Full, Error> {
     options.validate()?;
+    // A half-space against anything: closed forms (two half-spaces: an error).
+    if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
+        return pair.proximity(want);
+    }
     let r1 = *pose1.position();
     let r2 = *pose2.position();
     let offset = r2 - r1;

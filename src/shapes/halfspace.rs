@@ -119,7 +119,10 @@ mod tests {
         assert!(!member(&h, [0.0, 0.0, 0.51], 1.0, [0.0; 2]));
         assert!(member(&h, [0.0, 0.0, 0.99], 2.0, [0.0; 2]));
         assert!(member(&h, [5.0, 0.0, -1.0], 0.0, [0.0; 2]));
-        assert_eq!(h.support(&Vec3::new(0.0, 0.0, 2.0)).0, Vec3::new(0.0, 0.0, 0.5));
+        assert_eq!(
+            h.support(&Vec3::new(0.0, 0.0, 2.0)).0,
+            Vec3::new(0.0, 0.0, 0.5)
+        );
         assert!(h.support(&Vec3::new(0.1, 0.0, 1.0)).0.x.is_infinite());
         assert!(h.piece(0, &Vec3::new(0.0, 0.0, 1.0)).is_some());
         assert!(h.piece(0, &Vec3::new(0.1, 0.0, 1.0)).is_none());
