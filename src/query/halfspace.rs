@@ -136,7 +136,11 @@ impl HalfspacePair<'_> {
         let h = s.dot(&m);
         let tol = TIE * b.bounding_radius();
         let own = b.piece(id, &m);
-        let mut unique = own.is_some();
+        // A disc (normal ±e_x) facing the plane within rounding: every rim point ties.
+        let disc = b
+            .disc(&m, 0.9)
+            .filter(|(_, radius)| radius * m.y.hypot(m.z) <= tol * m.norm());
+        let mut unique = own.is_some() && disc.is_none();
         let (mut sum, mut count) = (Vec3::zeros(), 0.0);
         for k in 0..b.piece_count() {
             if let Some(e) = b.piece(k, &m) {
@@ -149,7 +153,7 @@ impl HalfspacePair<'_> {
         }
         let point = if unique {
             s
-        } else if let Some((centre, _)) = b.disc(&m, 1.0 - 1e-12) {
+        } else if let Some((centre, _)) = disc {
             centre
         } else if count > 0.0 {
             sum / count
