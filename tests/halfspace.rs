@@ -3,6 +3,8 @@
 //! solvers on a large box standing in for the half-space (same origin, same top plane, so the
 //! same α*), and central finite differences for every derivative.
 
+#![allow(clippy::needless_range_loop)] // Jacobians are indexed by row and column in lockstep.
+
 mod common;
 
 use common::random::{Rng, KINDS};
