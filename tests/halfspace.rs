@@ -118,7 +118,7 @@ fn sphere_on_floor_analytic() {
 fn every_kind_matches_the_big_box() {
     let o = Options::default();
     let mut rng = Rng::new(11);
-    let mut worst = [0.0f64; 3];
+    let mut worst = [0.0f64; 4];
     for kind in KINDS {
         for trial in 0..12 {
             let b = kind.random(&mut rng);
@@ -204,18 +204,36 @@ fn every_kind_matches_the_big_box() {
                     assert_eq!(dec.below, p.alpha < 1.0, "{label}");
                     assert_eq!(dec.below, q.alpha < 1.0, "{label}");
                 }
-                // The interior-point method option: the same closed form.
+                // The interior-point method on the cone program (the half-space's orthant
+                // row): the same α*, x* and derivatives; B's origin inside: the closed form.
                 let ipm = Options {
                     method: Method::InteriorPoint,
                     ..o
                 };
-                assert_eq!(proximity(s1, p1, s2, p2, &ipm).unwrap().alpha, p.alpha);
+                let (pi, gi) = gradient(s1, p1, s2, p2, &ipm).unwrap();
+                let (_, gc) = gradient(s1, p1, s2, p2, &o).unwrap();
+                assert!(pi.status.is_converged(), "{label}");
+                if case == 3 {
+                    assert_eq!(pi.solver, Solver::ClosedForm, "{label}");
+                    assert_eq!(pi.alpha, 0.0);
+                } else {
+                    assert_eq!(pi.solver, Solver::InteriorPoint, "{label}");
+                    let ea = (pi.alpha - p.alpha).abs() / p.alpha.max(1.0);
+                    worst[3] = worst[3].max(ea);
+                    assert!(ea < 1e-9, "{label}: IPM α {} vs {}", pi.alpha, p.alpha);
+                    assert!((pi.point - p.point).norm() < 1e-7 * rho, "{label}");
+                    if pi.derivatives == DerivativeKind::Exact {
+                        for c in 0..14 {
+                            assert!(close(gi[c], gc[c], 1e-6), "{label} IPM grad col {c}");
+                        }
+                    }
+                }
             }
         }
     }
     println!(
-        "worst: α {:e}, x* {:e}, sd {:e}",
-        worst[0], worst[1], worst[2]
+        "worst: α {:e}, x* {:e}, sd {:e}, IPM α {:e}",
+        worst[0], worst[1], worst[2], worst[3]
     );
 }
 
@@ -606,4 +624,40 @@ fn scene_reports_bodies_on_the_floor_and_skips_two_floors() {
     assert_eq!(pairs, vec![(floor, resting)]);
     assert!((out[0].proximity.alpha - 1.49 / 1.5).abs() < 1e-15);
     let _ = (wall, flying);
+}
+
+/// `Options::smoothing` on a box lying flat (where the exact derivatives do not exist): the
+/// central path's smoothed derivatives from the cone program, close to the closed form's α*,
+/// and the smoothed gradient matches central differences of the smoothed α*.
+#[test]
+fn smoothing_gives_the_central_path_derivatives() {
+    let h = Shape::halfspace(1.0).unwrap();
+    let under = Pose::from_position([0.0, 0.0, -1.0]).unwrap();
+    let b = Shape::cuboid(0.5, 0.4, 0.3).unwrap();
+    let flat = Pose::new([0.2, 0.1, 0.5], [1.0, 0.01, -0.02, 0.0]).unwrap();
+    let o = Options {
+        smoothing: 1e-4,
+        ..Options::default()
+    };
+    let (p, g) = gradient(&h, &under, &b, &flat, &o).unwrap();
+    let exact = proximity(&h, &under, &b, &flat, &Options::default()).unwrap();
+    assert_eq!(p.derivatives, DerivativeKind::Smoothed);
+    assert_eq!(p.solver, Solver::InteriorPoint);
+    assert!(
+        (p.alpha - exact.alpha).abs() < 1e-2,
+        "{} vs {}",
+        p.alpha,
+        exact.alpha
+    );
+    let fd = central(&under, &flat, |a, c| {
+        [proximity(&h, a, &b, c, &o).unwrap().alpha]
+    });
+    for c in 0..14 {
+        assert!(
+            close(g[c], fd[0][c], 1e-5),
+            "col {c}: {} vs {}",
+            g[c],
+            fd[0][c]
+        );
+    }
 }

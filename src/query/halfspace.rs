@@ -15,18 +15,22 @@
 //!   `∂x* = ∂r_B + w ∂α + α ∂w` with `∂w = ω_B × w + H_w(ω_B × n − ∂n)`, `∂n = ω_H × n` and
 //!   `H_w = R_B ∇²h_B(m) R_Bᵀ` (the support piece's Hessian).
 //!
+//! Under `Method::InteriorPoint`, or with `Options::smoothing`, proximity and its derivatives
+//! come from the cone program instead (the half-space's one orthant row `α·depth − u_z ≥ 0`),
+//! whenever `g > 0`; distances and contacts are always the closed forms.
+//!
 //! Where the support point is not unique (a face, an edge, a disc or a side line facing the
 //! plane), `s` is the centroid of the tied support points (a support point itself), α* is not
 //! differentiable in B's attitude and the derivatives are reported as a subgradient (the
 //! formulas at that point, with `H_w = 0`).
 
-use super::context::{Distance, DistancePath, Full, Proximity, SignedDistance, Want};
+use super::context::{Distance, DistancePath, Full, Options, Proximity, SignedDistance, Want};
 use super::derivatives::rotation_axes;
 use super::separated::witness_gradient;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, SupportMap};
-use crate::solver::{DerivativeKind, SolveStatus, Solver};
+use crate::solver::{DerivativeKind, Method, SolveStatus, Solver};
 
 /// Relative tolerance (of B's bounding radius) under which two support points tie.
 const TIE: Real = 1e-9;
@@ -108,6 +112,24 @@ impl HalfspacePair<'_> {
     /// The pair's length scale: the other shape's bounding radius, or the depth if larger.
     pub(crate) fn ell(&self) -> Real {
         self.other.bounding_radius().max(self.depth)
+    }
+
+    /// Whether proximity goes to the interior-point method: when the options ask for it
+    /// (`Method::InteriorPoint`, or smoothing without a threshold) and B's origin is outside
+    /// the half-space (α* > 0; at α* = 0 the closed form is exact and the cone program's
+    /// optimum sits on the boundary α = 0).
+    pub(crate) fn by_interior_point(
+        &self,
+        options: &Options,
+        threshold: Option<(Real, bool)>,
+    ) -> bool {
+        let asked = options.method == Method::InteriorPoint
+            || (options.smoothing > 0.0 && threshold.is_none());
+        asked
+            && self
+                .normal
+                .dot(&(self.pose_b.position() - self.pose_h.position()))
+                > 0.0
     }
 
     /// Column offsets of the half-space's and the other shape's (r, q) in a 14-vector.
