@@ -7,9 +7,8 @@
 //! answer is rescaled exactly, so α* keeps its full relative precision even when the origins
 //! nearly coincide, and the normalised α' is ≥ 1 with a feasible start known in closed form
 //! from the inscribed radii. A half-space (unbounded) stands in with its depth for `ρ` (α' may
-//! then be below 1); it
-//! reaches this program only under `Method::InteriorPoint` or smoothing (otherwise its pairs
-//! are closed forms, `super::halfspace`).
+//! then be below 1); it reaches this program only under `Method::InteriorPoint` or smoothing
+//! (otherwise its pairs are closed forms, `super::halfspace`).
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::context::{Context, Frame, Full, Options, Proximity, Want};
