@@ -90,7 +90,8 @@
 #define DCOL_SOLVER_POLISH 2
 
 /**
- * dcol_proximity_result.solver: a closed form for the pair.
+ * dcol_proximity_result.solver: a closed form for the pair (spheres, capsules, a sphere and a
+ * box, and every pair with a half-space).
  */
 #define DCOL_SOLVER_CLOSED_FORM 3
 

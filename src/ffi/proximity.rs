@@ -57,7 +57,8 @@ pub const DCOL_SOLVER_INTERIOR_POINT: u32 = 0;
 pub const DCOL_SOLVER_RAY_CAST: u32 = 1;
 /// dcol_proximity_result.solver: the ray cast and a Newton polish on the contact features.
 pub const DCOL_SOLVER_POLISH: u32 = 2;
-/// dcol_proximity_result.solver: a closed form for the pair.
+/// dcol_proximity_result.solver: a closed form for the pair (spheres, capsules, a sphere and a
+/// box, and every pair with a half-space).
 pub const DCOL_SOLVER_CLOSED_FORM: u32 = 3;
 
 fn arr(v: &Vec3) -> [f64; 3] {

@@ -62,7 +62,8 @@ pub enum DistancePath {
     Gjk,
     /// GJK identified the features and the Newton polish on them closed the bracket.
     GjkPolish,
-    /// The closest points of two segments (sphere and capsule pairs), certified as GJK's.
+    /// The closest points of two segments (sphere and capsule pairs), certified as GJK's; and
+    /// every query with a half-space (one support call of the other shape, exact).
     ClosedForm,
     /// Signed distance of an overlapping pair: EPA's polytope closed the bracket on its own.
     Epa,
