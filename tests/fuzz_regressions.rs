@@ -320,3 +320,49 @@ fn jacobian_finite_at_huge_tolerance_and_quaternion() {
         );
     }
 }
+
+/// The queries target (random driver): a half-space whose plane passes within 1e-307 of the
+/// other shape's origin, which lies 1e5 away along the plane. α* = 8.7e-306 and the half-space's
+/// contact point `r_H + (x* − r_H)/α*` lies ~1e316 away along the plane: not representable, it
+/// came back infinite. Fixed: where it overflows, the other shape's contact point projected onto
+/// the plane stands in (finite, on the plane).
+#[test]
+fn halfspace_contact_point_overflows_for_a_tiny_alpha() {
+    let h = Shape::halfspace(628.1681544213016).unwrap();
+    let ph = Pose::new(
+        [
+            -71142.13778896772,
+            81832.60852979324,
+            2.2250738585072014e-308,
+        ],
+        [1.0, -0.0, 4.450147717014403e-308, 4.450147717014403e-308],
+    )
+    .unwrap();
+    let c = Shape::capsule(99.22178988326849, 88.81208514534218).unwrap();
+    let pc = Pose::new(
+        [2.2250738585072014e-308; 3],
+        [
+            0.008183566033417257,
+            0.008196078431372548,
+            5.617914091706722e-10,
+            1.0765239948119332e-10,
+        ],
+    )
+    .unwrap();
+    for (p, which) in [
+        (proximity(&h, &ph, &c, &pc, &Options::default()).unwrap(), 1),
+        (
+            gradient(&h, &ph, &c, &pc, &Options::default()).unwrap().0,
+            2,
+        ),
+    ] {
+        assert!(p.alpha > 0.0 && p.alpha < 1e-300, "{which}: {}", p.alpha);
+        for v in [p.point, p.contact1, p.contact2] {
+            assert!(v.iter().all(|x| x.is_finite()), "{which}: {p:?}");
+        }
+        // contact1 is on the half-space's plane.
+        let n = ph.rotation().column(2).into_owned();
+        let off = n.dot(&(p.contact1 - ph.position())) - 628.1681544213016;
+        assert!(off.abs() < 1e-9, "{off}");
+    }
+}

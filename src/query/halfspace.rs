@@ -204,7 +204,16 @@ impl HalfspacePair<'_> {
         let alpha = if sp.g > 0.0 { sp.g / d } else { 0.0 };
         let point = rb + sp.w * alpha;
         let (contact_h, contact_b) = if alpha > 0.0 {
-            (rh + (point - rh) / alpha, rb + sp.w)
+            // On the plane, `‖(r_B − r_H)_t‖·D/g` from r_H along it: unbounded as g → 0. Where
+            // that overflows a double, B's contact point projected onto the plane stands in.
+            let on_b = rb + sp.w;
+            let p = rh + (point - rh) / alpha;
+            let p = if p.iter().all(|v| v.is_finite()) {
+                p
+            } else {
+                on_b - n * (n.dot(&(on_b - rh)) - self.depth)
+            };
+            (p, on_b)
         } else {
             (rh, rb)
         };
