@@ -366,3 +366,69 @@ fn halfspace_contact_point_overflows_for_a_tiny_alpha() {
         assert!(off.abs() < 1e-9, "{off}");
     }
 }
+
+/// The queries target (random driver): a box 1.2e10 times wider (9e4) than thick (7.3e-6) on a
+/// half-space gave α* = −1.5e6: its vertices were deduplicated to 1e-9 of their norm, which
+/// merged the bottom face into the top one, so its support map in −z returned a top corner.
+/// Fixed: vertices merge within 1e-9 of the smallest facet offset (`add_vertex`).
+#[test]
+fn thin_box_keeps_both_faces() {
+    let b = Shape::cuboid(90112.15381094073, 18498.512245365073, 7.322041657129779e-6).unwrap();
+    let pb = Pose::new(
+        [
+            -4.6788738841840234e-7,
+            -0.10707255664911874,
+            0.008361181048294804,
+        ],
+        [
+            2393377584496.834,
+            -270038.9105058366,
+            2372625.3147173272,
+            -6.136720836194401e17,
+        ],
+    )
+    .unwrap();
+    let h = Shape::halfspace(6.275883115892271e-7).unwrap();
+    let ph = Pose::new(
+        [
+            -0.040053406576638445,
+            -245258.2589456016,
+            -9.945067521171893,
+        ],
+        [
+            0.39436942092011895,
+            9.522697795071335e-7,
+            1.0000000000000002,
+            -2.198837435915614e253,
+        ],
+    )
+    .unwrap();
+    let o = Options::default();
+    let p = proximity(&b, &pb, &h, &ph, &o).unwrap();
+    assert!(p.alpha > 0.0, "{}", p.alpha);
+    let sd = dcol::signed_distance(&b, &pb, &h, &ph, &o).unwrap();
+    // The box's lowest point is its centre minus (about) its half thickness.
+    let low = pb.position().z - sd.closest1.z;
+    assert!((low - 7.322041657129779e-6).abs() < 1e-6, "{low:e}");
+    let g = pb.position().z - (ph.position().z + 6.275883115892271e-7);
+    assert!(
+        (sd.distance - (g - low)).abs() < 1e-9,
+        "{} vs {}",
+        sd.distance,
+        g - low
+    );
+    assert!(
+        (p.alpha - (pb.position().z - ph.position().z) / (6.275883115892271e-7 + low)).abs()
+            < 1e-6 * p.alpha
+    );
+    // The box alone: 8 vertices (both faces), against a sphere below it.
+    let s = Shape::sphere(1.0).unwrap();
+    let below = Pose::from_position([0.0, 0.0, -2.0]).unwrap();
+    let flat = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+    let d = distance(&b, &flat, &s, &below, &o).unwrap();
+    assert!(
+        (d.distance - (1.0 - 7.322041657129779e-6)).abs() < 1e-9,
+        "{}",
+        d.distance
+    );
+}

@@ -32,7 +32,8 @@ use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, SupportMap};
 use crate::solver::{DerivativeKind, Method, SolveStatus, Solver};
 
-/// Relative tolerance (of B's bounding radius) under which two support points tie.
+/// Relative tolerance (of B's bounding radius, or of 1e3 inscribed radii if smaller) under
+/// which two support points tie.
 const TIE: Real = 1e-9;
 
 /// A pair of a half-space and a bounded shape.
@@ -156,7 +157,9 @@ impl HalfspacePair<'_> {
         let m = -(rot.tr_mul(&n));
         let (s, id) = b.support(&m);
         let h = s.dot(&m);
-        let tol = TIE * b.bounding_radius();
+        // Thin shapes (aspect above 1e3): relative to a thousand inscribed radii instead, so
+        // that a box's two large faces never tie.
+        let tol = TIE * b.bounding_radius().min(1e3 * b.inscribed_radius());
         let own = b.piece(id, &m);
         // A disc (normal ±e_x) facing the plane within rounding: every rim point ties.
         let disc = b
