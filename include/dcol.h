@@ -218,7 +218,8 @@ typedef struct dcol_pose {
 /**
  * The proximity of two posed shapes: the smallest uniform scaling alpha of both shapes (each
  * about its own origin) at which they touch. alpha > 1: separated, alpha < 1:
- * interpenetrating, alpha = 1: touching; alpha = 0 only when the two origins coincide.
+ * interpenetrating, alpha = 1: touching; alpha = 0 only when the two origins coincide, or when
+ * one shape is a half-space and the other's origin lies in it.
  */
 typedef struct dcol_proximity_result {
   /**

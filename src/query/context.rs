@@ -13,7 +13,8 @@ pub type Options = Settings;
 /// The result of a proximity query.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Proximity {
-    /// α*: > 1 separated, < 1 interpenetrating, 0 only when the origins coincide.
+    /// α*: > 1 separated, < 1 interpenetrating, 0 only when the origins coincide (or, against
+    /// a half-space, when the other shape's origin lies in it).
     pub alpha: Real,
     /// x*, an optimal intersection point of the scaled shapes (world).
     pub point: Vec3,
