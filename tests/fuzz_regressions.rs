@@ -432,3 +432,41 @@ fn thin_box_keeps_both_faces() {
         d.distance
     );
 }
+
+/// The queries target (random driver): a box whose origin lies 1.9e-17 above a half-space's
+/// plane, 0.02 away along it, under `Method::InteriorPoint` at the tolerance 2.2e-16: the cone
+/// program's optimum sits at α ≈ 0 and its polish returned α* = −1.8e-20. Fixed: such pairs
+/// (`g ≤ 1e-6 ‖Δr‖`) take the closed form under every method.
+#[test]
+fn halfspace_interior_point_near_alpha_zero() {
+    let b = Shape::cuboid(280.8728160524909, 0.0009058823529411764, 905882.3529411764).unwrap();
+    let pb = Pose::new(
+        [2.220446049250313e-16; 3],
+        [
+            -0.5523124171952957,
+            9.940661245371278e-17,
+            0.4476875828047043,
+            0.7032260106213154,
+        ],
+    )
+    .unwrap();
+    let h = Shape::halfspace(0.024705882352941178).unwrap();
+    let ph = Pose::new(
+        [
+            -0.02158083466849775,
+            -8.251926451514457e-7,
+            2.220446049250313e-16,
+        ],
+        [1.0, -0.0, 4.440892098500626e-16, 4.440892098500626e-16],
+    )
+    .unwrap();
+    let o = Options {
+        tolerance: 2.220446049250313e-16,
+        max_iterations: 431,
+        method: dcol::Method::InteriorPoint,
+        smoothing: 0.0,
+    };
+    let p = proximity(&b, &pb, &h, &ph, &o).unwrap();
+    assert!(p.alpha >= 0.0 && p.alpha < 1e-15, "{}", p.alpha);
+    assert_eq!(p.solver, dcol::Solver::ClosedForm);
+}

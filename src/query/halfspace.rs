@@ -17,7 +17,7 @@
 //!
 //! Under `Method::InteriorPoint`, or with `Options::smoothing`, proximity and its derivatives
 //! come from the cone program instead (the half-space's one orthant row `α·depth − u_z ≥ 0`),
-//! whenever `g > 0`; distances and contacts are always the closed forms.
+//! whenever `g > 1e-6 ‖r_B − r_H‖`; distances and contacts are always the closed forms.
 //!
 //! Where the support point is not unique (a face, an edge, a disc or a side line facing the
 //! plane), `s` is the centroid of the tied support points (a support point itself), α* is not
@@ -116,9 +116,11 @@ impl HalfspacePair<'_> {
     }
 
     /// Whether proximity goes to the interior-point method: when the options ask for it
-    /// (`Method::InteriorPoint`, or smoothing without a threshold) and B's origin is outside
-    /// the half-space (α* > 0; at α* = 0 the closed form is exact and the cone program's
-    /// optimum sits on the boundary α = 0).
+    /// (`Method::InteriorPoint`, or smoothing without a threshold) and B's origin is clearly
+    /// outside the half-space, `g > 1e-6 ‖r_B − r_H‖`. Otherwise the closed form answers: at
+    /// α* = 0 it is exact and the cone program's optimum sits on its boundary α = 0, and for
+    /// `g` that small relative to the offset the normalised α' is too (its polish could step
+    /// to a negative α* of the rounding's size).
     pub(crate) fn by_interior_point(
         &self,
         options: &Options,
@@ -126,11 +128,8 @@ impl HalfspacePair<'_> {
     ) -> bool {
         let asked = options.method == Method::InteriorPoint
             || (options.smoothing > 0.0 && threshold.is_none());
-        asked
-            && self
-                .normal
-                .dot(&(self.pose_b.position() - self.pose_h.position()))
-                > 0.0
+        let offset = self.pose_b.position() - self.pose_h.position();
+        asked && self.normal.dot(&offset) > 1e-6 * crate::math::robust_norm(&offset)
     }
 
     /// Column offsets of the half-space's and the other shape's (r, q) in a 14-vector.
