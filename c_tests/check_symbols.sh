@@ -14,7 +14,8 @@ if [[ -n "$stray" ]]; then
 fi
 for name in dcol_status_string dcol_last_error_message dcol_version dcol_shape_new_sphere \
   dcol_shape_new_ellipsoid dcol_shape_new_polytope dcol_shape_new_box dcol_shape_new_capsule \
-  dcol_shape_new_cylinder dcol_shape_new_cone dcol_shape_new_polygon dcol_shape_free \
+  dcol_shape_new_cylinder dcol_shape_new_cone dcol_shape_new_polygon dcol_shape_new_halfspace \
+  dcol_shape_free \
   dcol_options_default dcol_proximity dcol_gradient dcol_jacobian dcol_distance \
   dcol_distance_gradient dcol_alpha_below dcol_intersect dcol_derivatives dcol_gradient_mrp \
   dcol_jacobian_mrp dcol_proximity_batch dcol_scene_new dcol_scene_free dcol_scene_add \

@@ -479,6 +479,99 @@ static void test_not_converged(void) {
   dcol_shape_free(c);
 }
 
+/* The half-space: the floor {z <= 0} as dcol_shape_new_halfspace(depth) at (0, 0, -depth). */
+static void test_halfspace(void) {
+  dcol_shape *floor_ = NULL, *box = NULL, *ball = NULL, *other = NULL;
+  dcol_pose under = pose_at(0.0, 0.0, -2.0), on = pose_at(0.3, -0.2, 0.49);
+  dcol_proximity_result r;
+  dcol_signed_distance_result sd;
+  dcol_distance_result d;
+  dcol_derivatives_result dr;
+  dcol_contact c[8];
+  double g[14], j[56];
+  size_t n = 99;
+  int32_t below = -1;
+  int i;
+  int out_sentinel = 0;
+
+  /* Bad depths: zero, negative, NaN, infinite. */
+  BAD_CTOR(dcol_shape_new_halfspace(0.0, &out), DCOL_ERROR_INVALID_SHAPE, "depth", "0");
+  BAD_CTOR(dcol_shape_new_halfspace(-1.0, &out), DCOL_ERROR_INVALID_SHAPE, "depth", "-1");
+  BAD_CTOR(dcol_shape_new_halfspace(NAN, &out), DCOL_ERROR_INVALID_SHAPE, "depth", "NaN");
+  BAD_CTOR(dcol_shape_new_halfspace(INFINITY, &out), DCOL_ERROR_INVALID_SHAPE, "depth", "inf");
+  CHECK(dcol_shape_new_halfspace(1.0, NULL) == DCOL_ERROR_NULL_POINTER);
+
+  CHECK(dcol_shape_new_halfspace(2.0, &floor_) == DCOL_OK && floor_ != NULL);
+  CHECK(dcol_shape_new_box(0.5, 0.4, 0.25, &box) == DCOL_OK);
+  CHECK(dcol_shape_new_sphere(0.5, &ball) == DCOL_OK);
+  CHECK(dcol_shape_new_halfspace(1.0, &other) == DCOL_OK);
+
+  /* A ball 0.01 into the floor: alpha* = n.(rB - rH) / (depth + R) = 2.49 / 2.5. */
+  CHECK(dcol_proximity(floor_, &under, ball, &on, NULL, &r) == DCOL_OK);
+  CHECK_MSG(near(r.alpha, 2.49 / 2.5, 1e-15), "alpha %.17g", r.alpha);
+  CHECK(r.solver == DCOL_SOLVER_CLOSED_FORM && r.iterations == 0);
+  CHECK(near(r.point[2], 0.49 - r.alpha * 0.5, 1e-15) && near(r.point[0], 0.3, 1e-15));
+  CHECK(dcol_proximity(ball, &on, floor_, &under, NULL, &r) == DCOL_OK);
+  CHECK(near(r.alpha, 2.49 / 2.5, 1e-15));
+
+  /* Gradient: d alpha / d r_B = n / (depth + R), d alpha / d r_H = -n / (depth + R). */
+  CHECK(dcol_gradient(floor_, &under, ball, &on, NULL, &r, g) == DCOL_OK);
+  CHECK(r.derivatives == DCOL_DERIVATIVES_EXACT);
+  CHECK(near(g[2], -0.4, 1e-15) && near(g[9], 0.4, 1e-15) && g[0] == 0.0 && g[7] == 0.0);
+  CHECK(dcol_jacobian(floor_, &under, ball, &on, NULL, &r, j) == DCOL_OK);
+  CHECK(near(j[3 * 14 + 9], 0.4, 1e-15) && near(j[0 * 14 + 7], 1.0, 1e-15));
+  CHECK(dcol_derivatives(floor_, &under, ball, &on, NULL, &dr) == DCOL_OK);
+  CHECK(near(dr.proximity.alpha, 2.49 / 2.5, 1e-15));
+
+  /* Signed distance -0.01, normal +z from the floor to the ball; distance 0 (overlap). */
+  CHECK(dcol_signed_distance(floor_, &under, ball, &on, NULL, &sd) == DCOL_OK);
+  CHECK_MSG(near(sd.distance, -0.01, 1e-15), "sd %.17g", sd.distance);
+  CHECK(sd.normal[2] == 1.0 && near(sd.closest1[2], 0.0, 1e-15));
+  CHECK(near(sd.closest2[2], -0.01, 1e-15));
+  CHECK(dcol_signed_distance(ball, &on, floor_, &under, NULL, &sd) == DCOL_OK);
+  CHECK(sd.normal[2] == -1.0 && near(sd.distance, -0.01, 1e-15));
+  CHECK(dcol_distance(floor_, &under, ball, &on, NULL, &d) == DCOL_OK);
+  CHECK(d.distance == 0.0);
+  CHECK(dcol_intersect(floor_, &under, ball, &on, NULL, &below) == DCOL_OK && below == 1);
+
+  /* A box resting 0.01 deep: four contacts of depth 0.01, normal from the box to the floor. */
+  on = pose_at(1.0, 2.0, 0.24);
+  CHECK(dcol_contacts(box, &on, floor_, &under, 0.0, NULL, c, 8, &n) == DCOL_OK);
+  CHECK_MSG(n == 4, "%zu contacts", n);
+  for (i = 0; i < (int)n && i < 8; i++) {
+    CHECK(near(c[i].depth, 0.01, 1e-15) && c[i].normal[2] == -1.0);
+    CHECK(near(c[i].position[2], -0.005, 1e-15));
+    CHECK(near(fabs(c[i].position[0] - 1.0), 0.5, 1e-15));
+  }
+
+  /* Separated: distance and its gradient. */
+  on = pose_at(0.0, 0.0, 1.0);
+  CHECK(dcol_distance_gradient(floor_, &under, box, &on, NULL, &d, g) == DCOL_OK);
+  CHECK(near(d.distance, 0.75, 1e-15) && near(g[9], 1.0, 1e-15) && near(g[2], -1.0, 1e-15));
+  CHECK(dcol_alpha_below(box, &on, floor_, &under, 1.0, NULL, &below) == DCOL_OK && below == 0);
+
+  /* Two half-spaces: every query is DCOL_ERROR_INVALID_SHAPE, never a crash. */
+  memset(&r, SENTINEL, sizeof r);
+  CHECK(dcol_proximity(floor_, &under, other, &on, NULL, &r) == DCOL_ERROR_INVALID_SHAPE);
+  CHECK(contains(dcol_last_error_message(), "two half-spaces"));
+  CHECK(untouched(&r, sizeof r));
+  CHECK(dcol_gradient(floor_, &under, other, &on, NULL, &r, g) == DCOL_ERROR_INVALID_SHAPE);
+  CHECK(dcol_jacobian(floor_, &under, other, &on, NULL, &r, j) == DCOL_ERROR_INVALID_SHAPE);
+  CHECK(dcol_distance(floor_, &under, other, &on, NULL, &d) == DCOL_ERROR_INVALID_SHAPE);
+  CHECK(dcol_signed_distance(other, &on, floor_, &under, NULL, &sd) ==
+        DCOL_ERROR_INVALID_SHAPE);
+  CHECK(dcol_contacts(floor_, &under, other, &on, 0.0, NULL, c, 8, &n) ==
+        DCOL_ERROR_INVALID_SHAPE);
+  CHECK(dcol_intersect(floor_, &under, other, &on, NULL, &below) == DCOL_ERROR_INVALID_SHAPE);
+  CHECK(dcol_alpha_below(floor_, &under, other, &on, 1e9, NULL, &below) ==
+        DCOL_ERROR_INVALID_SHAPE);
+
+  dcol_shape_free(floor_);
+  dcol_shape_free(box);
+  dcol_shape_free(ball);
+  dcol_shape_free(other);
+}
+
 int main(void) {
   test_version_and_status();
   test_constructors();
@@ -487,5 +580,6 @@ int main(void) {
   test_derivatives_and_distance();
   test_query_errors();
   test_not_converged();
+  test_halfspace();
   return check_summary("test_api");
 }

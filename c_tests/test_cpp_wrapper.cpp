@@ -494,6 +494,25 @@ void test_contacts() {
                DCOL_ERROR_INVALID_OPTIONS, "dcol_contacts");
 }
 
+// A half-space floor (top surface z = 0): the same cube resting on it, and the errors.
+void test_halfspace() {
+  const dcol::Shape floor_ = dcol::Shape::halfspace(0.5);
+  const dcol::Shape cube = dcol::Shape::box(0.5, 0.5, 0.5);
+  const std::vector<dcol_contact> cs =
+      dcol::contacts(floor_, dcol::pose({0, 0, -0.5}), cube, dcol::pose({0, 0, 0.49}), 0.0);
+  CHECK(cs.size() == 4);
+  for (const dcol_contact &c : cs) {
+    CHECK(close(c.depth, 0.01, 1e-12));
+    CHECK(close(c.normal[2], 1.0, 1e-12));
+    CHECK(close(c.position[2], -0.005, 1e-12));
+  }
+  const dcol_proximity_result r = dcol::proximity(floor_, dcol::pose({0, 0, -0.5}), cube, dcol::pose({0, 0, 0.49}));
+  CHECK(close(r.alpha, 0.99 / 1.0, 1e-15));  // (0.49 + 0.5) / (0.5 + 0.5)
+  EXPECT_ERROR(dcol::Shape::halfspace(0.0), DCOL_ERROR_INVALID_SHAPE, "dcol_shape_new_halfspace");
+  EXPECT_ERROR(dcol::proximity(floor_, dcol::pose({0, 0, 0}), floor_, dcol::pose({0, 0, 1})),
+               DCOL_ERROR_INVALID_SHAPE, "dcol_proximity");
+}
+
 }  // namespace
 
 int main() {
@@ -505,6 +524,7 @@ int main() {
     test_batch();
     test_scene();
     test_contacts();
+    test_halfspace();
   } catch (const std::exception &e) {
     std::fprintf(stderr, "unexpected exception: %s\n", e.what());
     return 1;

@@ -1,6 +1,6 @@
 // What the ODE and Bullet scene programs (examples/ode/ode_scenes.cpp,
-// examples/bullet/bullet_scenes.cpp) share: the scene constants, the check counter, a clock and
-// the six dcol primitives of the drop scenes.
+// examples/bullet/bullet_scenes.cpp) share: the scene constants, the check counter, a clock, the
+// six dcol primitives of the drop scenes and the floor (a dcol half-space).
 #pragma once
 
 #include <dcol.h>
@@ -50,6 +50,21 @@ inline dcol_shape *make(const char *name) {
   }
   if (st != DCOL_OK) {
     std::printf("shape %s: %s\n", name, dcol_last_error_message());
+    std::exit(2);
+  }
+  return s;
+}
+
+/// The floor's depth: the half-space {u_z <= kFloorDepth} posed at (0, 0, -kFloorDepth) (identity
+/// attitude) has its top surface at z = 0.
+const double kFloorDepth = 0.5;
+
+/// The floor of every dcol scene: a dcol half-space (dcol_shape_new_halfspace), to be posed at
+/// (0, 0, -kFloorDepth); exits with status 2 if it cannot be built.
+inline dcol_shape *make_floor() {
+  dcol_shape *s = nullptr;
+  if (dcol_shape_new_halfspace(kFloorDepth, &s) != DCOL_OK) {
+    std::printf("floor: %s\n", dcol_last_error_message());
     std::exit(2);
   }
   return s;

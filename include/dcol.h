@@ -90,7 +90,8 @@
 #define DCOL_SOLVER_POLISH 2
 
 /**
- * dcol_proximity_result.solver: a closed form for the pair.
+ * dcol_proximity_result.solver: a closed form for the pair (spheres, capsules, a sphere and a
+ * box, and every pair with a half-space).
  */
 #define DCOL_SOLVER_CLOSED_FORM 3
 
@@ -217,7 +218,8 @@ typedef struct dcol_pose {
 /**
  * The proximity of two posed shapes: the smallest uniform scaling alpha of both shapes (each
  * about its own origin) at which they touch. alpha > 1: separated, alpha < 1:
- * interpenetrating, alpha = 1: touching; alpha = 0 only when the two origins coincide.
+ * interpenetrating, alpha = 1: touching; alpha = 0 only when the two origins coincide, or when
+ * one shape is a half-space and the other's origin lies in it.
  */
 typedef struct dcol_proximity_result {
   /**
@@ -545,6 +547,20 @@ enum dcol_status dcol_shape_new_polygon(const double *C,
                                         size_t m,
                                         double radius,
                                         struct dcol_shape **out);
+
+/**
+ * A half-space { u : u_z <= depth } (body frame), depth > 0 and finite: outward normal +e_z
+ * (body), boundary plane `depth` above the body origin. A floor whose top surface is z = 0 is
+ * this shape at position (0, 0, -depth) with the identity attitude. Scaled by alpha about its
+ * origin it is { u_z <= alpha*depth }, so alpha* against a half-space depends on depth
+ * (distances and contacts do not). Every query between a half-space and another shape is a
+ * closed form; a query between two half-spaces fails with DCOL_ERROR_INVALID_SHAPE. On error
+ * *out is set to NULL.
+ *
+ * # Safety
+ * `out` must be NULL or valid for writing one pointer.
+ */
+enum dcol_status dcol_shape_new_halfspace(double depth, struct dcol_shape **out);
 
 /**
  * Releases a shape made by a dcol_shape_new_* function. NULL is a no-op. The shape must not

@@ -94,6 +94,12 @@ class Shape {
     });
   }
 
+  /// The half-space { u : u_z <= depth } (body frame), outward normal +e_z, plane `depth` above
+  /// the origin: a floor with top surface z = 0 sits at (0, 0, -depth).
+  static Shape halfspace(double depth) {
+    return build([&](dcol_shape **out) { return dcol_shape_new_halfspace(depth, out); });
+  }
+
   /// The C handle (still owned by this object).
   const dcol_shape *get() const noexcept { return handle_.get(); }
 

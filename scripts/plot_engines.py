@@ -3,8 +3,8 @@
 
     python3 scripts/plot_engines.py [BUILD_DIR] [OUT_PNG]
 
-Runs `ode_scenes drop box --csv` and `bullet_scenes drop box --csv` from BUILD_DIR (default
-build/cmake; the adapters are built when CMake finds ODE and Bullet) and draws each body's
+Runs `ode_scenes drop halfspace --csv` and `bullet_scenes drop halfspace --csv` from BUILD_DIR
+(default build/cmake; the adapters are built when CMake finds ODE and Bullet) and draws each body's
 height over time, one panel per engine, with its analytic rest height dashed. OUT_PNG defaults
 to docs/img/engines_drop.png. Needs matplotlib. An engine whose program is missing is skipped.
 """
@@ -24,7 +24,7 @@ ENGINES = [("ODE", "examples/ode/ode_scenes"), ("Bullet", "examples/bullet/bulle
 
 
 def run(program, csv_path):
-    subprocess.run([program, "drop", "box", "--csv", csv_path], check=True, stdout=subprocess.DEVNULL)
+    subprocess.run([program, "drop", "halfspace", "--csv", csv_path], check=True, stdout=subprocess.DEVNULL)
     with open(csv_path, newline="") as f:
         rows = list(csv.reader(f))
     names = rows[0][1:]
@@ -47,7 +47,7 @@ def main():
                 color = f"C{i}"
                 ax.plot(t, z, color=color, label=name)
                 ax.axhline(REST[name], color=color, ls="--", lw=0.8)
-            ax.set_title(f"{engine} with dcol contacts: drop on a dcol box")
+            ax.set_title(f"{engine} with dcol contacts: drop on a dcol half-space")
             ax.set_xlabel("time (s)")
             ax.grid(alpha=0.3)
         axes[0][0].set_ylabel("height of the centre (m); dashed: analytic rest height")

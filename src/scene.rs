@@ -11,6 +11,9 @@
 //! 4. A solve that stops as soon as α* is proven above t; pairs proven below run to convergence
 //!    and are reported with their full proximity.
 //!
+//! A half-space's interval is the whole line, so it is a candidate against every other body
+//! (its narrow phase is a closed form); pairs of two half-spaces are skipped.
+//!
 //! Cost: the sweep is O(N log N) per step (a sort of N intervals) plus O(K) for the K pairs whose
 //! intervals overlap; the narrow phase is one (often truncated) solve per pair surviving level 2.
 
@@ -111,7 +114,8 @@ impl Scene {
 
     /// All pairs with α* ≤ `threshold`, written to `out` (cleared first) in increasing
     /// (body1, body2) order. A pair whose solve did not converge is reported with its status
-    /// when its last iterate is ≤ threshold.
+    /// when its last iterate is ≤ threshold. A half-space (bounding radius `+∞`) is a
+    /// candidate against every body; a pair of two half-spaces is skipped, never reported.
     pub fn pairs_within(
         &mut self,
         threshold: Real,
@@ -153,6 +157,10 @@ impl Scene {
                 );
                 let d = (p2.position() - p1.position()).norm();
                 if d > t * (s1.bounding_radius() + s2.bounding_radius()) {
+                    continue;
+                }
+                // Two half-spaces have no α* (a query on them is an error): never reported.
+                if crate::query::check_halfspace_pair(s1, s2).is_err() {
                     continue;
                 }
                 stats.sphere_candidates += 1;

@@ -320,3 +320,153 @@ fn jacobian_finite_at_huge_tolerance_and_quaternion() {
         );
     }
 }
+
+/// The queries target (random driver): a half-space whose plane passes within 1e-307 of the
+/// other shape's origin, which lies 1e5 away along the plane. α* = 8.7e-306 and the half-space's
+/// contact point `r_H + (x* − r_H)/α*` lies ~1e316 away along the plane: not representable, it
+/// came back infinite. Fixed: where it overflows, the other shape's contact point projected onto
+/// the plane stands in (finite, on the plane).
+#[test]
+fn halfspace_contact_point_overflows_for_a_tiny_alpha() {
+    let h = Shape::halfspace(628.1681544213016).unwrap();
+    let ph = Pose::new(
+        [
+            -71142.13778896772,
+            81832.60852979324,
+            2.2250738585072014e-308,
+        ],
+        [1.0, -0.0, 4.450147717014403e-308, 4.450147717014403e-308],
+    )
+    .unwrap();
+    let c = Shape::capsule(99.22178988326849, 88.81208514534218).unwrap();
+    let pc = Pose::new(
+        [2.2250738585072014e-308; 3],
+        [
+            0.008183566033417257,
+            0.008196078431372548,
+            5.617914091706722e-10,
+            1.0765239948119332e-10,
+        ],
+    )
+    .unwrap();
+    for (p, which) in [
+        (proximity(&h, &ph, &c, &pc, &Options::default()).unwrap(), 1),
+        (
+            gradient(&h, &ph, &c, &pc, &Options::default()).unwrap().0,
+            2,
+        ),
+    ] {
+        assert!(p.alpha > 0.0 && p.alpha < 1e-300, "{which}: {}", p.alpha);
+        for v in [p.point, p.contact1, p.contact2] {
+            assert!(v.iter().all(|x| x.is_finite()), "{which}: {p:?}");
+        }
+        // contact1 is on the half-space's plane.
+        let n = ph.rotation().column(2).into_owned();
+        let off = n.dot(&(p.contact1 - ph.position())) - 628.1681544213016;
+        assert!(off.abs() < 1e-9, "{off}");
+    }
+}
+
+/// The queries target (random driver): a box 1.2e10 times wider (9e4) than thick (7.3e-6) on a
+/// half-space gave α* = −1.5e6: its vertices were deduplicated to 1e-9 of their norm, which
+/// merged the bottom face into the top one, so its support map in −z returned a top corner.
+/// Fixed: vertices merge within 1e-9 of the smallest facet offset (`add_vertex`).
+#[test]
+fn thin_box_keeps_both_faces() {
+    let b = Shape::cuboid(90112.15381094073, 18498.512245365073, 7.322041657129779e-6).unwrap();
+    let pb = Pose::new(
+        [
+            -4.6788738841840234e-7,
+            -0.10707255664911874,
+            0.008361181048294804,
+        ],
+        [
+            2393377584496.834,
+            -270038.9105058366,
+            2372625.3147173272,
+            -6.136720836194401e17,
+        ],
+    )
+    .unwrap();
+    let h = Shape::halfspace(6.275883115892271e-7).unwrap();
+    let ph = Pose::new(
+        [
+            -0.040053406576638445,
+            -245258.2589456016,
+            -9.945067521171893,
+        ],
+        [
+            0.39436942092011895,
+            9.522697795071335e-7,
+            1.0000000000000002,
+            -2.198837435915614e253,
+        ],
+    )
+    .unwrap();
+    let o = Options::default();
+    let p = proximity(&b, &pb, &h, &ph, &o).unwrap();
+    assert!(p.alpha > 0.0, "{}", p.alpha);
+    let sd = dcol::signed_distance(&b, &pb, &h, &ph, &o).unwrap();
+    // The box's lowest point is its centre minus (about) its half thickness.
+    let low = pb.position().z - sd.closest1.z;
+    assert!((low - 7.322041657129779e-6).abs() < 1e-6, "{low:e}");
+    let g = pb.position().z - (ph.position().z + 6.275883115892271e-7);
+    assert!(
+        (sd.distance - (g - low)).abs() < 1e-9,
+        "{} vs {}",
+        sd.distance,
+        g - low
+    );
+    assert!(
+        (p.alpha - (pb.position().z - ph.position().z) / (6.275883115892271e-7 + low)).abs()
+            < 1e-6 * p.alpha
+    );
+    // The box alone: 8 vertices (both faces), against a sphere below it.
+    let s = Shape::sphere(1.0).unwrap();
+    let below = Pose::from_position([0.0, 0.0, -2.0]).unwrap();
+    let flat = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+    let d = distance(&b, &flat, &s, &below, &o).unwrap();
+    assert!(
+        (d.distance - (1.0 - 7.322041657129779e-6)).abs() < 1e-9,
+        "{}",
+        d.distance
+    );
+}
+
+/// The queries target (random driver): a box whose origin lies 1.9e-17 above a half-space's
+/// plane, 0.02 away along it, under `Method::InteriorPoint` at the tolerance 2.2e-16: the cone
+/// program's optimum sits at α ≈ 0 and its polish returned α* = −1.8e-20. Fixed: such pairs
+/// (`g ≤ 1e-6 ‖Δr‖`) take the closed form under every method.
+#[test]
+fn halfspace_interior_point_near_alpha_zero() {
+    let b = Shape::cuboid(280.8728160524909, 0.0009058823529411764, 905882.3529411764).unwrap();
+    let pb = Pose::new(
+        [2.220446049250313e-16; 3],
+        [
+            -0.5523124171952957,
+            9.940661245371278e-17,
+            0.4476875828047043,
+            0.7032260106213154,
+        ],
+    )
+    .unwrap();
+    let h = Shape::halfspace(0.024705882352941178).unwrap();
+    let ph = Pose::new(
+        [
+            -0.02158083466849775,
+            -8.251926451514457e-7,
+            2.220446049250313e-16,
+        ],
+        [1.0, -0.0, 4.440892098500626e-16, 4.440892098500626e-16],
+    )
+    .unwrap();
+    let o = Options {
+        tolerance: 2.220446049250313e-16,
+        max_iterations: 431,
+        method: dcol::Method::InteriorPoint,
+        smoothing: 0.0,
+    };
+    let p = proximity(&b, &pb, &h, &ph, &o).unwrap();
+    assert!(p.alpha >= 0.0 && p.alpha < 1e-15, "{}", p.alpha);
+    assert_eq!(p.solver, dcol::Solver::ClosedForm);
+}

@@ -8,7 +8,8 @@
 //! `proximity`, `gradient`, `jacobian`, `distance` (its GJK path on the separated poses and,
 //! with `Method::InteriorPoint`, its interior-point path), `distance_gradient`,
 //! `distance_within`, `signed_distance` (GJK, EPA and its polish) and `contact_manifold`, whether they return `Ok` or `Err` (invalid options, and functions not
-//! built yet, must not allocate on the error path either).
+//! built yet, must not allocate on the error path either). The half-space's closed forms (and
+//! the two-half-space error) are checked the same way against every shape.
 
 use dcol::{
     distance, distance_gradient, distance_within, gradient, jacobian, proximity, Error, Options,
@@ -319,4 +320,61 @@ fn separated_distance_takes_the_gjk_path() {
         gjk >= 90,
         "only {gjk} of 100 separated pairs took the GJK path"
     );
+}
+
+/// A half-space against every shape above (both orders, on a level and a tilted floor, the
+/// origin above and below the plane), and two half-spaces (the error path): every query,
+/// plus `intersect`, `alpha_below` and `signed_distance_gradient`, makes no heap operation.
+#[test]
+fn halfspace_queries_do_not_allocate() {
+    let floor = Shape::halfspace(0.5).unwrap();
+    let floors = [
+        Pose::from_position([0.0, 0.0, -0.5]).unwrap(),
+        Pose::new([0.2, -0.1, 0.3], [0.9, 0.3, -0.2, 0.1]).unwrap(),
+    ];
+    let shapes = shapes();
+    let poses = poses();
+    let options = option_sets();
+    let run = |s1: &Shape, p1: &Pose, s2: &Shape, p2: &Pose, o: &Options| {
+        for (_, q) in QUERIES {
+            let _ = black_box(q(s1, p1, s2, p2, o));
+        }
+        let _ = black_box(dcol::intersect(s1, p1, s2, p2, o));
+        let _ = black_box(dcol::alpha_below(s1, p1, s2, p2, 0.5, o));
+        let _ = black_box(dcol::signed_distance_gradient(s1, p1, s2, p2, o));
+    };
+    let mut cases: Vec<(&Shape, &Pose, &Shape, &Pose)> = Vec::new();
+    for pf in &floors {
+        for (_, s) in &shapes {
+            for (_, pb) in &poses {
+                cases.push((&floor, pf, s, pb));
+                cases.push((s, pb, &floor, pf));
+            }
+        }
+        cases.push((&floor, pf, &floor, &floors[0]));
+    }
+    for &(s1, p1, s2, p2) in &cases {
+        for o in &options {
+            run(s1, p1, s2, p2, o);
+        }
+    }
+    let mut bad = 0;
+    for &(s1, p1, s2, p2) in &cases {
+        for o in &options {
+            let before = heap_ops();
+            run(s1, p1, s2, p2, o);
+            if heap_ops() != before {
+                bad += 1;
+            }
+        }
+    }
+    assert_eq!(bad, 0, "{bad} half-space calls made heap operations");
+    // The queries did run: a ball resting on the floor.
+    let ball = Shape::sphere(0.5).unwrap();
+    let on = Pose::from_position([0.0, 0.0, 0.49]).unwrap();
+    let before = heap_ops();
+    let m = dcol::contact_manifold(&floor, &floors[0], &ball, &on, 0.0, 4, &Options::default())
+        .unwrap();
+    assert_eq!(heap_ops(), before);
+    assert_eq!(m.len(), 1);
 }

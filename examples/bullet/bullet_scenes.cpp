@@ -2,8 +2,10 @@
 //
 //   bullet_scenes normal          the algorithm's normal/depth convention against Bullet's own
 //                                 sphere-box algorithm
-//   bullet_scenes drop GROUND     six primitives dropped on a ground; GROUND = box (a dcol box),
-//                                 plane (Bullet's btStaticPlaneShape through the dcol algorithm) or
+//   bullet_scenes drop GROUND     six primitives dropped on a ground; GROUND = halfspace (a dcol
+//                                 half-space), box (a large dcol box), plane (Bullet's
+//                                 btStaticPlaneShape through the dcol algorithm, itself a
+//                                 half-space) or
 //                                 native (Bullet's own shapes, for the four it has centred as dcol's)
 //   bullet_scenes tumble          30 boxes, cylinders and capsules dropped with random attitudes
 //                                 and spins come to rest on a face
@@ -31,9 +33,11 @@ namespace {
 
 using engine_scenes::check;
 using engine_scenes::kDt;
+using engine_scenes::kFloorDepth;
 using engine_scenes::kG;
 using engine_scenes::kTol;
 using engine_scenes::make;
+using engine_scenes::make_floor;
 using engine_scenes::now;
 
 struct World {
@@ -122,8 +126,10 @@ int drop(const std::string &ground, const char *csv, bool only_native = false, s
   World w;
   btTransform tg;
   tg.setIdentity();
-  tg.setOrigin(btVector3(0, 0, -0.5f));
-  if (ground == "box") {
+  tg.setOrigin(btVector3(0, 0, btScalar(-kFloorDepth)));
+  if (ground == "halfspace") {
+    w.add(new dcol_bullet::Shape(owned.keep(make_floor()), INFINITY, btVector3(5, 5, 0.5f)), 0, tg);
+  } else if (ground == "box") {
     dcol_shape *g = nullptr;
     dcol_shape_new_box(5, 5, 0.5, &g);
     w.add(new dcol_bullet::Shape(owned.keep(g), std::sqrt(50.25), btVector3(5, 5, 0.5f)), 0, tg);
@@ -215,14 +221,14 @@ int drop(const std::string &ground, const char *csv, bool only_native = false, s
 int compare() {
   std::vector<double> ours, theirs;
   double t_ours = 0, t_theirs = 0;
-  drop("box", nullptr, true, &ours, &t_ours);
+  drop("halfspace", nullptr, true, &ours, &t_ours);
   drop("native", nullptr, true, &theirs, &t_theirs);
   check(ours.size() == theirs.size(), "same bodies");
   for (std::size_t i = 0; i < ours.size() && i < theirs.size(); ++i) {
     std::printf("  rest height dcol %.6f, native %.6f, difference %+.2e m\n", ours[i], theirs[i], ours[i] - theirs[i]);
     check(std::fabs(ours[i] - theirs[i]) <= kTol, "dcol and native rest heights within 1 mm");
   }
-  std::printf("time per step (4 bodies on a box): dcol %.1f us, native %.1f us (ratio %.1f)\n", t_ours * 1e6,
+  std::printf("time per step (4 bodies on the floor): dcol %.1f us, native %.1f us (ratio %.1f)\n", t_ours * 1e6,
               t_theirs * 1e6, t_ours / t_theirs);
   return 0;
 }
@@ -234,14 +240,12 @@ int stack(const std::string &kind) {
   const double h = 0.25;
   btTransform tg;
   tg.setIdentity();
-  tg.setOrigin(btVector3(0, 0, -0.5f));
+  tg.setOrigin(btVector3(0, 0, btScalar(-kFloorDepth)));
   dcol_shape *cube = nullptr;
   if (native) {
     w.add(new btBoxShape(btVector3(5, 5, 0.5f)), 0, tg);
   } else {
-    dcol_shape *g = nullptr;
-    dcol_shape_new_box(5, 5, 0.5, &g);
-    w.add(new dcol_bullet::Shape(owned.keep(g), std::sqrt(50.25), btVector3(5, 5, 0.5f)), 0, tg);
+    w.add(new dcol_bullet::Shape(owned.keep(make_floor()), INFINITY, btVector3(5, 5, 0.5f)), 0, tg);
     dcol_shape_new_box(h, h, h, &cube);
     owned.keep(cube);
   }
@@ -338,9 +342,8 @@ int tumble() {
   World w;
   btTransform tg;
   tg.setIdentity();
-  tg.setOrigin(btVector3(0, 0, -0.5f));
-  dcol_shape *g = nullptr, *box = nullptr, *cyl = nullptr, *cap = nullptr;
-  dcol_shape_new_box(20, 20, 0.5, &g);
+  tg.setOrigin(btVector3(0, 0, btScalar(-kFloorDepth)));
+  dcol_shape *g = make_floor(), *box = nullptr, *cyl = nullptr, *cap = nullptr;
   dcol_shape_new_box(0.2, 0.15, 0.1, &box);
   dcol_shape_new_cylinder(0.15, 0.4, &cyl);
   dcol_shape_new_capsule(0.1, 0.4, &cap);
@@ -348,7 +351,7 @@ int tumble() {
   owned.keep(box);
   owned.keep(cyl);
   owned.keep(cap);
-  w.add(new dcol_bullet::Shape(g, std::sqrt(800.25), btVector3(20, 20, 0.5f)), 0, tg);
+  w.add(new dcol_bullet::Shape(g, INFINITY, btVector3(20, 20, 0.5f)), 0, tg);
   unsigned long long state = 12345;
   auto unif = [&state]() {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -393,7 +396,7 @@ int tumble() {
 
 int main(int argc, char **argv) {
   if (argc < 2) {
-    std::printf("usage: %s normal | drop box|plane|native [--csv FILE] | compare | stack dcol|native\n", argv[0]);
+    std::printf("usage: %s normal | drop halfspace|box|plane|native [--csv FILE] | compare | stack dcol|native\n", argv[0]);
     return 2;
   }
   const std::string what = argv[1];

@@ -15,6 +15,15 @@ namespace {
 unsigned long g_calls = 0;
 const std::size_t kMaxPoints = 4;  // Bullet's persistent manifold holds four
 
+// Bullet's planes as a dcol half-space of depth 1, made on first use and kept for the process.
+const dcol_shape *plane_halfspace() {
+  static dcol_shape *const s = [] {
+    dcol_shape *h = nullptr;
+    return dcol_shape_new_halfspace(1.0, &h) == DCOL_OK ? h : nullptr;
+  }();
+  return s;
+}
+
 dcol_pose pose_of(const btTransform &t) {
   dcol_pose p;
   const btVector3 &o = t.getOrigin();
@@ -31,14 +40,12 @@ dcol_pose pose_of(const btTransform &t) {
 }  // namespace
 
 Shape::Shape(const dcol_shape *shape, double radius, const btVector3 &half_extents)
-    : m_dcol(shape), m_radius(radius), m_half(half_extents), m_plane_box(nullptr) {
+    : m_dcol(shape), m_radius(radius), m_half(half_extents) {
   m_shapeType = CUSTOM_CONVEX_SHAPE_TYPE;
   setMargin(0);
-  const double half = 4.0 * radius;
-  if (dcol_shape_new_box(half, half, half, &m_plane_box) != DCOL_OK) m_plane_box = nullptr;
 }
 
-Shape::~Shape() { dcol_shape_free(m_plane_box); }
+Shape::~Shape() {}
 
 btVector3 Shape::localGetSupportingVertexWithoutMargin(const btVector3 &vec) const {
   const btScalar len = vec.length();
@@ -51,6 +58,11 @@ void Shape::batchedUnitVectorGetSupportingVertexWithoutMargin(const btVector3 *v
 }
 
 void Shape::getAabb(const btTransform &t, btVector3 &aabbMin, btVector3 &aabbMax) const {
+  if (!std::isfinite(m_radius)) {  // a half-space: everywhere, as Bullet's planes
+    aabbMin = btVector3(-BT_LARGE_FLOAT, -BT_LARGE_FLOAT, -BT_LARGE_FLOAT);
+    aabbMax = btVector3(BT_LARGE_FLOAT, BT_LARGE_FLOAT, BT_LARGE_FLOAT);
+    return;
+  }
   const btScalar r = btScalar(m_radius);
   aabbMin = t.getOrigin() - btVector3(r, r, r);
   aabbMax = t.getOrigin() + btVector3(r, r, r);
@@ -91,7 +103,8 @@ class Algorithm : public btActivatingCollisionAlgorithm {
       const dcol_pose pb = pose_of(b->getWorldTransform());
       st = dcol_contacts(sa->dcol(), &pa, sb->dcol(), &pb, 0.0, nullptr, cs, kMaxPoints, &n);
     } else if (a_plane != b_plane) {
-      // The plane n.x = c (its object's frame) as a box under the shape; shape 1 = A as given.
+      // The plane n.x = c (its object's frame) as the dcol half-space of depth 1 whose boundary
+      // it is, origin under the shape's centre; shape 1 = A as given.
       const btCollisionObjectWrapper *pw = a_plane ? a : b;
       const btCollisionObjectWrapper *sw = a_plane ? b : a;
       const btStaticPlaneShape *plane = static_cast<const btStaticPlaneShape *>(pw->getCollisionShape());
@@ -101,10 +114,10 @@ class Algorithm : public btActivatingCollisionAlgorithm {
       const btScalar c = plane->getPlaneConstant() + nrm.dot(tp.getOrigin());
       const btVector3 centre = sw->getWorldTransform().getOrigin();
       const double h = nrm.dot(centre) - c;
-      if (h <= s->radius() && s->plane_box()) {
-        const double half = 4.0 * s->radius();
+      const dcol_shape *hs = plane_halfspace();
+      if (h <= s->radius() && hs) {
         dcol_pose box;
-        for (int k = 0; k < 3; ++k) box.position[k] = centre[k] - (h + half) * nrm[k];
+        for (int k = 0; k < 3; ++k) box.position[k] = centre[k] - (h + 1.0) * nrm[k];
         // Rotation taking e_z to the plane normal.
         double w = 1.0 + nrm.z(), x = -nrm.y(), y = nrm.x();
         if (w < 1e-12) {
@@ -119,9 +132,9 @@ class Algorithm : public btActivatingCollisionAlgorithm {
         box.quaternion[3] = 0;
         const dcol_pose ps = pose_of(sw->getWorldTransform());
         if (a_plane) {
-          st = dcol_contacts(s->plane_box(), &box, s->dcol(), &ps, 0.0, nullptr, cs, kMaxPoints, &n);
+          st = dcol_contacts(hs, &box, s->dcol(), &ps, 0.0, nullptr, cs, kMaxPoints, &n);
         } else {
-          st = dcol_contacts(s->dcol(), &ps, s->plane_box(), &box, 0.0, nullptr, cs, kMaxPoints, &n);
+          st = dcol_contacts(s->dcol(), &ps, hs, &box, 0.0, nullptr, cs, kMaxPoints, &n);
         }
       }
     }

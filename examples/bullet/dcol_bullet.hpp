@@ -5,8 +5,8 @@
 //   dcol_bullet::Shape shape(dcol_shape_ptr, bounding_radius, half_extents);
 //   btRigidBody body(mass, motion_state, &shape, inertia);  // then use it like any shape
 //
-// Pairs of dcol shapes, and a dcol shape against Bullet's btStaticPlaneShape (modelled locally
-// by a large dcol box under the shape), are handled by an algorithm registered with
+// Pairs of dcol shapes, and a dcol shape against Bullet's btStaticPlaneShape (as a dcol
+// half-space: dcol_shape_new_halfspace), are handled by an algorithm registered with
 // btCollisionDispatcher::registerCollisionCreateFunc for CUSTOM_CONVEX_SHAPE_TYPE. It writes
 // dcol_contacts (margin 0: the points where the shapes overlap or touch, at most 4, the size of
 // Bullet's persistent manifold) through btManifoldResult::addContactPoint.
@@ -19,7 +19,9 @@
 //
 // The Shape's support map (used only by Bullet code other than this algorithm, e.g. ray tests)
 // is its bounding sphere; its AABB is the cube around that sphere and its inertia that of the
-// box with the given half extents. The dcol shape is not owned and must outlive the Shape.
+// box with the given half extents. A floor may be a static Shape wrapping a dcol half-space,
+// with radius INFINITY: its AABB is then +-BT_LARGE_FLOAT, as for btStaticPlaneShape. The dcol
+// shape is not owned and must outlive the Shape.
 #ifndef DCOL_BULLET_HPP
 #define DCOL_BULLET_HPP
 
@@ -35,8 +37,6 @@ class Shape : public btConvexInternalShape {
   ~Shape() override;
   const dcol_shape *dcol() const { return m_dcol; }
   double radius() const { return m_radius; }
-  // The box standing for a plane under this shape (half side 4 radius).
-  const dcol_shape *plane_box() const { return m_plane_box; }
 
   btVector3 localGetSupportingVertexWithoutMargin(const btVector3 &vec) const override;
   void batchedUnitVectorGetSupportingVertexWithoutMargin(const btVector3 *vectors, btVector3 *out,
@@ -51,7 +51,6 @@ class Shape : public btConvexInternalShape {
   const dcol_shape *m_dcol;
   double m_radius;
   btVector3 m_half;
-  dcol_shape *m_plane_box;
 };
 
 /// Registers the dcol algorithm for dcol-dcol and dcol-plane pairs with `dispatcher`.

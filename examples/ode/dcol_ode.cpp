@@ -10,11 +10,13 @@ namespace {
 struct GeomData {
   const dcol_shape *shape;
   double radius;
-  dcol_shape *plane_box;  // the box standing for a plane (half side 4 radius), made once
 };
 
 int g_class = -1;
 unsigned long g_calls = 0;
+// ODE's planes as a dcol half-space of depth 1 (made once by init(), never freed: it lives as long
+// as the geom class).
+dcol_shape *g_halfspace = nullptr;
 
 GeomData *data(dGeomID g) { return static_cast<GeomData *>(dGeomGetClassData(g)); }
 
@@ -69,8 +71,9 @@ int collide_dcol(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int s
   return write_contacts(o1, o2, cs, n, contact, skip);
 }
 
-// The plane a·x = d as a dcol box of half side L under the shape's centre: the half-space, as
-// far as a shape of radius L/4 can tell.
+// The plane a·x = d (solid below, normal (a, b, c) out of it) as the dcol half-space of depth 1
+// whose boundary is the plane: origin at the foot of the shape's centre on the plane, one unit
+// below it, attitude turning e_z to the normal.
 int collide_plane(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int skip) {
   ++g_calls;
   dVector4 plane;
@@ -80,12 +83,9 @@ int collide_plane(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int 
   const double n[3] = {plane[0], plane[1], plane[2]};
   const double h = n[0] * p1.position[0] + n[1] * p1.position[1] + n[2] * p1.position[2] - plane[3];
   if (h > r) return 0;
-  const double half = 4.0 * r;
-  const dcol_shape *box = data(o1)->plane_box;
-  if (!box) return 0;
-  // The box's +z face on the plane, centred under the shape: rotate e_z to n.
+  if (!g_halfspace) return 0;
   dcol_pose pb;
-  for (int k = 0; k < 3; ++k) pb.position[k] = p1.position[k] - (h + half) * n[k];
+  for (int k = 0; k < 3; ++k) pb.position[k] = p1.position[k] - (h + 1.0) * n[k];
   // q = (1 + ez.n, ez x n) normalised; ez x n = (-n_y, n_x, 0).
   double w = 1.0 + n[2], x = -n[1], y = n[0], z = 0.0;
   if (w < 1e-12) {
@@ -100,9 +100,9 @@ int collide_plane(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int 
   pb.quaternion[3] = z / len;
   dcol_contact cs[DCOL_MAX_CONTACTS];
   std::size_t count = 0;
-  // Shape 1 = the plane's box, shape 2 = o1: dcol's normal points from the plane to o1, i.e.
-  // into o1, which is ODE's convention for (o1, plane): write it unchanged.
-  const dcol_status st = dcol_contacts(box, &pb, data(o1)->shape, &p1, 0.0, nullptr, cs, max_contacts(flags), &count);
+  // Shape 1 = the plane's half-space, shape 2 = o1: dcol's normal points from the plane to o1,
+  // i.e. into o1, which is ODE's convention for (o1, plane): write it unchanged.
+  const dcol_status st = dcol_contacts(g_halfspace, &pb, data(o1)->shape, &p1, 0.0, nullptr, cs, max_contacts(flags), &count);
   if (st != DCOL_OK && st != DCOL_ERROR_NOT_CONVERGED) return 0;
   int written = write_contacts(o1, o2, cs, count, contact, skip);
   for (int i = 0; i < written; ++i) {
@@ -127,10 +127,7 @@ void aabb(dGeomID g, dReal box[6]) {
   }
 }
 
-void dtor(dGeomID g) {
-  dcol_shape_free(data(g)->plane_box);
-  data(g)->plane_box = nullptr;
-}
+void dtor(dGeomID) {}
 
 }  // namespace
 
@@ -143,6 +140,7 @@ int init() {
     c.aabb_test = nullptr;
     c.dtor = &dtor;
     g_class = dCreateGeomClass(&c);
+    if (dcol_shape_new_halfspace(1.0, &g_halfspace) != DCOL_OK) g_halfspace = nullptr;
   }
   return g_class;
 }
@@ -154,9 +152,6 @@ dGeomID create_geom(dSpaceID space, const dcol_shape *shape, double radius) {
   GeomData *d = data(g);
   d->shape = shape;
   d->radius = radius;
-  d->plane_box = nullptr;
-  const double half = 4.0 * radius;
-  if (dcol_shape_new_box(half, half, half, &d->plane_box) != DCOL_OK) d->plane_box = nullptr;
   if (space) dSpaceAdd(space, g);
   return g;
 }

@@ -5,7 +5,8 @@
 //   dGeomSetBody(g, body);                             // then use it like any ODE geom
 //
 // The class's collider answers dCollide for a dcol geom against another dcol geom and against
-// ODE's own plane (dCreatePlane, modelled locally by a large dcol box under the shape). Contacts
+// ODE's own plane (dCreatePlane, as a dcol half-space: dcol_shape_new_halfspace). A floor may also
+// be a dcol geom wrapping a half-space itself (radius INFINITY: its AABB is all of space). Contacts
 // come from dcol_contacts with margin 0 (the points where the shapes overlap or touch), at most
 // min(flags & 0xffff, DCOL_MAX_CONTACTS) of them.
 //
@@ -33,7 +34,8 @@ int init();
 int geom_class();
 
 /// A new dcol geom in `space` (may be 0) wrapping `shape`, with bounding radius `radius` (the
-/// radius of an origin-centred ball containing the shape: its AABB is the cube around it).
+/// radius of an origin-centred ball containing the shape: its AABB is the cube around it; pass
+/// INFINITY for a half-space, which then overlaps every geom's AABB).
 dGeomID create_geom(dSpaceID space, const dcol_shape *shape, double radius);
 
 /// The shape a dcol geom wraps.

@@ -1,8 +1,9 @@
 // ODE scenes with dcol geoms (and the same scenes with ODE's native colliders), run by ctest.
 //
 //   ode_scenes normal          the adapter's normal/depth convention against ODE's own sphere-box
-//   ode_scenes drop GROUND     six primitives dropped on a ground; GROUND = box (a dcol box),
-//                              plane (ODE's dCreatePlane through the dcol collider) or native
+//   ode_scenes drop GROUND     six primitives dropped on a ground; GROUND = halfspace (a dcol
+//                              half-space geom), box (a large dcol box), plane (ODE's dCreatePlane
+//                              through the dcol collider, itself a half-space) or native
 //                              (ODE's own shapes and colliders, for the four it has)
 //   ode_scenes stack KIND      five boxes stacked for 10 s; KIND = dcol or native
 //   ode_scenes tumble          30 boxes, cylinders and capsules dropped with random attitudes and
@@ -27,9 +28,11 @@ namespace {
 
 using engine_scenes::check;
 using engine_scenes::kDt;
+using engine_scenes::kFloorDepth;
 using engine_scenes::kG;
 using engine_scenes::kTol;
 using engine_scenes::make;
+using engine_scenes::make_floor;
 using engine_scenes::now;
 
 struct World {
@@ -142,7 +145,11 @@ int drop(const std::string &ground, const char *csv, bool only_native = false, s
          double *step_time = nullptr) {
   World w;
   dcol_shape *ground_shape = nullptr;
-  if (ground == "box") {
+  if (ground == "halfspace") {
+    ground_shape = make_floor();
+    dGeomID g = dcol_ode::create_geom(w.space, ground_shape, dInfinity);
+    dGeomSetPosition(g, 0, 0, -kFloorDepth);
+  } else if (ground == "box") {
     dcol_shape_new_box(5, 5, 0.5, &ground_shape);
     dGeomID g = dcol_ode::create_geom(w.space, ground_shape, std::sqrt(50.25));
     dGeomSetPosition(g, 0, 0, -0.5);
@@ -256,10 +263,10 @@ int stack(const std::string &kind) {
     dGeomID g = dCreateBox(w.space, 10, 10, 1);
     dGeomSetPosition(g, 0, 0, -0.5);
   } else {
-    dcol_shape_new_box(5, 5, 0.5, &ground);
+    ground = make_floor();
     dcol_shape_new_box(h, h, h, &cube);
-    dGeomID g = dcol_ode::create_geom(w.space, ground, std::sqrt(50.25));
-    dGeomSetPosition(g, 0, 0, -0.5);
+    dGeomID g = dcol_ode::create_geom(w.space, ground, dInfinity);
+    dGeomSetPosition(g, 0, 0, -kFloorDepth);
   }
   std::vector<dBodyID> boxes;
   for (int i = 0; i < 5; ++i) {
@@ -346,19 +353,19 @@ int normal_convention() {
   return 0;
 }
 
-// The drop on a box ground with dcol and with ODE's own colliders, for the four shapes ODE has:
+// The drop on the floor (a dcol half-space; ODE's: a box) with dcol and with ODE's own colliders, for the four shapes ODE has:
 // the same rest heights (within 1 mm), and the time per step of each.
 int compare() {
   std::vector<double> ours, theirs;
   double t_ours = 0, t_theirs = 0;
-  drop("box", nullptr, true, &ours, &t_ours);
+  drop("halfspace", nullptr, true, &ours, &t_ours);
   drop("native", nullptr, true, &theirs, &t_theirs);
   check(ours.size() == theirs.size(), "same bodies");
   for (std::size_t i = 0; i < ours.size() && i < theirs.size(); ++i) {
     std::printf("  rest height dcol %.6f, native %.6f, difference %+.2e m\n", ours[i], theirs[i], ours[i] - theirs[i]);
     check(std::fabs(ours[i] - theirs[i]) <= kTol, "dcol and native rest heights within 1 mm");
   }
-  std::printf("time per step (4 bodies on a box): dcol %.1f us, native %.1f us (ratio %.1f)\n", t_ours * 1e6,
+  std::printf("time per step (4 bodies on the floor): dcol %.1f us, native %.1f us (ratio %.1f)\n", t_ours * 1e6,
               t_theirs * 1e6, t_ours / t_theirs);
   return 0;
 }
@@ -368,10 +375,9 @@ int compare() {
 // half length; capsule: its radius), within 1 mm. Exercises corner, edge and rim contacts.
 int tumble() {
   World w;
-  dcol_shape *ground = nullptr;
-  dcol_shape_new_box(20, 20, 0.5, &ground);
-  dGeomID g = dcol_ode::create_geom(w.space, ground, std::sqrt(800.25));
-  dGeomSetPosition(g, 0, 0, -0.5);
+  dcol_shape *ground = make_floor();
+  dGeomID g = dcol_ode::create_geom(w.space, ground, dInfinity);
+  dGeomSetPosition(g, 0, 0, -kFloorDepth);
   dcol_shape *box = nullptr, *cyl = nullptr, *cap = nullptr;
   dcol_shape_new_box(0.2, 0.15, 0.1, &box);
   dcol_shape_new_cylinder(0.15, 0.4, &cyl);
@@ -431,7 +437,7 @@ int tumble() {
 
 int main(int argc, char **argv) {
   if (argc < 2) {
-    std::printf("usage: %s normal | drop box|plane|native [--csv FILE] | stack dcol|native\n", argv[0]);
+    std::printf("usage: %s normal | drop halfspace|box|plane|native [--csv FILE] | stack dcol|native\n", argv[0]);
     return 2;
   }
   dInitODE2(0);

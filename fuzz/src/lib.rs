@@ -149,6 +149,7 @@ pub enum ShapeInput {
     Cylinder(f64, f64),
     Cone(f64, f64),
     Polygon(Vec<[f64; 2]>, Vec<f64>, f64),
+    Halfspace(f64),
 }
 
 fn facet_count(b: &mut Bytes) -> usize {
@@ -162,7 +163,12 @@ fn facet_count(b: &mut Bytes) -> usize {
 
 impl ShapeInput {
     pub fn decode(b: &mut Bytes) -> ShapeInput {
-        match b.u8() % 8 {
+        // The top eight byte values (1 in 32) ask for a half-space; the rest keep their kinds.
+        let k = b.u8();
+        if k >= 248 {
+            return ShapeInput::Halfspace(b.size());
+        }
+        match k % 8 {
             0 => ShapeInput::Sphere(b.size()),
             #[allow(clippy::needless_range_loop)]
             1 => {
@@ -253,6 +259,7 @@ impl ShapeInput {
             ShapeInput::Cylinder(r, l) => Shape::cylinder(*r, *l),
             ShapeInput::Cone(h, beta) => Shape::cone(*h, *beta),
             ShapeInput::Polygon(c, d, r) => Shape::polygon(c, d, *r),
+            ShapeInput::Halfspace(d) => Shape::halfspace(*d),
         }
     }
 
@@ -287,6 +294,7 @@ impl ShapeInput {
                     let flat: Vec<f64> = c.iter().flatten().copied().collect();
                     ffi::dcol_shape_new_polygon(flat.as_ptr(), d.as_ptr(), c.len(), *r, &mut out)
                 }
+                ShapeInput::Halfspace(d) => ffi::dcol_shape_new_halfspace(*d, &mut out),
             }
         };
         assert_eq!(
@@ -308,7 +316,7 @@ impl ShapeInput {
         let comfy = |v: f64| (1e-100..=1e100).contains(&v);
         let ratio = |a: f64, b: f64| a.max(b) / a.min(b) <= 1e6;
         match self {
-            ShapeInput::Sphere(r) => comfy(*r),
+            ShapeInput::Sphere(r) | ShapeInput::Halfspace(r) => comfy(*r),
             ShapeInput::Capsule(r, l) | ShapeInput::Cylinder(r, l) => {
                 comfy(*r) && comfy(*l) && ratio(*r, *l)
             }
@@ -329,7 +337,7 @@ impl ShapeInput {
         let bad = |v: &f64| !v.is_finite();
         let nonpos = |v: &f64| v.is_nan() || *v <= 0.0;
         match self {
-            ShapeInput::Sphere(r) => nonpos(r) || bad(r),
+            ShapeInput::Sphere(r) | ShapeInput::Halfspace(r) => nonpos(r) || bad(r),
             ShapeInput::Ellipsoid(p) => p.iter().flatten().any(bad),
             ShapeInput::Polytope(a, b) => {
                 a.is_empty()
@@ -382,8 +390,10 @@ fn check_constructor(input: &ShapeInput) -> Option<Shape> {
             let (rho, iota) = (s.bounding_radius(), s.inscribed_radius());
             // Found by this target (tests/fuzz_regressions.rs, `degenerate_radii_*`, fixed):
             // accepted shapes whose radii under- or overflow gave non-finite query results.
+            // A half-space's bounding radius is +∞ by definition.
+            let unbounded = s.kind() == dcol::ShapeKind::Halfspace && rho == f64::INFINITY;
             assert!(
-                rho.is_finite() && iota.is_normal() && iota > 0.0,
+                (rho.is_finite() || unbounded) && iota.is_normal() && iota > 0.0,
                 "[ctor-radii] {input:?}: radii {rho:e}, {iota:e}"
             );
             assert!(
@@ -587,8 +597,12 @@ pub fn queries(data: &[u8]) {
     // the error variants and the C/Rust agreement are checked there.
     let size_ok = |s: &Shape| {
         (1e-100..=1e100).contains(&s.inscribed_radius())
-            && (1e-100..=1e100).contains(&s.bounding_radius())
+            && (s.kind() == dcol::ShapeKind::Halfspace
+                || (1e-100..=1e100).contains(&s.bounding_radius()))
     };
+    // Two half-spaces: every query is an InvalidShape error (once the options are valid).
+    let two_halfspaces =
+        s1.kind() == dcol::ShapeKind::Halfspace && s2.kind() == dcol::ShapeKind::Halfspace;
     let pos_ok = |p: &Pose| p.position().iter().all(|v| v.abs() <= 1e100);
     let regime = size_ok(&s1) && size_ok(&s2) && pos_ok(&p1) && pos_ok(&p2);
     let alpha_bound = dist / (s1.inscribed_radius() + s2.inscribed_radius());
@@ -607,6 +621,11 @@ pub fn queries(data: &[u8]) {
             assert!(
                 matches!(e, Error::InvalidOptions(_)),
                 "[options-variant {query}] {what}: expected InvalidOptions, got {e:?}"
+            );
+        } else if two_halfspaces {
+            assert!(
+                matches!(e, Error::InvalidShape(_)),
+                "[two-halfspaces {query}] {what}: expected InvalidShape, got {e:?}"
             );
         } else {
             // Derivative queries may refuse a tiny quaternion (the derivatives scale like
@@ -646,6 +665,12 @@ pub fn queries(data: &[u8]) {
             None
         }
     };
+    if two_halfspaces && options_valid {
+        assert!(
+            prox.is_none(),
+            "[two-halfspaces] {what}: proximity answered"
+        );
+    }
     match gradient(&s1, &p1, &s2, &p2, &options) {
         Ok((p, g)) => {
             check(&p);
@@ -738,6 +763,7 @@ pub fn queries(data: &[u8]) {
         Some(p) if p.status.is_converged() => ffi::dcol_status::DCOL_OK,
         Some(_) => ffi::dcol_status::DCOL_ERROR_NOT_CONVERGED,
         None if !options_valid => ffi::dcol_status::DCOL_ERROR_INVALID_OPTIONS,
+        None if two_halfspaces => ffi::dcol_status::DCOL_ERROR_INVALID_SHAPE,
         None => ffi::dcol_status::DCOL_ERROR_INVALID_POSE,
     };
     assert_eq!(
@@ -788,6 +814,7 @@ fn ffi_shape(input: &ShapeInput) -> Option<*mut ffi::dcol_shape> {
                 let flat: Vec<f64> = c.iter().flatten().copied().collect();
                 ffi::dcol_shape_new_polygon(flat.as_ptr(), d.as_ptr(), c.len(), *r, &mut out)
             }
+            ShapeInput::Halfspace(d) => ffi::dcol_shape_new_halfspace(*d, &mut out),
         }
     };
     (st == ffi::dcol_status::DCOL_OK).then_some(out)

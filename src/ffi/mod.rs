@@ -79,7 +79,7 @@ pub use scene::{
 };
 pub use shape::{
     dcol_shape, dcol_shape_free, dcol_shape_new_box, dcol_shape_new_capsule, dcol_shape_new_cone,
-    dcol_shape_new_cylinder, dcol_shape_new_ellipsoid, dcol_shape_new_polygon,
-    dcol_shape_new_polytope, dcol_shape_new_sphere,
+    dcol_shape_new_cylinder, dcol_shape_new_ellipsoid, dcol_shape_new_halfspace,
+    dcol_shape_new_polygon, dcol_shape_new_polytope, dcol_shape_new_sphere,
 };
 pub use status::dcol_status;

@@ -12,7 +12,8 @@ use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
 /// The proximity of two posed shapes: the smallest uniform scaling alpha of both shapes (each
 /// about its own origin) at which they touch. alpha > 1: separated, alpha < 1:
-/// interpenetrating, alpha = 1: touching; alpha = 0 only when the two origins coincide.
+/// interpenetrating, alpha = 1: touching; alpha = 0 only when the two origins coincide, or when
+/// one shape is a half-space and the other's origin lies in it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct dcol_proximity_result {
@@ -57,7 +58,8 @@ pub const DCOL_SOLVER_INTERIOR_POINT: u32 = 0;
 pub const DCOL_SOLVER_RAY_CAST: u32 = 1;
 /// dcol_proximity_result.solver: the ray cast and a Newton polish on the contact features.
 pub const DCOL_SOLVER_POLISH: u32 = 2;
-/// dcol_proximity_result.solver: a closed form for the pair.
+/// dcol_proximity_result.solver: a closed form for the pair (spheres, capsules, a sphere and a
+/// box, and every pair with a half-space).
 pub const DCOL_SOLVER_CLOSED_FORM: u32 = 3;
 
 fn arr(v: &Vec3) -> [f64; 3] {

@@ -272,6 +272,26 @@ pub unsafe extern "C" fn dcol_shape_new_polygon(
     unsafe { construct("dcol_shape_new_polygon", out, build) }
 }
 
+/// A half-space { u : u_z <= depth } (body frame), depth > 0 and finite: outward normal +e_z
+/// (body), boundary plane `depth` above the body origin. A floor whose top surface is z = 0 is
+/// this shape at position (0, 0, -depth) with the identity attitude. Scaled by alpha about its
+/// origin it is { u_z <= alpha*depth }, so alpha* against a half-space depends on depth
+/// (distances and contacts do not). Every query between a half-space and another shape is a
+/// closed form; a query between two half-spaces fails with DCOL_ERROR_INVALID_SHAPE. On error
+/// *out is set to NULL.
+///
+/// # Safety
+/// `out` must be NULL or valid for writing one pointer.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_shape_new_halfspace(
+    depth: f64,
+    out: *mut *mut dcol_shape,
+) -> dcol_status {
+    let build = || Shape::halfspace(depth).map_err(Failure::api);
+    // SAFETY: `out` is forwarded from this function's contract.
+    unsafe { construct("dcol_shape_new_halfspace", out, build) }
+}
+
 /// Releases a shape made by a dcol_shape_new_* function. NULL is a no-op. The shape must not
 /// be in use by another thread, and must not be used or freed again afterwards.
 ///

@@ -10,8 +10,12 @@
 //! point is lifted along `n` onto both features, so that its two surface points differ by a
 //! multiple of `n`. Points separated by more than the margin are dropped and the rest reduced
 //! to the requested number (the deepest first, then the ones spanning the largest area).
+//!
+//! Against a half-space, the other shape's feature facing the plane is not clipped: each of its
+//! points within the margin is a contact (a box resting on a floor gives its four corners).
 
 use super::context::{Options, SignedDistance};
+use super::halfspace::HalfspacePair;
 use super::signed::signed_distance;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
@@ -125,9 +129,19 @@ pub fn contact_manifold(
     if sd.distance > margin || cap == 0 {
         return Ok(out);
     }
-    let ell = shape1.bounding_radius().max(shape2.bounding_radius());
     let mut pts = Points::new();
-    build(shape1, pose1, shape2, pose2, &sd, margin, ell, &mut pts);
+    let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
+        Some(pair) => {
+            let ell = pair.ell();
+            on_halfspace(&pair, &sd, margin, ell, &mut pts);
+            ell
+        }
+        None => {
+            let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+            build(shape1, pose1, shape2, pose2, &sd, margin, ell, &mut pts);
+            ell
+        }
+    };
     // The deepest point is the signed distance's witness pair: when the clipped features miss
     // it (a capsule or padded polygon tilted against a face, whose surface line is not where
     // it is deepest), it is added, so that the manifold's largest depth is always −sd.
@@ -419,6 +433,29 @@ fn build(
         let depth = (a - b).dot(&n);
         if -depth <= margin + SEP_TOL * ell {
             pts.push(0.5 * (a + b), depth);
+        }
+    }
+}
+
+/// A shape against a half-space: the other shape's feature facing the plane (a face, a
+/// segment or a point), each of its points within the margin of the plane with its depth below
+/// the plane; no clipping (the plane has no boundary).
+fn on_halfspace(
+    pair: &HalfspacePair<'_>,
+    sd: &SignedDistance,
+    margin: Real,
+    ell: Real,
+    pts: &mut Points,
+) {
+    let n = pair.normal;
+    let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
+    let f = feature(pair.other, pair.pose_b, &(-n), window);
+    let plane = n.dot(pair.pose_h.position()) + pair.depth;
+    for q in &f.pts[..f.k] {
+        let depth = plane - n.dot(q);
+        if -depth <= margin + SEP_TOL * ell {
+            // Midway between the point and its projection onto the plane.
+            pts.push(q + n * (0.5 * depth), depth);
         }
     }
 }

@@ -13,7 +13,8 @@ pub type Options = Settings;
 /// The result of a proximity query.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Proximity {
-    /// α*: > 1 separated, < 1 interpenetrating, 0 only when the origins coincide.
+    /// α*: > 1 separated, < 1 interpenetrating, 0 only when the origins coincide (or, against
+    /// a half-space, when the other shape's origin lies in it).
     pub alpha: Real,
     /// x*, an optimal intersection point of the scaled shapes (world).
     pub point: Vec3,
@@ -62,7 +63,8 @@ pub enum DistancePath {
     Gjk,
     /// GJK identified the features and the Newton polish on them closed the bracket.
     GjkPolish,
-    /// The closest points of two segments (sphere and capsule pairs), certified as GJK's.
+    /// The closest points of two segments (sphere and capsule pairs), certified as GJK's; and
+    /// every query with a half-space (one support call of the other shape, exact).
     ClosedForm,
     /// Signed distance of an overlapping pair: EPA's polytope closed the bracket on its own.
     Epa,

@@ -209,6 +209,9 @@ fn distance_query_until(
     cutoff: Option<Real>,
 ) -> Result<(Distance, [Real; 14], bool), Error> {
     options.validate()?;
+    if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
+        return pair.distance([shape1, shape2], gradient, cutoff);
+    }
     let r1 = *pose1.position();
     let offset = pose2.position() - r1;
     if !robust_norm(&offset).is_finite() {

@@ -50,7 +50,8 @@ pub(crate) fn check_threshold(threshold: Real) -> Result<(), Error> {
     Ok(())
 }
 
-/// The closed-form bracket `[‖Δr‖/(ρ₁ + ρ₂), ‖Δr‖/(ι₁ + ι₂)]` on α*.
+/// The closed-form bracket `[‖Δr‖/(ρ₁ + ρ₂), ‖Δr‖/(ι₁ + ι₂)]` on α*. With a half-space
+/// (`ρ = ∞`, `ι = depth`) the lower bound is 0.
 pub fn alpha_bounds(shape1: &Shape, pose1: &Pose, shape2: &Shape, pose2: &Pose) -> (Real, Real) {
     let d = robust_norm(&(pose2.position() - pose1.position()));
     (
@@ -81,6 +82,7 @@ pub fn alpha_below(
 ) -> Result<Decision, Error> {
     check_threshold(threshold)?;
     options.validate()?;
+    super::halfspace::check(shape1, shape2)?;
     let (lo, hi) = alpha_bounds(shape1, pose1, shape2, pose2);
     if hi < threshold || lo > threshold {
         return Ok(Decision {

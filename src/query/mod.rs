@@ -10,6 +10,7 @@ mod differentiate;
 mod distance;
 mod early_exit;
 mod geometric;
+mod halfspace;
 mod proximity;
 mod separated;
 mod signed;
@@ -21,6 +22,7 @@ pub use differentiate::{derivatives, gradient, gradient_mrp, jacobian, jacobian_
 pub use distance::{distance, distance_gradient, distance_within};
 pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
+pub(crate) use halfspace::check as check_halfspace_pair;
 pub use proximity::proximity;
 pub(crate) use proximity::query_until;
 pub use signed::{signed_distance, signed_distance_gradient};

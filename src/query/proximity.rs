@@ -6,7 +6,9 @@
 //! `κ = (ρ₁ + ρ₂)/ℓ`. Because α* and `x* − r₁` are homogeneous of degree one in `r₂ − r₁`, the
 //! answer is rescaled exactly, so α* keeps its full relative precision even when the origins
 //! nearly coincide, and the normalised α' is ≥ 1 with a feasible start known in closed form
-//! from the inscribed radii.
+//! from the inscribed radii. A half-space (unbounded) stands in with its depth for `ρ` (α' may
+//! then be below 1); it reaches this program only under `Method::InteriorPoint` or smoothing
+//! (otherwise its pairs are closed forms, `super::halfspace`).
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::context::{Context, Frame, Full, Options, Proximity, Want};
@@ -153,6 +155,14 @@ pub(crate) fn query_until(
     threshold: Option<(Real, bool)>,
 ) -> Result<Full, Error> {
     options.validate()?;
+    // A half-space against anything: closed forms (two half-spaces: an error), or the cone
+    // program when the options ask for the interior-point method or smoothing.
+    let halfspace = super::halfspace::split(shape1, pose1, shape2, pose2)?;
+    if let Some(pair) = &halfspace {
+        if !pair.by_interior_point(options, threshold) {
+            return pair.proximity(want);
+        }
+    }
     let r1 = *pose1.position();
     let r2 = *pose2.position();
     let offset = r2 - r1;
@@ -192,7 +202,7 @@ pub(crate) fn query_until(
     // A smoothed answer is the interior-point method's; decisions against a threshold ignore
     // the smoothing.
     let smoothed = options.smoothing > 0.0 && threshold.is_none();
-    if options.method == Method::Auto && !smoothed {
+    if options.method == Method::Auto && !smoothed && halfspace.is_none() {
         match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
             geometric::Outcome::Answer(mut prox, dalpha_dd) => {
                 let g = if want >= Want::Gradient {
@@ -336,7 +346,9 @@ fn query_ipm_until(
     let r2 = *pose2.position();
     let offset = r2 - r1;
     let dist = robust_norm(&offset);
-    let (rho1, rho2) = (shape1.bounding_radius(), shape2.bounding_radius());
+    // A half-space's frame radius is its depth (its bounding radius is infinite).
+    let frame_radius = |s: &Shape| s.halfspace_depth().unwrap_or(s.bounding_radius());
+    let (rho1, rho2) = (frame_radius(shape1), frame_radius(shape2));
     let ell = rho1.max(rho2);
     let inv = 1.0 / ell;
     let kappa = (rho1 + rho2) * inv;

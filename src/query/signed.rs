@@ -57,6 +57,9 @@ pub fn signed_distance(
     options: &Options,
 ) -> Result<SignedDistance, Error> {
     options.validate()?;
+    if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
+        return pair.signed_distance();
+    }
     let r1 = *pose1.position();
     let r2 = *pose2.position();
     let offset = r2 - r1;

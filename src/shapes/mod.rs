@@ -1,4 +1,5 @@
-//! The seven convex primitives (plus the box, a polytope), one file each.
+//! The eight convex primitives (plus the box, a polytope), one file each: seven bounded ones and
+//! the half-space, whose queries are closed forms (`crate::query::halfspace`).
 //!
 //! Every shape is built once by a validating constructor that precomputes what queries need
 //! (Cholesky factors, tan β, bounding and inscribed radii) and is immutable afterwards, so it
@@ -11,6 +12,7 @@ mod capsule;
 mod cone;
 mod cylinder;
 mod ellipsoid;
+mod halfspace;
 mod polygon;
 mod polytope;
 mod sphere;
@@ -20,6 +22,7 @@ pub use capsule::Capsule;
 pub use cone::Cone;
 pub use cylinder::Cylinder;
 pub use ellipsoid::Ellipsoid;
+pub use halfspace::Halfspace;
 pub use polygon::Polygon;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
@@ -88,6 +91,9 @@ pub enum ShapeKind {
     Cone,
     /// Points within `R` of the plane polygon `C y ≤ d` in the body x-y plane.
     Polygon,
+    /// The half-space `u_z ≤ depth` (outward normal `+e_z`, boundary plane `depth` above the
+    /// origin): unbounded, answered in closed form against every other kind.
+    Halfspace,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -99,6 +105,7 @@ enum Geometry {
     Cylinder(Cylinder),
     Cone(Cone),
     Polygon(Polygon),
+    Halfspace(Halfspace),
 }
 
 /// A validated convex primitive, ready for queries. Immutable and `Send + Sync`.
@@ -217,6 +224,47 @@ impl Shape {
         Shape::wrap(Geometry::Polygon(p), rho, iota)
     }
 
+    /// The half-space `{ u : u_z ≤ depth }` in body coordinates, `depth > 0` finite: outward
+    /// normal `+e_z` (body), boundary plane `depth` above the body origin (which is strictly
+    /// inside, as for every shape). A floor whose top surface is `z = 0` is
+    /// `Shape::halfspace(d)` at position `(0, 0, −d)` with the identity attitude, for any `d`.
+    ///
+    /// Scaled by `α` about its origin it is `{ u_z ≤ α·depth }`, so α* against a half-space
+    /// depends on `depth` (the distance, signed distance and contacts do not). Its
+    /// [`Shape::bounding_radius`] is `+∞` and its [`Shape::inscribed_radius`] is `depth`. A
+    /// query between two half-spaces is an [`Error::InvalidShape`].
+    ///
+    /// ```
+    /// use dcol::{proximity, signed_distance, Options, Pose, Shape, ShapeKind};
+    /// let floor = Shape::halfspace(1.0).unwrap();
+    /// assert_eq!(floor.kind(), ShapeKind::Halfspace);
+    /// let under = Pose::from_position([0.0, 0.0, -1.0]).unwrap(); // top surface at z = 0
+    /// let ball = Shape::sphere(0.5).unwrap();
+    /// let above = Pose::from_position([0.0, 0.0, 1.5]).unwrap();
+    /// let sd = signed_distance(&floor, &under, &ball, &above, &Options::default()).unwrap();
+    /// assert!((sd.distance - 1.0).abs() < 1e-15);
+    /// // α* = n·(r_B − r_H)/(depth + h_B(−n)) = 2.5/(1 + 0.5)
+    /// let p = proximity(&floor, &under, &ball, &above, &Options::default()).unwrap();
+    /// assert!((p.alpha - 2.5 / 1.5).abs() < 1e-15);
+    /// assert!(Shape::halfspace(0.0).is_err());
+    /// ```
+    pub fn halfspace(depth: Real) -> Result<Shape, Error> {
+        let h = Halfspace::new(depth)?;
+        Ok(Shape {
+            geometry: Geometry::Halfspace(h),
+            bounding_radius: Real::INFINITY,
+            inscribed_radius: depth,
+        })
+    }
+
+    /// The half-space's `depth` when this is one.
+    pub(crate) fn halfspace_depth(&self) -> Option<Real> {
+        match &self.geometry {
+            Geometry::Halfspace(h) => Some(h.depth()),
+            _ => None,
+        }
+    }
+
     /// `(half-length, radius)` when the shape is a segment along body x padded by a radius: a
     /// capsule, or a sphere (length zero). The closed forms take those pairs.
     pub(crate) fn rounded_segment(&self) -> Option<(Real, Real)> {
@@ -264,16 +312,19 @@ impl Shape {
             Geometry::Cylinder(_) => ShapeKind::Cylinder,
             Geometry::Cone(_) => ShapeKind::Cone,
             Geometry::Polygon(_) => ShapeKind::Polygon,
+            Geometry::Halfspace(_) => ShapeKind::Halfspace,
         }
     }
 
-    /// Radius of the smallest origin-centred ball containing the shape (unscaled).
+    /// Radius of the smallest origin-centred ball containing the shape (unscaled); `+∞` for a
+    /// half-space, which no ball contains (queries with one take their length scale from the
+    /// other shape).
     pub fn bounding_radius(&self) -> Real {
         self.bounding_radius
     }
 
     /// Radius of an origin-centred ball contained in the shape (the largest one, except for
-    /// the padded polygon, where it is the padding radius `R`).
+    /// the padded polygon, where it is the padding radius `R`; for a half-space, `depth`).
     pub fn inscribed_radius(&self) -> Real {
         self.inscribed_radius
     }
@@ -289,6 +340,7 @@ macro_rules! dispatch {
             Geometry::Cylinder($s) => $e,
             Geometry::Cone($s) => $e,
             Geometry::Polygon($s) => $e,
+            Geometry::Halfspace($s) => $e,
         }
     };
 }

@@ -55,6 +55,7 @@ impl Polygon {
             }
         }
         let mut rho2: Real = 0.0;
+        let min_off = off.iter().cloned().fold(Real::INFINITY, Real::min);
         let mut vertices: Vec<Vec3> = Vec::new();
         for i in 0..m {
             for j in (i + 1)..m {
@@ -72,7 +73,7 @@ impl Polygon {
                     .all(|(nl, ol)| nl[0] * v[0] + nl[1] * v[1] <= ol + 1e-9 * ol.max(vn))
                 {
                     rho2 = rho2.max(vn * vn);
-                    super::polytope::add_vertex(&mut vertices, Vec3::new(v[0], v[1], 0.0));
+                    super::polytope::add_vertex(&mut vertices, Vec3::new(v[0], v[1], 0.0), min_off);
                 }
             }
         }

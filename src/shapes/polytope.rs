@@ -74,6 +74,7 @@ impl Polytope {
                 }
             }
         }
+        let min_off = off.iter().cloned().fold(Real::INFINITY, Real::min);
         // Vertices: intersections of three planes that satisfy all constraints.
         let mut rho: Real = 0.0;
         let mut vertices: Vec<Vec3> = Vec::new();
@@ -99,7 +100,7 @@ impl Polytope {
                         .all(|(nl, ol)| nl.dot(&v) <= ol + 1e-9 * ol.max(vn));
                     if feasible {
                         rho = rho.max(vn);
-                        add_vertex(&mut vertices, v);
+                        add_vertex(&mut vertices, v, min_off);
                     }
                 }
             }
@@ -183,9 +184,11 @@ fn centred_box(normals: &[Vec3], offsets: &[Real]) -> Option<Vec3> {
 }
 
 /// Adds `v` unless a vertex within rounding of it is already there (several facets through one
-/// vertex give it once per triple of facets).
-pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3) {
-    let tol = 1e-9 * v.norm().max(Real::MIN_POSITIVE);
+/// vertex give it once per triple of facets). `scale` is the smallest facet offset: two
+/// vertices closer than 1e-9 of it are one, however far from the origin (relative to `‖v‖`
+/// alone, the two faces of a box 1e10 times wider than thick merged into one).
+pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3, scale: Real) {
+    let tol = 1e-9 * v.norm().min(scale).max(Real::MIN_POSITIVE);
     if !vertices.iter().any(|w| (w - v).norm() <= tol) {
         vertices.push(v);
     }

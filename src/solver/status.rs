@@ -31,7 +31,8 @@ pub enum Solver {
     /// The ray cast identified the contact features and the Newton polish on them closed the
     /// bracket.
     Polish,
-    /// A closed form for the pair (spheres, capsules, a sphere and a box).
+    /// A closed form for the pair (spheres, capsules, a sphere and a box, a half-space and any
+    /// other shape).
     ClosedForm,
 }
 

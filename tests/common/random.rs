@@ -51,6 +51,11 @@ impl Rng {
     }
 }
 
+/// The bounded kinds. The half-space is left out on purpose: the property tests built on this
+/// list compare against bounding-sphere brackets (`‖Δr‖/(ρ₁ + ρ₂) ≤ α*`), swap and rigid-motion
+/// symmetries through the general solvers, and pairs of the same kind, none of which apply to
+/// an unbounded shape (two half-spaces are an error); `tests/halfspace.rs` covers it against
+/// every kind here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
     Sphere,
