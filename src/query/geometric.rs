@@ -333,7 +333,8 @@ fn solve(
         .iter()
         .all(|s| s.kind() == ShapeKind::Polytope);
     let cast_tol = if polyhedral { tol } else { tol.max(HANDOVER) };
-    if direct_first(pair) {
+    let newton_first = direct_first(pair);
+    if newton_first {
         // A threshold first gets the cast's early decision (a few support calls); undecided,
         // the query goes on exactly as one without a threshold, so that both give the same
         // answer.
@@ -360,7 +361,8 @@ fn solve(
         iota,
         cast_tol,
         CAST_BUDGET,
-        stop.filter(|_| polyhedral),
+        // The threshold's early decision, unless the cast with it ran already above.
+        stop.filter(|_| !newton_first),
     );
     if let CastEnd::Decided(below) = c.end {
         return Err((below, if below { c.alpha_hi } else { c.alpha_lo }));

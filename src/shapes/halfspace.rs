@@ -52,8 +52,11 @@ const NORMAL: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 impl SupportMap for Halfspace {
     /// `(0, 0, depth)` for `m` along `+e_z`; in every other direction the support function is
     /// `+∞`, and the point returned has infinite coordinates along `m`'s components (the
-    /// queries never ask: they answer half-space pairs in closed form).
-    #[inline]
+    /// queries never ask: they answer half-space pairs in closed form). Kept out of line, so
+    /// that the shapes' support dispatch stays small enough to inline in the solvers' loops
+    /// (inlined, it made box–box proximity 40 % slower).
+    #[cold]
+    #[inline(never)]
     fn support(&self, m: &Vec3) -> (Vec3, u32) {
         let inf = |v: Real| {
             if v > 0.0 {

@@ -361,7 +361,9 @@ impl ConicShape for Shape {
 }
 
 impl SupportMap for Shape {
-    #[inline]
+    // Always inlined into the solvers' loops: left to the inliner it stopped inlining this
+    // dispatch when the eighth kind came, and box–box proximity took 40 % longer.
+    #[inline(always)]
     fn support(&self, m: &Vec3) -> (Vec3, u32) {
         dispatch!(self, s => s.support(m))
     }
