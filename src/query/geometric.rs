@@ -16,7 +16,7 @@ use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
-use crate::solver::polish::polish;
+use crate::solver::polish::{polish, Polished};
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
 use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
@@ -261,6 +261,28 @@ pub(crate) fn jacobian(
 /// threshold first.
 type Solved = Result<Option<Answer>, (bool, Real)>;
 
+/// `Err((below, bound))` when the cast's bracket decided the threshold: the bracket's end on
+/// that side.
+fn decided(c: &Cast) -> Result<(), (bool, Real)> {
+    match c.end {
+        CastEnd::Decided(below) => Err((below, if below { c.alpha_hi } else { c.alpha_lo })),
+        _ => Ok(()),
+    }
+}
+
+impl Answer {
+    /// A Newton answer (the direct solve, the tie solve or the polish), certified.
+    fn polished(p: Polished) -> Self {
+        Answer {
+            alpha: p.alpha_lo,
+            normal: p.normal,
+            a: p.a,
+            b: p.b,
+            solver: Solver::Polish,
+        }
+    }
+}
+
 /// Whether Newton's method on the support function goes first: with a sphere or an ellipsoid
 /// (strictly convex, so the optimum is mostly on a smooth patch of K), with a capsule (its
 /// side is a single tie), or between cylinders and cones. A cylinder or cone against a polytope
@@ -339,20 +361,11 @@ fn solve(
         // the query goes on exactly as one without a threshold, so that both give the same
         // answer.
         if let Some(stop) = stop {
-            let c = cast(pair, ray, iota, cast_tol, CAST_BUDGET, Some(stop));
-            if let CastEnd::Decided(below) = c.end {
-                return Err((below, if below { c.alpha_hi } else { c.alpha_lo }));
-            }
+            decided(&cast(pair, ray, iota, cast_tol, CAST_BUDGET, Some(stop)))?;
         }
         // Newton's method on the support function alone, where it certifies.
         if let Some(p) = direct(pair, ray, iota, tol) {
-            return Ok(Some(Answer {
-                alpha: p.alpha_lo,
-                normal: p.normal,
-                a: p.a,
-                b: p.b,
-                solver: Solver::Polish,
-            }));
+            return Ok(Some(Answer::polished(p)));
         }
     }
     let c = cast(
@@ -364,9 +377,7 @@ fn solve(
         // The threshold's early decision, unless the cast with it ran already above.
         stop.filter(|_| !newton_first),
     );
-    if let CastEnd::Decided(below) = c.end {
-        return Err((below, if below { c.alpha_hi } else { c.alpha_lo }));
-    }
+    decided(&c)?;
     let from_cast = |c: &Cast| {
         let (a, b) = c.points();
         Answer {
@@ -392,13 +403,7 @@ fn solve(
     if let Some(p) =
         after_cast(pair, ray, &c, iota, tol).or_else(|| polish(pair, ray, &c, iota, tol))
     {
-        return Ok(Some(Answer {
-            alpha: p.alpha_lo,
-            normal: p.normal,
-            a: p.a,
-            b: p.b,
-            solver: Solver::Polish,
-        }));
+        return Ok(Some(Answer::polished(p)));
     }
     if c.end == CastEnd::Flat {
         // A flat face of K the polish cannot describe (a disc against a facet, say).
