@@ -61,7 +61,9 @@ pub enum DistancePath {
     InteriorPoint,
     /// GJK on the support maps closed its certified bracket on its own.
     Gjk,
-    /// GJK identified the features and the Newton polish on them closed the bracket.
+    /// Newton's method on the contact pieces closed the bracket: after GJK identified them, or
+    /// from the offset's direction on its own (an ellipsoid, or a cone with a sphere, cone or
+    /// cylinder).
     GjkPolish,
     /// The closest points of two segments (sphere and capsule pairs), certified as GJK's; and
     /// every query with a half-space (one support call of the other shape, exact).

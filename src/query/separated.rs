@@ -63,7 +63,14 @@ pub(crate) fn separated(
         };
         Some((far, [0.0; 14], true))
     };
-    let s = if let Some(s) = closed_form(&pair, &d, tol) {
+    // Newton's method on the sphere of normals first where the witnesses are mostly on smooth
+    // pieces (not against a cutoff, which GJK decides early).
+    let newton = || {
+        (cutoff.is_none() && newton_first([shape1.kind(), shape2.kind()]))
+            .then(|| gjk::direct::distance(&pair, &d, tol))
+            .flatten()
+    };
+    let s = if let Some(s) = closed_form(&pair, &d, tol).or_else(newton) {
         s
     } else {
         // Spheres and capsules by their cores first; where those do not certify a positive
@@ -259,4 +266,17 @@ fn cored(
         GjkEnd::Beyond => Some(GjkEnd::Beyond),
         _ => None,
     }
+}
+
+/// Whether the distance tries Newton's method on the sphere of normals before GJK: an
+/// ellipsoid against anything but a polytope, or a cone against a sphere, cone or cylinder.
+/// Elsewhere the witnesses lie mostly on edges, faces or a capsule's side, where GJK (on the
+/// cores for spheres and capsules) is faster (measured on benches/proximity's separated poses:
+/// ellipsoid–ellipsoid 1.53 → 0.75 µs, cone–cone 1.82 → 0.86 µs, but box–cylinder 1.72 → 2.01
+/// and ellipsoid–polytope 1.77 → 1.92 µs with Newton first).
+fn newton_first(kinds: [ShapeKind; 2]) -> bool {
+    use ShapeKind::*;
+    let has = |k: ShapeKind| kinds.contains(&k);
+    (has(Ellipsoid) && !has(Polytope))
+        || (has(Cone) && kinds.iter().all(|k| matches!(k, Sphere | Cone | Cylinder)))
 }

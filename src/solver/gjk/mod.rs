@@ -20,6 +20,7 @@
 //! along with a simplex triangle's own normal and any flat face nearby, and the bracket is
 //! certified again.
 
+pub(crate) mod direct;
 mod epa;
 mod newton;
 mod simplex;
