@@ -437,7 +437,7 @@ fn tied<S: SupportMap>(
 }
 
 /// Solves a 3×3 system by Cramer's rule (`None` when singular to rounding).
-fn solve3(a: &[[Real; 3]; 3], b: &[Real; 3]) -> Option<[Real; 3]> {
+pub(crate) fn solve3(a: &[[Real; 3]; 3], b: &[Real; 3]) -> Option<[Real; 3]> {
     let col = |j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
     let (c0, c1, c2) = (col(0), col(1), col(2));
     let bv = Vec3::new(b[0], b[1], b[2]);

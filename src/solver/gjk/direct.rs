@@ -14,6 +14,8 @@
 use super::{certify_candidate, Route, Separation};
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
+use crate::solver::direct::solve3;
+use crate::solver::polish::{eval, Active};
 use crate::solver::raycast::Pair;
 
 /// Newton steps before handing over to GJK.
@@ -57,6 +59,8 @@ pub(crate) fn distance<S: SupportMap>(
     let mut v = pair.support(&n);
     let mut g = n.dot(d) - v.w.dot(&n);
     let mut changes = 0;
+    // Each shape's pieces seen (at most two: the first and the latest other one).
+    let mut seen = v.id.map(|id| [id, id]);
     for _ in 0..MAX_STEPS {
         let ids = v.id;
         let (t1, t2) = tangents(&n);
@@ -82,19 +86,25 @@ pub(crate) fn distance<S: SupportMap>(
         let (a, b, c) = (hess[0] + g, hess[1], hess[2] + g);
         let det = a * c - b * b;
         if !(a > 0.0 && c > 0.0 && det > 1e-12 * a * c) {
-            return None;
+            break;
         }
         let y1 = -(c * gy[0] - b * gy[1]) / det;
         let y2 = -(a * gy[1] - b * gy[0]) / det;
         let step = y1.hypot(y2);
         if !step.is_finite() {
-            return None;
+            break;
         }
         if step <= converged {
             let nt = (n + t1 * y1 + t2 * y2).normalize();
             let vt = pair.support(&nt);
             if vt.id != v.id {
-                return None;
+                // A kink right at the optimum: its pieces go to the tie solve.
+                for (shape, pieces) in seen.iter_mut().enumerate() {
+                    if vt.id[shape] != pieces[0] {
+                        pieces[1] = vt.id[shape];
+                    }
+                }
+                break;
             }
             let out = certify_candidate(pair, d, tol, &nt, vt.a, vt.b).map(|s| Separation {
                 route: Route::Polish,
@@ -107,7 +117,7 @@ pub(crate) fn distance<S: SupportMap>(
         // Line search: g must rise by a fraction of its first-order increase −gy·y.
         let rise = -(gy[0] * y1 + gy[1] * y2);
         if !(rise > 0.0) {
-            return None;
+            break;
         }
         let mut t = 1.0;
         let mut accepted = false;
@@ -125,19 +135,172 @@ pub(crate) fn distance<S: SupportMap>(
             t *= 0.5;
         }
         if !accepted {
-            return None;
+            break;
         }
         // The support moved to other pieces: a kink (an edge, a face, a capsule's side) lies
         // in the way or at the optimum, where these two-piece steps do not converge.
+        for (shape, pieces) in seen.iter_mut().enumerate() {
+            if v.id[shape] != pieces[0] {
+                pieces[1] = v.id[shape];
+            }
+        }
         if v.id != ids {
             changes += 1;
             if changes > MAX_CHANGES {
+                return tied(pair, d, tol, n, seen);
+            }
+        }
+    }
+    tied(pair, d, tol, n, seen)
+}
+
+/// The optimum on a kink: each shape whose support alternated between two pieces has them
+/// tied, `p_k(n) = p_f(n)`, as an equality constraint of `max g(n)` on the sphere. Newton on the
+/// Lagrangian `n·d − Σ_shapes [(1 − ν) p_f + ν p_k]` in the tangent coordinates (its Hessian
+/// with the sphere's curvature term) and the multipliers (solved for afresh each step); the
+/// witnesses are the pieces' points weighted `(1 − ν, ν)`, which must lie in [0, 1]. Certified
+/// as GJK's candidates are.
+fn tied<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    d: &Vec3,
+    tol: Real,
+    mut n: Vec3,
+    pieces: [[u32; 2]; 2],
+) -> Option<Separation> {
+    let ties: Vec2Ties = pieces.map(|p| (p[0] != p[1]).then_some(p));
+    let count = ties.iter().flatten().count();
+    if count == 0 {
+        return None;
+    }
+    let mut nu = [0.5; 2];
+    for _ in 0..MAX_STEPS {
+        let (t1, t2) = tangents(&n);
+        // The Lagrangian's value, gradient and Hessian (of Σ weighted pieces), and the ties'
+        // values and gradients.
+        let (mut value, mut grad, mut hess) = (0.0, Vec3::zeros(), crate::math::Mat3::zeros());
+        let mut objective = Vec3::zeros();
+        let (mut cval, mut cgrad) = ([0.0; 2], [Vec3::zeros(); 2]);
+        let mut m = 0;
+        for shape in 0..2 {
+            let f = eval(
+                pair,
+                Active {
+                    shape,
+                    id: pieces[shape][0],
+                },
+                &n,
+            )?;
+            match ties[shape] {
+                None => {
+                    value += f.value;
+                    grad += f.grad;
+                    hess += f.hess;
+                    objective += f.grad;
+                }
+                Some(p) => {
+                    let k = eval(pair, Active { shape, id: p[1] }, &n)?;
+                    let w = nu[shape];
+                    value += f.value * (1.0 - w) + k.value * w;
+                    grad += f.grad * (1.0 - w) + k.grad * w;
+                    hess += f.hess * (1.0 - w) + k.hess * w;
+                    objective += f.grad;
+                    cval[m] = k.value - f.value;
+                    cgrad[m] = k.grad - f.grad;
+                    m += 1;
+                }
+            }
+        }
+        // Minimise Φ = h(n) − n·d on the sphere: Riemannian Hessian P∇²L P − (n·∇L)·I.
+        let curv = value - n.dot(d);
+        let (h1, h2) = (hess * t1, hess * t2);
+        let (a11, a12, a22) = (t1.dot(&h1) - curv, t1.dot(&h2), t2.dot(&h2) - curv);
+        let go = objective - d;
+        let gy = [t1.dot(&go), t2.dot(&go)];
+        let cy = [
+            [t1.dot(&cgrad[0]), t2.dot(&cgrad[0])],
+            [t1.dot(&cgrad[1]), t2.dot(&cgrad[1])],
+        ];
+        let (dy, new_nu) = if count == 1 {
+            let x = solve3(
+                &[
+                    [a11, a12, cy[0][0]],
+                    [a12, a22, cy[0][1]],
+                    [cy[0][0], cy[0][1], 0.0],
+                ],
+                &[-gy[0], -gy[1], -cval[0]],
+            )?;
+            ([x[0], x[1]], [x[2], 0.0])
+        } else {
+            let det = cy[0][0] * cy[1][1] - cy[0][1] * cy[1][0];
+            let scale = (cy[0][0].abs() + cy[0][1].abs()) * (cy[1][0].abs() + cy[1][1].abs());
+            if !(det.abs() > 1e-12 * scale) {
                 return None;
             }
+            let dy = [
+                (-cval[0] * cy[1][1] + cval[1] * cy[0][1]) / det,
+                (-cval[1] * cy[0][0] + cval[0] * cy[1][0]) / det,
+            ];
+            let rhs = [
+                -(gy[0] + a11 * dy[0] + a12 * dy[1]),
+                -(gy[1] + a12 * dy[0] + a22 * dy[1]),
+            ];
+            let nu0 = (rhs[0] * cy[1][1] - rhs[1] * cy[1][0]) / det;
+            let nu1 = (cy[0][0] * rhs[1] - cy[0][1] * rhs[0]) / det;
+            (dy, [nu0, nu1])
+        };
+        let step = dy[0].hypot(dy[1]);
+        if !step.is_finite() {
+            return None;
+        }
+        let mut j = 0;
+        for shape in 0..2 {
+            if ties[shape].is_some() {
+                nu[shape] = new_nu[j];
+                j += 1;
+            }
+        }
+        n = (n + t1 * dy[0] + t2 * dy[1]).normalize();
+        if step <= CONVERGED_STEP {
+            if nu
+                .iter()
+                .zip(&ties)
+                .any(|(w, t)| t.is_some() && !(-1e-9..=1.0 + 1e-9).contains(w))
+            {
+                return None;
+            }
+            // The witnesses at the final normal, weighted by the multipliers.
+            let mut wit = [Vec3::zeros(); 2];
+            for shape in 0..2 {
+                let f = eval(
+                    pair,
+                    Active {
+                        shape,
+                        id: pieces[shape][0],
+                    },
+                    &n,
+                )?
+                .grad;
+                wit[shape] = match ties[shape] {
+                    None => f,
+                    Some(p) => {
+                        let k = eval(pair, Active { shape, id: p[1] }, &n)?.grad;
+                        let w = nu[shape].clamp(0.0, 1.0);
+                        f * (1.0 - w) + k * w
+                    }
+                };
+            }
+            // Shape 1's point is its gradient; shape 2's gradient is minus its point.
+            return certify_candidate(pair, d, tol, &n, wit[0], -wit[1]).map(|s| Separation {
+                route: Route::Polish,
+                ..s
+            });
         }
     }
     None
 }
+
+/// Per shape, the two pieces tied (`None`: one piece).
+type Vec2Ties = [Option<[u32; 2]>; 2];
 
 #[cfg(test)]
 mod tests {
@@ -167,6 +330,19 @@ mod tests {
         );
         assert!(((d + s.b - s.a).norm() - s.distance).abs() <= 1e-12);
         assert!(matches!(s.route, Route::Polish));
+    }
+
+    #[test]
+    fn tied_pieces_match_gjk() {
+        // A capsule's side against an ellipsoid (its two end balls tie), and a cylinder's
+        // side against a crossed capsule's side (both shapes tie).
+        let c = Shape::capsule(0.3, 2.0).unwrap();
+        let e = Shape::ellipsoid([[4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]).unwrap();
+        let id = [1.0, 0.0, 0.0, 0.0];
+        check(&c, id, &e, [0.95, 0.0, 0.3, 0.0], Vec3::new(0.1, 2.0, 0.2));
+        let y = Shape::cylinder(0.4, 2.0).unwrap();
+        let crossed = [0.5_f64.sqrt(), 0.0, 0.0, 0.5_f64.sqrt()];
+        check(&y, id, &c, crossed, Vec3::new(0.05, -0.03, 1.5));
     }
 
     #[test]
