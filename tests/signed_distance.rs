@@ -305,6 +305,48 @@ fn analytic_overlaps() {
     assert!((s.normal - Vec3::z()).norm() < 1e-8);
     let e = (s.closest2 - s.closest1 - s.normal * s.distance).norm();
     assert!(e < 1e-9, "witness identity {e:e}");
+    // A sphere whose centre is inside a rotated box, and inside a cylinder near its cap, both
+    // argument orders: depth R + the centre's distance to the nearest face, that face's normal.
+    let q = [0.9, 0.2, -0.3, 0.1];
+    let rot = *pose(Vec3::zeros(), q).rotation();
+    let ball = Shape::sphere(0.2).unwrap();
+    let cases = [
+        // (solid, centre in the solid's frame, depth of the centre, face normal in its frame)
+        (
+            Shape::cuboid(1.0, 0.5, 0.3).unwrap(),
+            Vec3::new(0.1, 0.05, -0.02),
+            0.28,
+            -Vec3::z(),
+        ),
+        (
+            Shape::cylinder(0.5, 2.0).unwrap(),
+            Vec3::new(0.8, 0.1, 0.0),
+            0.2,
+            Vec3::x(),
+        ),
+        (
+            Shape::cylinder(0.5, 2.0).unwrap(),
+            Vec3::new(0.1, 0.0, -0.35),
+            0.15,
+            -Vec3::z(),
+        ),
+    ];
+    for (solid, c, depth, face) in cases {
+        let ps = pose(Vec3::new(0.3, -0.1, 0.2), q);
+        let pc = pose(ps.position() + rot * c, [1.0, 0.0, 0.0, 0.0]);
+        for flip in [false, true] {
+            let s = if flip {
+                signed_distance(&ball, &pc, &solid, &ps, &o).unwrap()
+            } else {
+                signed_distance(&solid, &ps, &ball, &pc, &o).unwrap()
+            };
+            let n = if flip { -(rot * face) } else { rot * face };
+            assert!((s.distance + depth + 0.2).abs() < 1e-12, "{s:?}");
+            assert!((s.normal - n).norm() < 1e-12, "{s:?}");
+            let e = (s.closest2 - s.closest1 - s.normal * s.distance).norm();
+            assert!(e < 1e-12, "witness identity {e:e}");
+        }
+    }
 }
 
 #[test]
