@@ -13,11 +13,9 @@ use super::context::{Distance, DistancePath};
 use super::cores::Core;
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
-use crate::solver::closed_form::{
-    closest_on_box, closest_on_cylinder, closest_segment_points, RoundedSegment,
-};
+use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
-use crate::solver::raycast::{Pair, Posed};
+use crate::solver::raycast::Pair;
 use crate::solver::SolveStatus;
 
 /// GJK iterations before the polish (curved pairs hand over earlier, polytopes end exactly).
@@ -180,42 +178,11 @@ fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation
 /// sphere's centre, in the solid's body frame; `None` when the centre is inside the solid or
 /// the pair is not one of these.
 fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
-    let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
-        Some((0.0, radius)) => Some(radius * posed.inv_scale),
-        _ => None,
-    };
-    // The solid's closest point to `c` (body frame, normalised units).
-    let closest = |posed: &Posed<'_, Shape>, c: &Vec3| {
-        let s = posed.inv_scale;
-        if let Some(h) = posed.shape.centred_box() {
-            return Some(closest_on_box(&(c / s), &h) * s);
-        }
-        let (radius, half) = posed.shape.cylinder_dims()?;
-        Some(closest_on_cylinder(&(c / s), radius, half) * s)
-    };
-    // The sphere's radius, the solid, the sphere's centre relative to the solid's origin
-    // (world axes), and whether the solid is shape 1.
-    let (rho, solid, centre, solid_first) = if let Some(rho) = ball(&pair.two) {
-        (rho, &pair.one, *d, true)
-    } else {
-        (ball(&pair.one)?, &pair.two, -d, false)
-    };
-    let body = solid.rot.tr_mul(&centre);
-    let p = solid.rot * closest(solid, &body)?;
-    let gap = centre - p;
-    let len = gap.norm();
-    if !(len > rho) {
+    let ss = sphere_solid(pair, d)?;
+    if !(ss.sd > 0.0) {
         return None;
     }
-    let u = gap / len;
-    // u points from the solid to the sphere. The normal from shape 1 to shape 2, and the
-    // witnesses relative to each shape's origin.
-    let (n, a, b) = if solid_first {
-        (u, p, -u * rho)
-    } else {
-        (-u, -u * rho, p)
-    };
-    gjk::certify_candidate(pair, d, tol, &n, a, b)
+    gjk::certify_candidate(pair, d, tol, &ss.normal, ss.a, ss.b)
 }
 
 /// GJK on the cores when a shape is a sphere or capsule (`crate::query::cores`): the cores'

@@ -16,11 +16,9 @@ use crate::error::{Error, ErrorDetail};
 use crate::math::Vec3;
 use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::{Shape, ShapeKind};
-use crate::solver::closed_form::{
-    closest_on_box, closest_on_cylinder, closest_segment_points, RoundedSegment,
-};
+use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self as gjk, penetration, EpaEnd, GjkEnd, Penetration, Route};
-use crate::solver::raycast::{Pair, Posed};
+use crate::solver::raycast::Pair;
 use crate::solver::SolveStatus;
 
 /// The bracket is closed to this fraction of the options' tolerance (units of ℓ).
@@ -280,69 +278,17 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
     }
 }
 
-/// A sphere (either side) against a centred box or a cylinder, in closed form: with `c` the
-/// centre in the solid's body frame, outside the solid `sd = ‖c − p‖ − ρ` at its closest point
-/// `p`; inside, `sd = −(δ + ρ)` with `δ` the distance to the nearest face (a box's face, a
-/// cylinder's side or cap), the normal that face's. `None` for other pairs.
+/// A sphere (either side) against a centred box or a cylinder, in closed form
+/// (`crate::solver::closed_form::sphere_solid`).
 fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
-    let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
-        Some((0.0, radius)) => Some(radius * posed.inv_scale),
-        _ => None,
-    };
-    let (rho, solid, centre, solid_first) = if let Some(rho) = ball(&pair.two) {
-        (rho, &pair.one, *d, true)
-    } else {
-        (ball(&pair.one)?, &pair.two, -d, false)
-    };
-    let s = solid.inv_scale;
-    let c = solid.rot.tr_mul(&centre) / s;
-    // The closest point of the solid and, inside, the nearest face's outward normal and
-    // distance (body frame, the solid's units).
-    let (p, inside) = if let Some(h) = solid.shape.centred_box() {
-        let p = closest_on_box(&c, &h);
-        let gaps = [h.x - c.x.abs(), h.y - c.y.abs(), h.z - c.z.abs()];
-        let k = (0..3).min_by(|&i, &j| gaps[i].total_cmp(&gaps[j]))?;
-        let mut u = Vec3::zeros();
-        u[k] = if c[k] < 0.0 { -1.0 } else { 1.0 };
-        (p, (u, gaps[k]))
-    } else {
-        let (radius, half) = solid.shape.cylinder_dims()?;
-        let p = closest_on_cylinder(&c, radius, half);
-        let r = c.y.hypot(c.z);
-        let (side, cap) = (radius - r, half - c.x.abs());
-        let u = if side < cap && r > 0.0 {
-            Vec3::new(0.0, c.y / r, c.z / r)
-        } else {
-            Vec3::new(if c.x < 0.0 { -1.0 } else { 1.0 }, 0.0, 0.0)
-        };
-        (p, (u, side.min(cap)))
-    };
-    let gap = c - p;
-    let len = gap.norm();
-    // Outside: the closest point; inside: the centre pushed out through the nearest face.
-    let (u, sd, p) = if len > 0.0 {
-        (gap / len, len * s - rho, p)
-    } else {
-        let (u, depth) = inside;
-        (u, -(depth * s + rho), c + u * depth)
-    };
-    let u = solid.rot * u;
-    let on_solid = solid.rot * p * s;
-    // u points from the solid to the sphere; the witnesses relative to each shape's origin.
-    let on_sphere = u * (-rho);
-    let (normal, a, b) = if solid_first {
-        (u, on_solid, on_sphere)
-    } else {
-        (-u, on_sphere, on_solid)
-    };
-    let out = Penetration {
-        sd,
-        upper: sd,
-        normal,
-        a,
-        b,
+    let ss = sphere_solid(pair, d)?;
+    Some(Penetration {
+        sd: ss.sd,
+        upper: ss.sd,
+        normal: ss.normal,
+        a: ss.a,
+        b: ss.b,
         polished: false,
         supports: 0,
-    };
-    (sd.is_finite() && normal.iter().all(|v| v.is_finite())).then_some(out)
+    })
 }

@@ -21,7 +21,7 @@
 //!
 //! Everything is in the caller's normalised units (unit `d`, lengths over ℓ).
 
-use super::raycast::Posed;
+use super::raycast::{Pair, Posed};
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::Shape;
 
@@ -290,6 +290,79 @@ pub(crate) fn closest_on_cylinder(c: &Vec3, radius: Real, half_length: Real) -> 
     let rho = c.y.hypot(c.z);
     let k = if rho > radius { radius / rho } else { 1.0 };
     Vec3::new(c.x.clamp(-half_length, half_length), c.y * k, c.z * k)
+}
+
+/// The signed distance of a sphere and a centred box or a cylinder (either order), in the
+/// pair's normalised frame: `sd`, the unit normal from shape 1 to shape 2, and the witnesses
+/// relative to each shape's origin (`d + b − a = sd·normal`).
+pub(crate) struct SphereSolid {
+    pub sd: Real,
+    pub normal: Vec3,
+    pub a: Vec3,
+    pub b: Vec3,
+}
+
+/// A sphere against a centred box or a cylinder, in closed form: with `c` the centre in the
+/// solid's body frame, outside the solid `sd = ‖c − p‖ − ρ` at its closest point `p`; inside,
+/// `sd = −(δ + ρ)` with `δ` the distance to the nearest face (a box's face, a cylinder's side
+/// or cap) and the normal that face's. `None` for other pairs.
+pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSolid> {
+    let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+        Some((0.0, radius)) => Some(radius * posed.inv_scale),
+        _ => None,
+    };
+    // The sphere's radius, the solid, the sphere's centre relative to the solid's origin
+    // (world axes), and whether the solid is shape 1.
+    let (rho, solid, centre, solid_first) = if let Some(rho) = ball(&pair.two) {
+        (rho, &pair.one, *d, true)
+    } else {
+        (ball(&pair.one)?, &pair.two, -d, false)
+    };
+    let s = solid.inv_scale;
+    let c = solid.rot.tr_mul(&centre) / s;
+    // The closest point of the solid and, inside, the nearest face's outward normal and
+    // distance (body frame, the solid's units).
+    let (p, inside) = if let Some(h) = solid.shape.centred_box() {
+        let gaps = [h.x - c.x.abs(), h.y - c.y.abs(), h.z - c.z.abs()];
+        let k = (0..3).min_by(|&i, &j| gaps[i].total_cmp(&gaps[j]))?;
+        let mut u = Vec3::zeros();
+        u[k] = if c[k] < 0.0 { -1.0 } else { 1.0 };
+        (closest_on_box(&c, &h), (u, gaps[k]))
+    } else {
+        let (radius, half) = solid.shape.cylinder_dims()?;
+        let r = c.y.hypot(c.z);
+        let (side, cap) = (radius - r, half - c.x.abs());
+        let u = if side < cap && r > 0.0 {
+            Vec3::new(0.0, c.y / r, c.z / r)
+        } else {
+            Vec3::new(if c.x < 0.0 { -1.0 } else { 1.0 }, 0.0, 0.0)
+        };
+        (closest_on_cylinder(&c, radius, half), (u, side.min(cap)))
+    };
+    let gap = c - p;
+    let len = gap.norm();
+    // Outside: the closest point; inside: the centre pushed out through the nearest face.
+    let (u, sd, p) = if len > 0.0 {
+        (gap / len, len * s - rho, p)
+    } else {
+        let (u, depth) = inside;
+        (u, -(depth * s + rho), c + u * depth)
+    };
+    // u points from the solid to the sphere (world axes).
+    let u = solid.rot * u;
+    let on_solid = solid.rot * p * s;
+    let on_sphere = u * (-rho);
+    let (normal, a, b) = if solid_first {
+        (u, on_solid, on_sphere)
+    } else {
+        (-u, on_sphere, on_solid)
+    };
+    (sd.is_finite() && normal.iter().all(|v| v.is_finite())).then_some(SphereSolid {
+        sd,
+        normal,
+        a,
+        b,
+    })
 }
 
 #[cfg(test)]

@@ -45,7 +45,7 @@ const KINK_SNAP_COS: Real = 0.95;
 const SINGULAR: Real = 1e-10;
 
 /// An orthonormal basis of the plane orthogonal to the unit vector `r`.
-fn plane_basis(r: &Vec3) -> (Vec3, Vec3) {
+pub(crate) fn plane_basis(r: &Vec3) -> (Vec3, Vec3) {
     let a = if r.x.abs() < 0.6 {
         Vec3::x()
     } else if r.y.abs() < 0.6 {

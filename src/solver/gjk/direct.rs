@@ -14,7 +14,7 @@
 use super::{certify_candidate, Route, Separation};
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
-use crate::solver::direct::solve3;
+use crate::solver::direct::{plane_basis, solve3};
 use crate::solver::polish::{eval, Active};
 use crate::solver::raycast::Pair;
 
@@ -29,19 +29,6 @@ const ARMIJO: Real = 1e-4;
 const MAX_CHANGES: u32 = 1;
 /// Halvings of a step before the line search gives up.
 const MAX_HALVINGS: u32 = 8;
-
-/// An orthonormal basis of the plane orthogonal to the unit vector `n`.
-fn tangents(n: &Vec3) -> (Vec3, Vec3) {
-    let a = if n.x.abs() < 0.6 {
-        Vec3::x()
-    } else if n.y.abs() < 0.6 {
-        Vec3::y()
-    } else {
-        Vec3::z()
-    };
-    let t1 = (a - n * n.dot(&a)).normalize();
-    (t1, n.cross(&t1))
-}
 
 /// The distance of the pair at offset `d` (normalised) by Newton's method on the sphere,
 /// certified to `tol` (normalised); `None` where it does not certify.
@@ -63,7 +50,7 @@ pub(crate) fn distance<S: SupportMap>(
     let mut seen = v.id.map(|id| [id, id]);
     for _ in 0..MAX_STEPS {
         let ids = v.id;
-        let (t1, t2) = tangents(&n);
+        let (t1, t2) = plane_basis(&n);
         // Gradient and Hessian of h_K in the tangent coordinates, from each shape's piece.
         let mut grad = [0.0; 2];
         let mut hess = [0.0; 3];
@@ -174,7 +161,7 @@ fn tied<S: SupportMap>(
     }
     let mut nu = [0.5; 2];
     for _ in 0..MAX_STEPS {
-        let (t1, t2) = tangents(&n);
+        let (t1, t2) = plane_basis(&n);
         // The Lagrangian's value, gradient and Hessian (of Σ weighted pieces), and the ties'
         // values and gradients.
         let (mut value, mut grad, mut hess) = (0.0, Vec3::zeros(), crate::math::Mat3::zeros());
