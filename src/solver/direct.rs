@@ -374,36 +374,7 @@ fn tied<S: SupportMap>(
             [t1.dot(&cgrad[0]), t2.dot(&cgrad[0])],
             [t1.dot(&cgrad[1]), t2.dot(&cgrad[1])],
         ];
-        let (dy, new_nu) = if ties == 1 {
-            // [A c; cᵀ 0] [dy; ν] = [−gy; −c].
-            let a = [
-                [a11, a12, cy[0][0]],
-                [a12, a22, cy[0][1]],
-                [cy[0][0], cy[0][1], 0.0],
-            ];
-            let x = solve3(&a, &[-gy[0], -gy[1], -cval[0]])?;
-            ([x[0], x[1]], [x[2], 0.0])
-        } else {
-            // The ties fix n: cᵢ + cyᵢ·dy = 0; then gy + A dy + Σ νᵢ cyᵢ = 0 for ν.
-            let det = cy[0][0] * cy[1][1] - cy[0][1] * cy[1][0];
-            if !(det.abs()
-                > 1e-12 * (cy[0][0].abs() + cy[0][1].abs()) * (cy[1][0].abs() + cy[1][1].abs()))
-            {
-                return None;
-            }
-            let dy = [
-                (-cval[0] * cy[1][1] + cval[1] * cy[0][1]) / det,
-                (-cval[1] * cy[0][0] + cval[0] * cy[1][0]) / det,
-            ];
-            let rhs = [
-                -(gy[0] + a11 * dy[0] + a12 * dy[1]),
-                -(gy[1] + a12 * dy[0] + a22 * dy[1]),
-            ];
-            // [cy₀ cy₁] ν = rhs (columns are the ties' gradients).
-            let nu0 = (rhs[0] * cy[1][1] - rhs[1] * cy[1][0]) / det;
-            let nu1 = (cy[0][0] * rhs[1] - cy[0][1] * rhs[0]) / det;
-            (dy, [nu0, nu1])
-        };
+        let (dy, new_nu) = tie_step([a11, a12, a22], gy, cval, cy, ties)?;
         let dn = t1 * dy[0] + t2 * dy[1];
         let step = dn.norm() / n.norm();
         if !step.is_finite() {
@@ -436,8 +407,51 @@ fn tied<S: SupportMap>(
     None
 }
 
+/// One Newton step of a tie solve in the plane's two coordinates: the reduced Hessian
+/// `[a₁₁, a₁₂, a₂₂]` of the Lagrangian, the objective's reduced gradient `gy`, and one or two
+/// ties with values `cval` and reduced gradients `cy`. One tie: `[A c; cᵀ 0] [dy; ν] =
+/// [−gy; −c]`; two ties fix the step (`cᵢ + cyᵢ·dy = 0`) and stationarity
+/// `gy + A dy + Σ νᵢ cyᵢ = 0` gives the multipliers. The step and the new multipliers, `None`
+/// when singular.
+pub(crate) fn tie_step(
+    [a11, a12, a22]: [Real; 3],
+    gy: [Real; 2],
+    cval: [Real; 2],
+    cy: [[Real; 2]; 2],
+    ties: usize,
+) -> Option<([Real; 2], [Real; 2])> {
+    if ties == 1 {
+        let x = solve3(
+            &[
+                [a11, a12, cy[0][0]],
+                [a12, a22, cy[0][1]],
+                [cy[0][0], cy[0][1], 0.0],
+            ],
+            &[-gy[0], -gy[1], -cval[0]],
+        )?;
+        return Some(([x[0], x[1]], [x[2], 0.0]));
+    }
+    let det = cy[0][0] * cy[1][1] - cy[0][1] * cy[1][0];
+    let scale = (cy[0][0].abs() + cy[0][1].abs()) * (cy[1][0].abs() + cy[1][1].abs());
+    if !(det.abs() > 1e-12 * scale) {
+        return None;
+    }
+    let dy = [
+        (-cval[0] * cy[1][1] + cval[1] * cy[0][1]) / det,
+        (-cval[1] * cy[0][0] + cval[0] * cy[1][0]) / det,
+    ];
+    let rhs = [
+        -(gy[0] + a11 * dy[0] + a12 * dy[1]),
+        -(gy[1] + a12 * dy[0] + a22 * dy[1]),
+    ];
+    // [cy₀ cy₁] ν = rhs (columns are the ties' gradients).
+    let nu0 = (rhs[0] * cy[1][1] - rhs[1] * cy[1][0]) / det;
+    let nu1 = (cy[0][0] * rhs[1] - cy[0][1] * rhs[0]) / det;
+    Some((dy, [nu0, nu1]))
+}
+
 /// Solves a 3×3 system by Cramer's rule (`None` when singular to rounding).
-pub(crate) fn solve3(a: &[[Real; 3]; 3], b: &[Real; 3]) -> Option<[Real; 3]> {
+fn solve3(a: &[[Real; 3]; 3], b: &[Real; 3]) -> Option<[Real; 3]> {
     let col = |j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
     let (c0, c1, c2) = (col(0), col(1), col(2));
     let bv = Vec3::new(b[0], b[1], b[2]);

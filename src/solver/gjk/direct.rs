@@ -14,7 +14,7 @@
 use super::{certify_candidate, Route, Separation};
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
-use crate::solver::direct::{plane_basis, solve3};
+use crate::solver::direct::{plane_basis, tie_step};
 use crate::solver::polish::{eval, Active};
 use crate::solver::raycast::Pair;
 
@@ -207,34 +207,7 @@ fn tied<S: SupportMap>(
             [t1.dot(&cgrad[0]), t2.dot(&cgrad[0])],
             [t1.dot(&cgrad[1]), t2.dot(&cgrad[1])],
         ];
-        let (dy, new_nu) = if count == 1 {
-            let x = solve3(
-                &[
-                    [a11, a12, cy[0][0]],
-                    [a12, a22, cy[0][1]],
-                    [cy[0][0], cy[0][1], 0.0],
-                ],
-                &[-gy[0], -gy[1], -cval[0]],
-            )?;
-            ([x[0], x[1]], [x[2], 0.0])
-        } else {
-            let det = cy[0][0] * cy[1][1] - cy[0][1] * cy[1][0];
-            let scale = (cy[0][0].abs() + cy[0][1].abs()) * (cy[1][0].abs() + cy[1][1].abs());
-            if !(det.abs() > 1e-12 * scale) {
-                return None;
-            }
-            let dy = [
-                (-cval[0] * cy[1][1] + cval[1] * cy[0][1]) / det,
-                (-cval[1] * cy[0][0] + cval[0] * cy[1][0]) / det,
-            ];
-            let rhs = [
-                -(gy[0] + a11 * dy[0] + a12 * dy[1]),
-                -(gy[1] + a12 * dy[0] + a22 * dy[1]),
-            ];
-            let nu0 = (rhs[0] * cy[1][1] - rhs[1] * cy[1][0]) / det;
-            let nu1 = (cy[0][0] * rhs[1] - cy[0][1] * rhs[0]) / det;
-            (dy, [nu0, nu1])
-        };
+        let (dy, new_nu) = tie_step([a11, a12, a22], gy, cval, cy, count)?;
         let step = dy[0].hypot(dy[1]);
         if !step.is_finite() {
             return None;
