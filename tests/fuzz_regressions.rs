@@ -470,3 +470,106 @@ fn halfspace_interior_point_near_alpha_zero() {
     assert!(p.alpha >= 0.0 && p.alpha < 1e-15, "{}", p.alpha);
     assert_eq!(p.solver, dcol::Solver::ClosedForm);
 }
+
+/// The interior-point path at impossible tolerances on badly scaled boxes (found by a long
+/// `random_driver` run): the last iterate of the failed solve was not representable (α* = ∞
+/// from an α' that overflows in the rescaling by ‖Δr‖/ℓ, or a broken-down iterate), and it
+/// crossed as the result. Now the feasible start stands in (a point of both scaled shapes, α
+/// above α*), with `NumericalFailure`: finite, an upper bound on α*.
+#[test]
+fn interior_point_failure_returns_a_finite_iterate() {
+    let cases = [
+        (
+            [
+                0.0057601281757839315,
+                0.005164721141374838,
+                1.1644159609369042,
+            ],
+            [
+                -8.645609216449226e-7,
+                -916.3805600061036,
+                -0.5519951171129931,
+            ],
+            [
+                736.8123903257801,
+                8.585793850614176e-7,
+                3.0472266727702646,
+                -4.592965590905607e-8,
+            ],
+            [
+                0.13408102540627143,
+                989410.2388036927,
+                2.9027237354085604e-6,
+            ],
+            [
+                -7.332679194710959e33,
+                -0.0006416266117341878,
+                5.72365911345083e-6,
+            ],
+            [
+                264118.4100099183,
+                69723048.75257495,
+                3181963.836118105,
+                -61165789272.90761,
+            ],
+            (1e-300, 469, 0.001),
+        ),
+        (
+            [
+                5.59990844586862e-6,
+                2.6662088960097664e-6,
+                227.2220950637065,
+            ],
+            [98007.17174029145, -2.8648813611047528, 0.8361791409170671],
+            [
+                -0.9999999979430331,
+                1.2846509687798183e-15,
+                -1.0899724586117787e-298,
+                -6.413995589194846e-5,
+            ],
+            [
+                0.0038040741588464266,
+                6.76356145571069e-5,
+                656.1226825360493,
+            ],
+            [
+                -38866.25467307545,
+                0.004811627374685283,
+                -2875.2574959945064,
+            ],
+            [
+                9.530632486457618e-5,
+                628.2597085526818,
+                8579.07988097963,
+                0.004059052414740214,
+            ],
+            (2.1990161804626216e-69, 470, 0.0),
+        ),
+    ];
+    for (h1, r1, q1, h2, r2, q2, (tolerance, max_iterations, smoothing)) in cases {
+        let a = Shape::cuboid(h1[0], h1[1], h1[2]).unwrap();
+        let b = Shape::cuboid(h2[0], h2[1], h2[2]).unwrap();
+        let (p1, p2) = (Pose::new(r1, q1).unwrap(), Pose::new(r2, q2).unwrap());
+        let options = Options {
+            tolerance,
+            max_iterations,
+            smoothing,
+            method: dcol::Method::InteriorPoint,
+        };
+        let p = proximity(&a, &p1, &b, &p2, &options).unwrap();
+        let finite = |v: &dcol::Vec3| v.iter().all(|x| x.is_finite());
+        assert!(
+            p.alpha.is_finite() && finite(&p.point) && finite(&p.contact1) && finite(&p.contact2),
+            "{p:?}"
+        );
+        // Whatever the status, α is at or above the geometric path's α* (every iterate, the
+        // start included, is a point of both scaled shapes).
+        let exact = proximity(&a, &p1, &b, &p2, &Options::default()).unwrap();
+        assert!(
+            p.alpha >= exact.alpha * (1.0 - 1e-9),
+            "{} < {}",
+            p.alpha,
+            exact.alpha
+        );
+    }
+}

@@ -178,8 +178,9 @@ pub(crate) unsafe fn read_inputs<'a>(
 /// alpha*, x* and the contact points of two posed shapes.
 ///
 /// `options` may be NULL (defaults). Returns DCOL_OK and fills *result; or
-/// DCOL_ERROR_NOT_CONVERGED and fills *result with the last iterate; or an error status, the
-/// last error message set, and *result untouched.
+/// DCOL_ERROR_NOT_CONVERGED and fills *result with the last iterate (the interior-point
+/// method's feasible start, an upper bound on alpha*, when that iterate is not representable);
+/// or an error status, the last error message set, and *result untouched.
 ///
 /// # Safety
 /// `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;

@@ -72,20 +72,35 @@ impl Task for ProximityTask<'_> {
             derivatives::Refined::NONE
         };
         let z = refined.z().unwrap_or(&outcome.z);
-        let alpha_n = z[3];
-        let xi = Vec3::new(z[0], z[1], z[2]);
         let r1 = *ctx.pose1.position();
         let r2 = *ctx.pose2.position();
-        let prox = Proximity {
-            alpha: alpha_n * frame.alpha_factor(),
-            point: r1 + xi * frame.point_factor(),
-            contact1: r1 + xi * (frame.ell / alpha_n),
-            contact2: r2 + (xi - frame.delta) * (frame.ell / alpha_n),
-            iterations: outcome.iterations,
-            status: outcome.status,
-            solver: Solver::InteriorPoint,
-            derivatives: DerivativeKind::None,
+        let answer = |z: &[Real; N], status| {
+            let alpha_n = z[3];
+            let xi = Vec3::new(z[0], z[1], z[2]);
+            Proximity {
+                alpha: alpha_n * frame.alpha_factor(),
+                point: r1 + xi * frame.point_factor(),
+                contact1: r1 + xi * (frame.ell / alpha_n),
+                contact2: r2 + (xi - frame.delta) * (frame.ell / alpha_n),
+                iterations: outcome.iterations,
+                status,
+                solver: Solver::InteriorPoint,
+                derivatives: DerivativeKind::None,
+            }
         };
+        let mut prox = answer(z, outcome.status);
+        let finite = |p: &Proximity| {
+            p.alpha.is_finite()
+                && [p.point, p.contact1, p.contact2]
+                    .iter()
+                    .all(|v| v.iter().all(|x| x.is_finite()))
+        };
+        if !outcome.status.is_converged() && outcome.decided.is_none() && !finite(&prox) {
+            // The last iterate of a failed solve is not representable (it broke down, or its
+            // α' overflows in the rescaling): the feasible start stands in for it, a point of
+            // both scaled shapes at an α above α*, and the status says the solve failed.
+            prox = answer(&z0, SolveStatus::NumericalFailure);
+        }
         let mut full = Full {
             prox,
             gradient: [0.0; 14],
