@@ -8,6 +8,7 @@
 
 use crate::math::{Real, Vec3};
 use crate::shapes::{PieceEval, Shape, SupportMap};
+use crate::solver::raycast::Pair;
 
 /// A shape for GJK: whole, or the core of a padded one.
 #[derive(Clone, Copy)]
@@ -33,6 +34,52 @@ impl<'a> Core<'a> {
             Core::Whole(s) => s.kind() == crate::shapes::ShapeKind::Polytope,
             Core::Segment(_) => true,
         }
+    }
+}
+
+/// The cores of a posed pair and the radii taken off (normalised units), when at least one
+/// shape is padded.
+pub(crate) struct Cores<'a> {
+    cores: [Core<'a>; 2],
+    /// The radii of shape 1 and shape 2 (0 for a shape used whole).
+    pub radii: [Real; 2],
+}
+
+impl<'a> Cores<'a> {
+    /// The cores of `pair`'s shapes; `None` when neither is a sphere or capsule.
+    pub(crate) fn of(pair: &Pair<'a, Shape>) -> Option<Self> {
+        let (c1, p1) = Core::of(pair.one.shape);
+        let (c2, p2) = Core::of(pair.two.shape);
+        let inv = pair.one.inv_scale;
+        (p1 + p2 > 0.0).then_some(Cores {
+            cores: [c1, c2],
+            radii: [p1 * inv, p2 * inv],
+        })
+    }
+
+    /// The cores posed as `pair`'s shapes are.
+    pub(crate) fn posed<'b>(&'b self, pair: &Pair<'b, Shape>) -> Pair<'b, Core<'a>> {
+        Pair::new(
+            [&self.cores[0], &self.cores[1]],
+            [pair.one.rot, pair.two.rot],
+            pair.one.inv_scale,
+        )
+    }
+
+    /// Whether GJK and EPA on the cores end exactly.
+    pub(crate) fn polyhedral(&self) -> bool {
+        self.cores.iter().all(Core::polyhedral)
+    }
+
+    /// The sum of the radii.
+    pub(crate) fn pad(&self) -> Real {
+        self.radii[0] + self.radii[1]
+    }
+
+    /// The shapes' witnesses from the cores' (relative to each origin) at the unit normal `n`
+    /// from shape 1 to shape 2: moved by the radii along it.
+    pub(crate) fn padded(&self, n: &Vec3, a: Vec3, b: Vec3) -> (Vec3, Vec3) {
+        (a + n * self.radii[0], b - n * self.radii[1])
     }
 }
 

@@ -10,7 +10,7 @@
 //! Lagrangian form at its optimum). A sphere's columns are exactly zero.
 
 use super::context::{Distance, DistancePath};
-use super::cores::Core;
+use super::cores::Cores;
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
@@ -73,7 +73,7 @@ pub(crate) fn separated(
     } else {
         // Spheres and capsules by their cores first; where those do not certify a positive
         // gap (touching within the tolerance, or closer), the shapes themselves.
-        match cored([shape1, shape2], &pair, &d, tol, cutoff) {
+        match cored(&pair, &d, tol, cutoff) {
             Some(GjkEnd::Separated(s)) => s,
             Some(GjkEnd::Beyond) => return beyond(),
             _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff) {
@@ -190,44 +190,30 @@ fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separ
 /// Only a gap certified positive (the cores' bracket above the radii) is an answer;
 /// `GjkEnd::Beyond` when the cores' lower bound exceeds the cutoff plus the radii; `None`
 /// when neither shape is padded or the cores do not settle it.
-fn cored(
-    shapes: [&Shape; 2],
-    pair: &Pair<'_, Shape>,
-    d: &Vec3,
-    tol: Real,
-    cutoff: Option<Real>,
-) -> Option<GjkEnd> {
-    let (c1, p1) = Core::of(shapes[0]);
-    let (c2, p2) = Core::of(shapes[1]);
-    let inv = pair.one.inv_scale;
-    let (p1, p2) = (p1 * inv, p2 * inv);
-    if p1 + p2 == 0.0 {
-        return None;
-    }
-    let cores = Pair::new([&c1, &c2], [pair.one.rot, pair.two.rot], inv);
-    let polyhedral = c1.polyhedral() && c2.polyhedral();
+fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real, cutoff: Option<Real>) -> Option<GjkEnd> {
+    let cores = Cores::of(pair)?;
+    let pad = cores.pad();
     let end = gjk::distance(
-        &cores,
+        &cores.posed(pair),
         d,
         tol,
         BUDGET,
-        polyhedral,
-        cutoff.map(|c| c + p1 + p2),
+        cores.polyhedral(),
+        cutoff.map(|c| c + pad),
     );
     match end {
         GjkEnd::Separated(s) => {
             // The cores' bracket is [upper − tol, upper] (closed to tol).
             let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
-            if !(s.distance - tol.max(floor) - (p1 + p2) > floor) {
+            if !(s.distance - tol.max(floor) - pad > floor) {
                 return None;
             }
-            let n = s.normal;
+            let (a, b) = cores.padded(&s.normal, s.a, s.b);
             Some(GjkEnd::Separated(Separation {
-                distance: s.distance - p1 - p2,
-                normal: n,
-                a: s.a + n * p1,
-                b: s.b - n * p2,
-                route: s.route,
+                distance: s.distance - pad,
+                a,
+                b,
+                ..s
             }))
         }
         GjkEnd::Beyond => Some(GjkEnd::Beyond),

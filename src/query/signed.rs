@@ -8,7 +8,7 @@
 //! separated pair GJK could not certify goes to the distance query's fallback.
 
 use super::context::{DistancePath, Options, SignedDistance};
-use super::cores::Core;
+use super::cores::Cores;
 use super::derivatives::check_representable;
 use super::distance::{distance, MAX_OFFSET_RATIO};
 use super::separated::witness_gradient;
@@ -236,23 +236,21 @@ fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
 /// neither certifies a gap nor finds them overlapping.
 /// With the answer, its path when GJK gave it.
 fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<DistancePath>)> {
-    let (c1, p1) = Core::of(pair.one.shape);
-    let (c2, p2) = Core::of(pair.two.shape);
-    let inv = pair.one.inv_scale;
-    let (p1, p2) = (p1 * inv, p2 * inv);
-    if p1 + p2 == 0.0 {
-        return None;
-    }
-    let cores = Pair::new([&c1, &c2], [pair.one.rot, pair.two.rot], inv);
-    let polyhedral = c1.polyhedral() && c2.polyhedral();
-    let padded = |p: Penetration| Penetration {
-        sd: p.sd - p1 - p2,
-        upper: p.upper - p1 - p2,
-        a: p.a + p.normal * p1,
-        b: p.b - p.normal * p2,
-        ..p
+    let cores = Cores::of(pair)?;
+    let pad = cores.pad();
+    let polyhedral = cores.polyhedral();
+    let padded = |p: Penetration| {
+        let (a, b) = cores.padded(&p.normal, p.a, p.b);
+        Penetration {
+            sd: p.sd - pad,
+            upper: p.upper - pad,
+            a,
+            b,
+            ..p
+        }
     };
-    match gjk::distance(&cores, d, tol, GJK_BUDGET, polyhedral, None) {
+    let posed = cores.posed(pair);
+    match gjk::distance(&posed, d, tol, GJK_BUDGET, polyhedral, None) {
         GjkEnd::Separated(s) => {
             let p = padded(Penetration {
                 sd: s.distance,
@@ -269,7 +267,7 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
             };
             Some((EpaEnd::Closed(p), Some(path)))
         }
-        GjkEnd::Overlap => match penetration(&cores, d, tol, BUDGET, !polyhedral) {
+        GjkEnd::Overlap => match penetration(&posed, d, tol, BUDGET, !polyhedral) {
             EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
             EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
             EpaEnd::Separated | EpaEnd::Failed => None,
