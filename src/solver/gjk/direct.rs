@@ -15,7 +15,7 @@ use super::{certify_candidate, Route, Separation};
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
 use crate::solver::direct::{plane_basis, tie_step};
-use crate::solver::polish::{eval, Active};
+use crate::solver::polish::{eval, Active, WorldPiece};
 use crate::solver::raycast::Pair;
 
 /// Newton steps before handing over to GJK.
@@ -169,23 +169,15 @@ fn tied<S: SupportMap>(
         let (mut cval, mut cgrad) = ([0.0; 2], [Vec3::zeros(); 2]);
         let mut m = 0;
         for shape in 0..2 {
-            let f = eval(
-                pair,
-                Active {
-                    shape,
-                    id: pieces[shape][0],
-                },
-                &n,
-            )?;
-            match ties[shape] {
+            let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n)?;
+            match k {
                 None => {
                     value += f.value;
                     grad += f.grad;
                     hess += f.hess;
                     objective += f.grad;
                 }
-                Some(p) => {
-                    let k = eval(pair, Active { shape, id: p[1] }, &n)?;
+                Some(k) => {
                     let w = nu[shape];
                     value += f.value * (1.0 - w) + k.value * w;
                     grad += f.grad * (1.0 - w) + k.grad * w;
@@ -231,23 +223,9 @@ fn tied<S: SupportMap>(
             // The witnesses at the final normal, weighted by the multipliers.
             let mut wit = [Vec3::zeros(); 2];
             for shape in 0..2 {
-                let f = eval(
-                    pair,
-                    Active {
-                        shape,
-                        id: pieces[shape][0],
-                    },
-                    &n,
-                )?
-                .grad;
-                wit[shape] = match ties[shape] {
-                    None => f,
-                    Some(p) => {
-                        let k = eval(pair, Active { shape, id: p[1] }, &n)?.grad;
-                        let w = nu[shape].clamp(0.0, 1.0);
-                        f * (1.0 - w) + k * w
-                    }
-                };
+                let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n)?;
+                let w = nu[shape].clamp(0.0, 1.0);
+                wit[shape] = k.map_or(f.grad, |k| f.grad * (1.0 - w) + k.grad * w);
             }
             // Shape 1's point is its gradient; shape 2's gradient is minus its point.
             return certify_candidate(pair, d, tol, &n, wit[0], -wit[1]).map(|s| Separation {
@@ -257,6 +235,29 @@ fn tied<S: SupportMap>(
         }
     }
     None
+}
+
+/// Shape `shape`'s first piece at `n` and, when it is tied, its second.
+fn shape_pieces<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    shape: usize,
+    pieces: [[u32; 2]; 2],
+    ties: &Vec2Ties,
+    n: &Vec3,
+) -> Option<(WorldPiece, Option<WorldPiece>)> {
+    let first = eval(
+        pair,
+        Active {
+            shape,
+            id: pieces[shape][0],
+        },
+        n,
+    )?;
+    let second = match ties[shape] {
+        Some(p) => Some(eval(pair, Active { shape, id: p[1] }, n)?),
+        None => None,
+    };
+    Some((first, second))
 }
 
 /// Per shape, the two pieces tied (`None`: one piece).
