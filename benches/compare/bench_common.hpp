@@ -202,6 +202,40 @@ struct CaseCtx {
   ccd_t ccd;  // set up by add_methods (compare_common.c's support functions)
 };
 
+// Local references to every member of a CaseCtx under its member's name, for the code that
+// runs per case (bench_compare.cpp) and the method closures (methods.cpp), which capture them.
+#ifdef DCOL_BENCH_HAVE_COAL
+#define DCOL_BENCH_COAL_REFS(ctx)                                                         \
+  CoalBody& g1 = (ctx).g1;                                                                \
+  CoalBody& g2 = (ctx).g2;                                                                \
+  std::unique_ptr<coal::ComputeDistance>& coal_dist_functor = (ctx).coal_dist_functor;
+#else
+#define DCOL_BENCH_COAL_REFS(ctx)
+#endif
+#ifdef DCOL_BENCH_HAVE_ODE
+#define DCOL_BENCH_ODE_REFS(ctx)              \
+  std::unique_ptr<OdeBody>& o1 = (ctx).o1; \
+  std::unique_ptr<OdeBody>& o2 = (ctx).o2;
+#else
+#define DCOL_BENCH_ODE_REFS(ctx)
+#endif
+#ifdef DCOL_BENCH_HAVE_BULLET
+#define DCOL_BENCH_BULLET_REFS(ctx)              \
+  std::unique_ptr<BulletBody>& u1 = (ctx).u1; \
+  std::unique_ptr<BulletBody>& u2 = (ctx).u2;
+#else
+#define DCOL_BENCH_BULLET_REFS(ctx)
+#endif
+#define DCOL_BENCH_CASE_REFS(ctx)                 \
+  cmp_case& c = (ctx).c;                          \
+  FclBody& f1 = (ctx).f1;                         \
+  FclBody& f2 = (ctx).f2;                         \
+  DCOL_BENCH_COAL_REFS(ctx)                       \
+  const dcol_options& defaults = (ctx).defaults;  \
+  DCOL_BENCH_ODE_REFS(ctx)                        \
+  DCOL_BENCH_BULLET_REFS(ctx)                     \
+  ccd_t& ccd = (ctx).ccd
+
 constexpr int kPairTypes = CMP_KIND_COUNT * (CMP_KIND_COUNT + 1) / 2;
 
 // Everything one run accumulates, for the report.

@@ -5,24 +5,7 @@
 
 void add_methods(std::vector<Method>& methods, CaseCtx& ctx) {
   // references to ctx's members: the closures capture them by reference, i.e. ctx's objects
-  cmp_case& c = ctx.c;
-  FclBody& f1 = ctx.f1;
-  FclBody& f2 = ctx.f2;
-#ifdef DCOL_BENCH_HAVE_COAL
-  CoalBody& g1 = ctx.g1;
-  CoalBody& g2 = ctx.g2;
-  std::unique_ptr<coal::ComputeDistance>& coal_dist_functor = ctx.coal_dist_functor;
-#endif
-  const dcol_options& defaults = ctx.defaults;
-#ifdef DCOL_BENCH_HAVE_ODE
-  std::unique_ptr<OdeBody>& o1 = ctx.o1;
-  std::unique_ptr<OdeBody>& o2 = ctx.o2;
-#endif
-#ifdef DCOL_BENCH_HAVE_BULLET
-  std::unique_ptr<BulletBody>& u1 = ctx.u1;
-  std::unique_ptr<BulletBody>& u2 = ctx.u2;
-#endif
-  ccd_t& ccd = ctx.ccd;
+  DCOL_BENCH_CASE_REFS(ctx);
   auto prox_with = [&](double tol) {
     return [&, tol](double* v) {
       dcol_options o = dcol_options_default();
