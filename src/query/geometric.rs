@@ -14,7 +14,7 @@ use super::context::{Options, Proximity};
 use super::derivatives::rotation_axes;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
-use crate::solver::closed_form::{rounded_segments, sphere_box, RoundedSegment};
+use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
 use crate::solver::polish::{polish, Polished};
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
@@ -297,7 +297,7 @@ fn direct_first(pair: &Pair<'_, Shape>) -> bool {
     kinds.iter().any(round) || kinds.contains(&Capsule) || !kinds.iter().any(faceted)
 }
 
-/// Sphere and capsule pairs, and a sphere with a centred box, in closed form.
+/// Sphere and capsule pairs, a sphere with a centred box, a cylinder or a cone, in closed form.
 fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
     let seg = RoundedSegment::of;
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
@@ -323,6 +323,35 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
             normal: hit.normal / hit.normal.dot(ray),
             a: hit.normal * rho,
             b: -hit.box_point,
+            solver: Solver::ClosedForm,
+        });
+    }
+    // A sphere and a cylinder or cone (a solid of revolution): `m` the unit normal from the
+    // solid to the sphere, the offset from the solid to the sphere `±ray`.
+    let revolved = |posed: &Posed<'_, Shape>| {
+        let (mut v, n) = posed.shape.revolution_section()?;
+        for x in v.iter_mut() {
+            *x = (x.0 * posed.inv_scale, x.1 * posed.inv_scale);
+        }
+        Some((v, n))
+    };
+    if let (Some((v, n)), Some(rho)) = (revolved(&pair.one), ball(&pair.two)) {
+        let hit = sphere_revolution(ray, pair.one.rot, &v[..n], rho)?;
+        return Some(Answer {
+            alpha: hit.alpha,
+            normal: hit.normal / hit.normal.dot(ray),
+            a: hit.box_point,
+            b: -hit.normal * rho,
+            solver: Solver::ClosedForm,
+        });
+    }
+    if let (Some(rho), Some((v, n))) = (ball(&pair.one), revolved(&pair.two)) {
+        let hit = sphere_revolution(&-ray, pair.two.rot, &v[..n], rho)?;
+        return Some(Answer {
+            alpha: hit.alpha,
+            normal: hit.normal / hit.normal.dot(ray),
+            a: -hit.normal * rho,
+            b: hit.box_point,
             solver: Solver::ClosedForm,
         });
     }

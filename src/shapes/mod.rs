@@ -302,6 +302,27 @@ impl Shape {
         }
     }
 
+    /// The meridian section of a cylinder or a cone (a solid of revolution about body x): its
+    /// vertices `(axial, radial)`, counter-clockwise, in `[..n]` (the section is symmetric in
+    /// the radial coordinate). The sphere–cylinder and sphere–cone α* in closed form.
+    pub(crate) fn revolution_section(&self) -> Option<([(Real, Real); 4], usize)> {
+        match &self.geometry {
+            Geometry::Cylinder(c) => {
+                let (r, h) = (c.radius(), 0.5 * c.length());
+                Some(([(-h, -r), (h, -r), (h, r), (-h, r)], 4))
+            }
+            Geometry::Cone(c) => {
+                let h = c.height();
+                let r = h * c.half_angle().tan();
+                Some((
+                    [(-0.75 * h, 0.0), (0.25 * h, -r), (0.25 * h, r), (0.0, 0.0)],
+                    3,
+                ))
+            }
+            _ => None,
+        }
+    }
+
     /// Which primitive this is (a box reports [`ShapeKind::Polytope`]).
     pub fn kind(&self) -> ShapeKind {
         match &self.geometry {

@@ -19,6 +19,10 @@
 //! the root of `‖max(|d| − αh, 0)‖ = αρ`, a quadratic between consecutive breakpoints
 //! `|dᵢ|/hᵢ` (`sphere_box`).
 //!
+//! A sphere against a cylinder or a cone is a plane problem in the meridian half-plane of the
+//! offset, the same features' least value over the section's vertices and edges
+//! (`sphere_revolution`).
+//!
 //! Everything is in the caller's normalised units (unit `d`, lengths over ℓ).
 
 use super::raycast::{Pair, Posed};
@@ -229,6 +233,81 @@ pub(crate) fn sphere_box(d: &Vec3, rot: &Mat3, half: &Vec3, rho: Real) -> Option
     })
 }
 
+/// α* of a sphere of radius `rho` and a solid of revolution about body x (a cylinder or a
+/// cone; `rot`: world from body) whose meridian section has the counter-clockwise vertices
+/// `section` (`(axial, radial)`, symmetric in the radial coordinate), for the unit offset `q`
+/// from the solid's origin to the sphere's centre. The box's hit: the solid's point
+/// (normalised world frame, relative to its origin, unscaled) and the unit normal from the
+/// solid to the sphere.
+///
+/// The closest point of a solid of revolution to a point lies in the point's meridian
+/// half-plane, so with `p = (q_x, ‖(q_y, q_z)‖)` the problem is the plane one
+/// `dist(p, αS) = αρ` for the section S, and α* is the least of its features' values (as for
+/// the rounded segments above): each vertex's root, and each edge's `p·n̂/(b + ρ)` (outward unit
+/// normal `n̂`, offset `b`) where the closest point stays on the edge.
+pub(crate) fn sphere_revolution(
+    q: &Vec3,
+    rot: &Mat3,
+    section: &[(Real, Real)],
+    rho: Real,
+) -> Option<BoxHit> {
+    let qb = rot.tr_mul(q);
+    let radial = qb.y.hypot(qb.z);
+    let (pa, pr) = (qb.x, radial);
+    let p2 = pa * pa + pr * pr;
+    // (α, closest point of αS in the plane).
+    let mut best = (Real::INFINITY, (0.0, 0.0));
+    let m = section.len();
+    for i in 0..m {
+        let (ca, cr) = section[i];
+        let alpha = vertex_root(p2, pa * ca + pr * cr, ca * ca + cr * cr, rho);
+        if alpha < best.0 {
+            best = (alpha, (alpha * ca, alpha * cr));
+        }
+        let (na, nr) = section[(i + 1) % m];
+        let (ea, er) = (na - ca, nr - cr);
+        let len = ea.hypot(er);
+        if !(len > 0.0) {
+            continue;
+        }
+        let (ea, er) = (ea / len, er / len);
+        // Outward normal of a counter-clockwise edge, and the edge's offset.
+        let (ua, ur) = (er, -ea);
+        let b = ua * ca + ur * cr;
+        let pn = ua * pa + ur * pr;
+        if !(pn > 0.0 && b > 0.0) {
+            continue;
+        }
+        let alpha = pn / (b + rho);
+        let s = (pa - alpha * ca) * ea + (pr - alpha * cr) * er;
+        if alpha < best.0 && (0.0..=alpha * len).contains(&s) {
+            best = (alpha, (alpha * ca + s * ea, alpha * cr + s * er));
+        }
+    }
+    let (alpha, (xa, xr)) = best;
+    if !(alpha.is_finite() && alpha > 0.0) {
+        return None;
+    }
+    let (ma, mr) = (pa - xa, pr - xr);
+    let len = ma.hypot(mr);
+    if !(len > 0.0) {
+        return None;
+    }
+    // The meridian half-plane's radial unit vector (any, on the axis).
+    let u = if radial > 0.0 {
+        Vec3::new(0.0, qb.y / radial, qb.z / radial)
+    } else {
+        Vec3::y()
+    };
+    let point = Vec3::new(xa / alpha, 0.0, 0.0) + u * (xr / alpha);
+    let normal = Vec3::new(ma / len, 0.0, 0.0) + u * (mr / len);
+    Some(BoxHit {
+        alpha,
+        box_point: rot * point,
+        normal: rot * normal,
+    })
+}
+
 /// The closest points `x₁`, `x₂` of two segments, shape 1's centred at the origin and shape 2's
 /// at `c₂` (Ericson, *Real-Time Collision Detection* §5.1.9; parallel segments get one of their
 /// closest pairs). The exact distance of two
@@ -397,6 +476,44 @@ mod tests {
         let a = hit.alpha;
         let e = Vec3::new(d.x - a * h.x, d.y - a * h.y, d.z - a * h.z);
         assert!(e.iter().all(|v| *v > 0.0) && (e.norm() - a * 0.3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn sphere_against_a_cylinder_side_cap_and_rim_and_a_cone() {
+        let id = Mat3::identity();
+        // Cylinder of radius 0.5 and half-length 1 about x, sphere of radius 0.25.
+        let cyl = [(-1.0, -0.5), (1.0, -0.5), (1.0, 0.5), (-1.0, 0.5)];
+        let side = sphere_revolution(&Vec3::new(0.0, 0.6, 0.8), &id, &cyl, 0.25).unwrap();
+        assert!((side.alpha - 1.0 / 0.75).abs() < 1e-15);
+        assert!((side.normal - Vec3::new(0.0, 0.6, 0.8)).norm() < 1e-15);
+        assert!((side.box_point - Vec3::new(0.0, 0.3, 0.4)).norm() < 1e-15);
+        let cap = sphere_revolution(&Vec3::new(-1.0, 0.0, 0.0), &id, &cyl, 0.25).unwrap();
+        assert!((cap.alpha - 0.8).abs() < 1e-15 && (cap.normal.x + 1.0).abs() < 1e-15);
+        // The rim: (q_a − αh)² + (q_r − αR)² = α²ρ² with both parts outside.
+        let q = Vec3::new(3.0, 0.0, 2.0).normalize();
+        let rim = sphere_revolution(&q, &id, &cyl, 0.25).unwrap();
+        let a = rim.alpha;
+        let (ea, er) = (q.x - a, q.z - a * 0.5);
+        assert!(ea > 0.0 && er > 0.0 && (ea.hypot(er) - a * 0.25).abs() < 1e-15);
+        assert!((rim.box_point - Vec3::new(1.0, 0.0, 0.5)).norm() < 1e-15);
+        // Cone of height 1, half angle 45°: apex at −3/4, base of radius 1 at +1/4.
+        let cone = [(-0.75, 0.0), (0.25, -1.0), (0.25, 1.0)];
+        let apex = sphere_revolution(&Vec3::new(-1.0, 0.0, 0.0), &id, &cone, 0.25).unwrap();
+        assert!((apex.alpha - 1.0).abs() < 1e-15);
+        assert!((apex.box_point - Vec3::new(-0.75, 0.0, 0.0)).norm() < 1e-15);
+        let base = sphere_revolution(&Vec3::new(1.0, 0.0, 0.0), &id, &cone, 0.25).unwrap();
+        assert!((base.alpha - 2.0).abs() < 1e-15);
+        // The slant side, offset along its outward normal (−1, 1)/√2: α = 1/(b + ρ).
+        let n = Vec3::new(-1.0, 1.0, 0.0).normalize();
+        let slant = sphere_revolution(&n, &id, &cone, 0.25).unwrap();
+        let b = 0.75 / (2.0 as Real).sqrt();
+        assert!((slant.alpha - 1.0 / (b + 0.25)).abs() < 1e-15);
+        assert!((slant.normal - n).norm() < 1e-15);
+        // Turned: the answer turns with the solid.
+        let rot = Mat3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+        let turned = sphere_revolution(&(rot * n), &rot, &cone, 0.25).unwrap();
+        assert!((turned.alpha - slant.alpha).abs() < 1e-15);
+        assert!((turned.box_point - rot * slant.box_point).norm() < 1e-15);
     }
 
     #[test]
