@@ -11,11 +11,13 @@
 //! offset, so no precision is lost at tiny or huge offsets).
 
 use super::context::{Options, Proximity};
+use super::cores::Cores;
 use super::derivatives::rotation_axes;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
+use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::{polish, Polished};
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
 use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
@@ -378,6 +380,23 @@ fn solve(
     }
     // No bracket can be certified much below the rounding of the bounds themselves.
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
+    // A sphere or capsule against a polytope: GJK on the cores, exact on polyhedral features.
+    if let Some(cores) = Cores::of(pair).filter(Cores::polyhedral) {
+        match padded_cast(&cores.posed(pair), ray, cores.pad(), tol, stop) {
+            PaddedEnd::Hit(h) => {
+                let (a, b) = cores.padded(&h.normal, h.a, h.b);
+                return Ok(Some(Answer {
+                    alpha: h.alpha,
+                    normal: h.normal / h.normal.dot(ray),
+                    a,
+                    b,
+                    solver: Solver::RayCast,
+                }));
+            }
+            PaddedEnd::Decided(below, alpha) => return Err((below, alpha)),
+            PaddedEnd::Failed => {}
+        }
+    }
     // Two polytopes: the cast ends exactly, in a facet of K, within a few refinements; curved
     // pairs hand over to the polish once the bracket is narrow enough to identify the pieces.
     let polyhedral = [pair.one.shape, pair.two.shape]

@@ -23,6 +23,7 @@
 pub(crate) mod direct;
 mod epa;
 mod newton;
+pub(crate) mod padded;
 mod simplex;
 
 pub(crate) use epa::{penetration, EpaEnd, Penetration};
