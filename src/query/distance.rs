@@ -214,7 +214,8 @@ fn distance_query_until(
     }
     let r1 = *pose1.position();
     let offset = pose2.position() - r1;
-    if !robust_norm(&offset).is_finite() {
+    let len = robust_norm(&offset);
+    if !len.is_finite() {
         return Err(Error::InvalidPose(ErrorDetail::new(
             "position",
             Real::INFINITY,
@@ -224,12 +225,12 @@ fn distance_query_until(
     // Overlap certified without a solve: if the inscribed balls overlap, the point dividing
     // the offset in the ratio of the inscribed radii lies in both shapes.
     let (i1, i2) = (shape1.inscribed_radius(), shape2.inscribed_radius());
-    if robust_norm(&offset) < i1 + i2 {
+    if len < i1 + i2 {
         let w = r1 + offset * (i1 / (i1 + i2));
         return Ok((overlap(w, 0), [0.0; 14], false));
     }
     let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-    let ratio = robust_norm(&offset) / ell;
+    let ratio = len / ell;
     if !(ratio <= MAX_OFFSET_RATIO) {
         return Err(Error::InvalidPose(ErrorDetail::new(
             "position",

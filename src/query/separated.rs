@@ -171,7 +171,20 @@ fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation
     let n = diff / len;
     let a = x1 + n * one.radius;
     let b = x2 - d - n * two.radius;
-    gjk::certify_candidate(pair, d, tol, &n, a, b)
+    // The certificate of `gjk::certify_candidate` with the segments' support functions in
+    // closed form, `h(n) = |n·u|·h + R` (axis u, half-length h, radius R): the slab gap at n
+    // below, the witnesses' distance above.
+    let h = |s: &RoundedSegment| n.dot(&s.axis).abs() * s.half + s.radius;
+    let lower = n.dot(d) - h(&one) - h(&two);
+    let upper = (d + b - a).norm();
+    let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
+    (lower > floor && upper - lower <= tol.max(floor)).then_some(Separation {
+        distance: upper,
+        normal: n,
+        a,
+        b,
+        route: Route::ClosedForm,
+    })
 }
 
 /// A sphere (either side) against a centred box or a cylinder: the solid's point closest to the
