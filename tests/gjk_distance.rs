@@ -43,8 +43,15 @@ fn gjk_matches_reference_to_1e10() {
                 let d_ref = f(&case["distance"]);
                 *paths.entry(format!("{:?}", d.path)).or_default() += 1;
                 if d_ref == 0.0 {
-                    if d.path != DistancePath::InteriorPoint {
-                        failures.push(format!("{id}: touching/overlap answered by {:?}", d.path));
+                    // Touching or overlapping: 0 with one common point, from the fallback or
+                    // from GJK's certified overlap (the origin inside a tetrahedron of support
+                    // points), never a gap.
+                    let ok_path = matches!(d.path, DistancePath::InteriorPoint | DistancePath::Gjk);
+                    if d.distance != 0.0 || d.closest1 != d.closest2 || !ok_path {
+                        failures.push(format!(
+                            "{id}: touching/overlap answered {} by {:?}",
+                            d.distance, d.path
+                        ));
                     }
                     continue;
                 }
@@ -671,4 +678,49 @@ fn thin_shapes_match_interior_point() {
         bad.len()
     );
     assert!(bad.is_empty(), "{:#?}", &bad[..bad.len().min(20)]);
+}
+
+/// Overlapping pairs whose overlap GJK certifies (the origin strictly inside a tetrahedron of
+/// support points) report 0 with one common point: that point lies in both shapes, checked by
+/// the interior-point proximity of a small sphere there against each shape (α* ≤ 1 puts the
+/// sphere's centre inside the shape), and the interior-point α* of the pair is below 1.
+#[test]
+fn certified_overlap_gives_a_point_in_both_shapes() {
+    let mut rng = Scaled(0x5EED_0DC7);
+    let (mut gjk, mut checked) = (0, 0);
+    let mut bad = Vec::new();
+    for i in 0..4000 {
+        let scale = rng.log(-2.0, 2.0);
+        let (s1, s2) = random_shapes(&mut rng, i, scale);
+        let reach = s1.bounding_radius() + s2.bounding_radius();
+        let len = reach * rng.log(-1.3, -0.1);
+        let (p1, p2) = random_poses(&mut rng, scale, len);
+        let d = distance(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        if d.distance != 0.0 {
+            continue;
+        }
+        checked += 1;
+        assert_eq!(d.closest1, d.closest2, "#{i}: two witnesses for an overlap");
+        if d.path != DistancePath::Gjk {
+            continue;
+        }
+        gjk += 1;
+        let alpha = dcol::proximity(&s1, &p1, &s2, &p2, &ipm()).unwrap().alpha;
+        let ell = s1.bounding_radius().max(s2.bounding_radius());
+        let dot = Shape::sphere(1e-9 * ell).unwrap();
+        let at = Pose::from_position([d.closest1.x, d.closest1.y, d.closest1.z]).unwrap();
+        for (s, p) in [(&s1, &p1), (&s2, &p2)] {
+            let a = dcol::proximity(&dot, &at, s, p, &ipm()).unwrap().alpha;
+            if !(a <= 1.0 + 1e-7) || !(alpha < 1.0) {
+                bad.push(format!(
+                    "#{i} {:?}-{:?}: α* {alpha}, point's α {a}",
+                    s1.kind(),
+                    s2.kind()
+                ));
+            }
+        }
+    }
+    println!("{checked} overlapping pairs, {gjk} certified by GJK");
+    assert!(bad.is_empty(), "{:#?}", &bad[..bad.len().min(20)]);
+    assert!(gjk >= 100, "only {gjk} of {checked} certified by GJK");
 }

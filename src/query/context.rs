@@ -59,7 +59,9 @@ pub enum DistancePath {
     /// [`crate::Method::InteriorPoint`]).
     #[default]
     InteriorPoint,
-    /// GJK on the support maps closed its certified bracket on its own.
+    /// GJK on the support maps closed its certified bracket on its own, or certified an overlap
+    /// (the origin strictly inside a tetrahedron of support points, whose combination is the
+    /// common point returned as both witnesses).
     Gjk,
     /// Newton's method on the contact pieces closed the bracket: after GJK identified them, or
     /// from the offset's direction on its own (an ellipsoid, or a cone with a sphere, cone or

@@ -27,6 +27,7 @@
 use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::context::{Distance, DistancePath, Options};
 use super::derivatives::{rotation_generators, row_ranges};
+use super::separated::Settled;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
@@ -251,8 +252,16 @@ fn distance_query_until(
             gradient,
             cutoff,
         );
-        if let Some(out) = sep {
-            return Ok(out);
+        match sep {
+            Settled::Apart(d, g, beyond) => return Ok((d, g, beyond)),
+            Settled::Overlapping(w) => {
+                let d = Distance {
+                    path: DistancePath::Gjk,
+                    ..overlap(w, 0)
+                };
+                return Ok((d, [0.0; 14], false));
+            }
+            Settled::Unsettled => {}
         }
         // Not certified separated: most such pairs overlap, which the geometric proximity
         // certifies in a microsecond (α* < 1 puts x* inside both shapes; the margin covers its

@@ -25,9 +25,20 @@ const BUDGET: u32 = 64;
 const MARGIN: Real = 1e-3;
 const TOL_FLOOR: Real = 1e-14;
 
-/// The distance and gradient by GJK, or `None` when the interior-point path must answer;
-/// the flag says the distance was proven above `cutoff` (world units; the distance is then
-/// infinite). `ell` is the larger bounding radius.
+/// What GJK settled about a pair.
+pub(crate) enum Settled {
+    /// The distance and gradient; the flag says the distance was proven above the cutoff (the
+    /// distance is then infinite).
+    Apart(Distance, [Real; 14], bool),
+    /// Overlap certified (the origin strictly inside a tetrahedron of support points of the
+    /// shapes or their cores), with a point common to both shapes (world).
+    Overlapping(Vec3),
+    /// Neither: the interior-point path or the proximity must answer.
+    Unsettled,
+}
+
+/// The distance and gradient by GJK, or a certified overlap, or neither (`cutoff` in world
+/// units; `ell` is the larger bounding radius).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn separated(
     shape1: &Shape,
@@ -38,7 +49,29 @@ pub(crate) fn separated(
     ell: Real,
     gradient: bool,
     cutoff: Option<Real>,
-) -> Option<(Distance, [Real; 14], bool)> {
+) -> Settled {
+    match settle(
+        shape1, pose1, shape2, pose2, tolerance, ell, gradient, cutoff,
+    ) {
+        Ok(Some((d, g, beyond))) => Settled::Apart(d, g, beyond),
+        Ok(None) => Settled::Unsettled,
+        Err(a) => Settled::Overlapping(pose1.position() + a * ell),
+    }
+}
+
+/// [`separated`], with `Err(a)` for a certified overlap (`a`: the common point relative to
+/// `r₁`, normalised units).
+#[allow(clippy::too_many_arguments)]
+fn settle(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    tolerance: Real,
+    ell: Real,
+    gradient: bool,
+    cutoff: Option<Real>,
+) -> Result<Option<(Distance, [Real; 14], bool)>, Vec3> {
     let inv = 1.0 / ell;
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     let r1 = *pose1.position();
@@ -59,7 +92,7 @@ pub(crate) fn separated(
             status: SolveStatus::Converged,
             path: DistancePath::Gjk,
         };
-        Some((far, [0.0; 14], true))
+        Ok(Some((far, [0.0; 14], true)))
     };
     // Newton's method on the sphere of normals first where the witnesses are mostly on smooth
     // pieces (not against a cutoff, which GJK decides early).
@@ -76,10 +109,12 @@ pub(crate) fn separated(
         match cored(&pair, &d, tol, cutoff) {
             Some(GjkEnd::Separated(s)) => s,
             Some(GjkEnd::Beyond) => return beyond(),
+            Some(GjkEnd::Inside { a, .. }) => return Err(a),
             _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff) {
                 GjkEnd::Separated(s) => s,
                 GjkEnd::Beyond => return beyond(),
-                _ => return None,
+                GjkEnd::Inside { a } => return Err(a),
+                _ => return Ok(None),
             },
         }
     };
@@ -93,7 +128,7 @@ pub(crate) fn separated(
             .chain(closest2.iter())
             .all(|v| v.is_finite());
     if !finite {
-        return None;
+        return Ok(None);
     }
     let n = s.normal;
     let grad = if gradient {
@@ -114,7 +149,7 @@ pub(crate) fn separated(
             Route::ClosedForm => DistancePath::ClosedForm,
         },
     };
-    Some((result, grad, false))
+    Ok(Some((result, grad, false)))
 }
 
 /// `∂d/∂(r₁, q₁, r₂, q₂)` of `d = max over unit n of n·(r₂ − r₁) − h₁(n) − h₂(−n)` (the
@@ -230,6 +265,8 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real, cutoff: Option<Real>) -> O
             }))
         }
         GjkEnd::Beyond => Some(GjkEnd::Beyond),
+        // The cores overlap, so do the shapes (each core lies in its shape).
+        inside @ GjkEnd::Inside { .. } => Some(inside),
         _ => None,
     }
 }

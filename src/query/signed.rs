@@ -91,7 +91,7 @@ pub fn signed_distance(
     };
     let inscribed = len < shape1.inscribed_radius() + shape2.inscribed_radius();
     if !inscribed {
-        if let Some((d, _, _)) = super::separated::separated(
+        if let super::separated::Settled::Apart(d, _, _) = super::separated::separated(
             shape1,
             pose1,
             shape2,
@@ -267,11 +267,13 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
             };
             Some((EpaEnd::Closed(p), Some(path)))
         }
-        GjkEnd::Overlap => match penetration(&posed, d, tol, BUDGET, !polyhedral) {
-            EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
-            EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
-            EpaEnd::Separated | EpaEnd::Failed => None,
-        },
+        GjkEnd::Overlap | GjkEnd::Inside { .. } => {
+            match penetration(&posed, d, tol, BUDGET, !polyhedral) {
+                EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
+                EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
+                EpaEnd::Separated | EpaEnd::Failed => None,
+            }
+        }
         _ => None,
     }
 }

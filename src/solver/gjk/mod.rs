@@ -81,6 +81,12 @@ pub(crate) enum GjkEnd {
     /// The origin lies in (or on) the simplex, or the bracket pins the distance at 0: touching
     /// or overlapping.
     Overlap,
+    /// The origin lies strictly inside a tetrahedron of support points: overlap certified,
+    /// with a point common to both shapes: `a`, shape 1's witness (relative to its origin;
+    /// shape 2's is `a − d`, to rounding).
+    Inside {
+        a: Vec3,
+    },
     /// No certificate within the budget.
     Uncertified,
     /// The lower bound exceeded the cutoff.
@@ -250,7 +256,7 @@ pub(crate) fn distance<S: SupportMap>(
             simplex[k] = Pt { c, v: vtx };
             k += 1;
             let Some(nk) = reduce(&mut simplex, &mut w, k) else {
-                return GjkEnd::Overlap;
+                return inside(&simplex);
             };
             k = nk;
             let (nv, a, b) = combine(&simplex[..k], &w[..k]);
@@ -345,6 +351,30 @@ pub(crate) fn certify_candidate<S: SupportMap>(
         b: cert.b,
         route: Route::ClosedForm,
     })
+}
+
+/// The tetrahedron `s` holds the origin: [`GjkEnd::Inside`] with the witnesses of the
+/// origin's barycentric combination when every weight is clearly positive (the origin is not
+/// on a face to rounding), else [`GjkEnd::Overlap`].
+fn inside(s: &[Pt; 4]) -> GjkEnd {
+    let vol = |p: &Vec3, q: &Vec3, r: &Vec3, o: &Vec3| (q - p).cross(&(r - p)).dot(&(o - p));
+    let z = Vec3::zeros();
+    let total = vol(&s[0].c, &s[1].c, &s[2].c, &s[3].c);
+    let lam = [
+        vol(&z, &s[1].c, &s[2].c, &s[3].c) / total,
+        vol(&s[0].c, &z, &s[2].c, &s[3].c) / total,
+        vol(&s[0].c, &s[1].c, &z, &s[3].c) / total,
+        vol(&s[0].c, &s[1].c, &s[2].c, &z) / total,
+    ];
+    if !lam.iter().all(|l| *l > 1e-9) {
+        return GjkEnd::Overlap;
+    }
+    let sum: Real = lam.iter().sum();
+    let a = s
+        .iter()
+        .zip(lam)
+        .fold(Vec3::zeros(), |acc, (p, l)| acc + p.v.a * (l / sum));
+    GjkEnd::Inside { a }
 }
 
 /// `Σ wᵢ cᵢ` and the witnesses `Σ wᵢ aᵢ`, `Σ wᵢ bᵢ`.
