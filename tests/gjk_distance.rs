@@ -711,7 +711,8 @@ fn certified_overlap_gives_a_point_in_both_shapes() {
         let at = Pose::from_position([d.closest1.x, d.closest1.y, d.closest1.z]).unwrap();
         for (s, p) in [(&s1, &p1), (&s2, &p2)] {
             let a = dcol::proximity(&dot, &at, s, p, &ipm()).unwrap().alpha;
-            if !(a <= 1.0 + 1e-7) || !(alpha < 1.0) {
+            let inside = a <= 1.0 + 1e-7 && alpha < 1.0;
+            if !inside {
                 bad.push(format!(
                     "#{i} {:?}-{:?}: α* {alpha}, point's α {a}",
                     s1.kind(),
