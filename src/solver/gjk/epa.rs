@@ -43,6 +43,11 @@ const MAX_VISIBLE: usize = 2 * MAX_HORIZON;
 /// over to the polish.
 const HANDOVER: Real = 1e-4;
 const HANDOVER_ABS: Real = 1e-8;
+/// The polish stops at a Newton step of 1e-6 when the witness identity `d + b − a = μ n` then
+/// holds to this fraction of the bracket's tolerance, and goes on to rounding otherwise.
+/// Measured on benches/proximity's overlapping poses (150 per pair, default tolerance): the
+/// class median 4110 -> 3500 ns with the answers within 2e-14 of those polished to rounding.
+const FINE: Real = 0.1;
 
 #[derive(Clone, Copy, Debug)]
 struct Face {
@@ -367,7 +372,7 @@ pub(crate) fn penetration<S: SupportMap>(
         let stop = supports >= budget || (!narrow && !poly.insert(vtx, eps, k));
         if !polished_once && (narrow || stop) {
             polished_once = true;
-            if let Some((n, a, b)) = polish(pair, &poly, &f, best.lower) {
+            if let Some((n, a, b)) = polish(pair, &poly, &f, best.lower, FINE * tol) {
                 let v = pair.support(&n);
                 supports += 1;
                 let lo = n.dot(&(d - v.w));
@@ -504,6 +509,7 @@ fn polish<S: SupportMap>(
     poly: &Poly,
     f: &Face,
     mu0: Real,
+    fine: Real,
 ) -> Option<(Vec3, Vec3, Vec3)> {
     let mut act = [Active { shape: 0, id: 0 }; 2 * MAX_PIECES];
     let mut lam = [0.0; 2 * MAX_PIECES];
@@ -523,13 +529,47 @@ fn polish<S: SupportMap>(
             }
         }
     }
+    // The normal and the witnesses `Σ λ ∇p` of each shape at a Newton solution, with the
+    // residual of the witness identity `d + b − a = μ n` there.
+    let answer = |act: &[Active], l: &[Real], n: &Vec3, mu: Real| {
+        let n = n / n.norm();
+        let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
+        let mut sums = [0.0; 2];
+        for (piece, lk) in act.iter().zip(l) {
+            let lk = lk.max(0.0);
+            let e = eval(pair, *piece, &n)?;
+            sums[piece.shape] += lk;
+            if piece.shape == 0 {
+                a += e.grad * lk;
+            } else {
+                b -= e.grad * lk;
+            }
+        }
+        if !(sums[0] > 0.0 && sums[1] > 0.0) {
+            return None;
+        }
+        let (a, b) = (a / sums[0], b / sums[1]);
+        let residual = (poly.d + b - a - n * mu).norm();
+        Some(((n, a, b), residual))
+    };
     for _attempt in 0..4 {
         let mut l = lam;
         normalise_multipliers(&act[..p], &mut l[..p]);
         let (mut n, mut mu) = (f.n, mu0);
         let ok = newton(pair, &poly.d, &act[..p], &mut n, &mut mu, &mut l[..p], 1e-6);
         if ok {
-            // On to rounding (the state stays at the last accepted step if it stalls).
+            let lmin = l[..p].iter().fold(Real::INFINITY, |m, v| m.min(*v));
+            if lmin >= -1e-12 {
+                // A step of 1e-6 leaves the iterate within about its square of the solution:
+                // where the witness identity holds to `fine` that is the answer; otherwise
+                // (sharply curved pieces) on to rounding (the state stays at the last
+                // accepted step if it stalls).
+                if let Some((out, residual)) = answer(&act[..p], &l[..p], &n, mu) {
+                    if residual <= fine {
+                        return Some(out);
+                    }
+                }
+            }
             newton(
                 pair,
                 &poly.d,
@@ -547,23 +587,7 @@ fn polish<S: SupportMap>(
                 }
             });
             if lmin >= -1e-12 {
-                let n = n / n.norm();
-                let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
-                let mut sums = [0.0; 2];
-                for (piece, lk) in act[..p].iter().zip(&l[..p]) {
-                    let lk = lk.max(0.0);
-                    let e = eval(pair, *piece, &n)?;
-                    sums[piece.shape] += lk;
-                    if piece.shape == 0 {
-                        a += e.grad * lk;
-                    } else {
-                        b -= e.grad * lk;
-                    }
-                }
-                if !(sums[0] > 0.0 && sums[1] > 0.0) {
-                    return None;
-                }
-                return Some((n, a / sums[0], b / sums[1]));
+                return answer(&act[..p], &l[..p], &n, mu).map(|(out, _)| out);
             }
             if !drop_piece(&mut act, &mut lam, &mut p, kmin) {
                 return None;
