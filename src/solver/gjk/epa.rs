@@ -313,6 +313,9 @@ struct Best {
     normal: Vec3,
     a: Vec3,
     b: Vec3,
+    /// The face whose normal gave `lower`, when the witnesses are still to be taken from it
+    /// (its vertices stay in the polytope, so this is done once, at the end).
+    face: Option<Face>,
     polished: bool,
 }
 
@@ -338,6 +341,7 @@ pub(crate) fn penetration<S: SupportMap>(
         normal: Vec3::x(),
         a: Vec3::zeros(),
         b: Vec3::zeros(),
+        face: None,
         polished: false,
     };
     let mut upper;
@@ -350,12 +354,12 @@ pub(crate) fn penetration<S: SupportMap>(
         supports += 1;
         let lo = f.n.dot(&(d - vtx.w));
         if lo > best.lower {
-            let (a, b) = witnesses(&poly, &f);
             best = Best {
                 lower: lo,
                 normal: f.n,
-                a,
-                b,
+                a: Vec3::zeros(),
+                b: Vec3::zeros(),
+                face: Some(f),
                 polished: false,
             };
         }
@@ -382,6 +386,7 @@ pub(crate) fn penetration<S: SupportMap>(
                         normal: n,
                         a,
                         b,
+                        face: None,
                         polished: true,
                     };
                 }
@@ -397,6 +402,9 @@ pub(crate) fn penetration<S: SupportMap>(
             }
             break;
         }
+    }
+    if let Some(f) = best.face {
+        (best.a, best.b) = witnesses(&poly, &f);
     }
     let out = Penetration {
         sd: best.lower,
