@@ -32,7 +32,8 @@ use crate::solver::raycast::{Pair, Vertex};
 use arrayvec::ArrayVec;
 
 /// Vertices and faces of the polytope (a closed triangulated sphere has `F = 2V − 4`): room for
-/// the signed distance's budget of support calls (about 45 kB of stack).
+/// the signed distance's budget of support calls (about 55 kB of stack, not initialised: see
+/// [`Poly`]).
 const MAX_V: usize = 256;
 const MAX_F: usize = 2 * MAX_V;
 /// Horizon edges of one insertion.
