@@ -278,3 +278,33 @@ fn tight_tolerance_agrees_with_the_default_and_the_interior_point_solver() {
     }
     assert!(bad.is_empty(), "{bad:#?}");
 }
+
+/// A sphere against a padded square (the padded cast on the polygon's plane core): over the
+/// face and beyond an edge, α* in closed form, both orders.
+#[test]
+fn sphere_against_a_padded_polygon_in_closed_form() {
+    let square = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
+    let poly = dcol::Shape::polygon(&square, &[1.0; 4], 0.1).unwrap();
+    let ball = dcol::Shape::sphere(0.2).unwrap();
+    let origin = dcol::Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+    let opts = Options::default();
+    // Over the face: 1.5 = α(0.1 + 0.2).
+    let above = dcol::Pose::from_position([0.3, 0.2, 1.5]).unwrap();
+    // Beyond the edge x = 1: ‖(4 − α, 1)‖ = 0.3α, the smaller root (4/α > 1 there).
+    let beside = dcol::Pose::from_position([4.0, 0.0, 1.0]).unwrap();
+    let (a, b, c) = (1.0 - 0.09, -8.0, 17.0);
+    let edge: f64 = (-b - (b * b - 4.0 * a * c as f64).sqrt()) / (2.0 * a);
+    assert!(4.0 / edge > 1.0);
+    for (pose, want) in [(above, 5.0), (beside, edge)] {
+        let p = proximity(&poly, &origin, &ball, &pose, &opts).unwrap();
+        let q = proximity(&ball, &pose, &poly, &origin, &opts).unwrap();
+        for r in [p, q] {
+            assert!(
+                (r.alpha - want).abs() < 1e-12 * want,
+                "{} vs {want}",
+                r.alpha
+            );
+            assert_eq!(r.solver, Solver::RayCast);
+        }
+    }
+}

@@ -7,7 +7,7 @@
 //! sphere or capsule against a polytope ends exactly, in a few iterations, as two polytopes do.
 
 use crate::math::{Real, Vec3};
-use crate::shapes::{PieceEval, Shape, SupportMap};
+use crate::shapes::{argmax_dot, PieceEval, Shape, SupportMap};
 use crate::solver::raycast::Pair;
 
 /// A shape for GJK: whole, or the core of a padded one.
@@ -17,6 +17,8 @@ pub(crate) enum Core<'a> {
     Whole(&'a Shape),
     /// The segment `[−h, h]·e_x` (a point when `h = 0`) of a capsule or sphere.
     Segment(Real),
+    /// The plane polygon of a padded polygon, by its vertices (body frame).
+    Flat(&'a [Vec3]),
 }
 
 impl<'a> Core<'a> {
@@ -28,11 +30,21 @@ impl<'a> Core<'a> {
         }
     }
 
-    /// Whether GJK on this core ends exactly (no curvature): a polytope, segment or point.
+    /// The core of `shape` as [`Core::of`], and a padded polygon's plane polygon (for the
+    /// proximity's padded cast, `crate::solver::gjk::padded`).
+    pub(crate) fn of_with_flat(shape: &'a Shape) -> (Core<'a>, Real) {
+        match shape.flat_vertices() {
+            Some((vertices, radius)) if radius > 0.0 => (Core::Flat(vertices), radius),
+            _ => Core::of(shape),
+        }
+    }
+
+    /// Whether GJK on this core ends exactly (no curvature): a polytope, polygon, segment or
+    /// point.
     pub(crate) fn polyhedral(&self) -> bool {
         match self {
             Core::Whole(s) => s.kind() == crate::shapes::ShapeKind::Polytope,
-            Core::Segment(_) => true,
+            Core::Segment(_) | Core::Flat(_) => true,
         }
     }
 }
@@ -50,6 +62,18 @@ impl<'a> Cores<'a> {
     pub(crate) fn of(pair: &Pair<'a, Shape>) -> Option<Self> {
         let (c1, p1) = Core::of(pair.one.shape);
         let (c2, p2) = Core::of(pair.two.shape);
+        let inv = pair.one.inv_scale;
+        (p1 + p2 > 0.0).then_some(Cores {
+            cores: [c1, c2],
+            radii: [p1 * inv, p2 * inv],
+        })
+    }
+
+    /// The cores of `pair`'s shapes with padded polygons cored too ([`Core::of_with_flat`]);
+    /// `None` when no shape is padded.
+    pub(crate) fn with_flat(pair: &Pair<'a, Shape>) -> Option<Self> {
+        let (c1, p1) = Core::of_with_flat(pair.one.shape);
+        let (c2, p2) = Core::of_with_flat(pair.two.shape);
         let inv = pair.one.inv_scale;
         (p1 + p2 > 0.0).then_some(Cores {
             cores: [c1, c2],
@@ -98,6 +122,10 @@ impl SupportMap for Core<'_> {
                 let id = u32::from(m.x < 0.0 && *h > 0.0);
                 (end(*h, id), id)
             }
+            Core::Flat(v) => {
+                let (k, _) = argmax_dot(v, m);
+                (v[k], k as u32)
+            }
         }
     }
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
@@ -111,12 +139,17 @@ impl SupportMap for Core<'_> {
                     hess: crate::math::Mat3::zeros(),
                 })
             }
+            Core::Flat(v) => v.get(id as usize).map(|a| PieceEval {
+                value: a.dot(m),
+                grad: *a,
+                hess: crate::math::Mat3::zeros(),
+            }),
         }
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
         match self {
             Core::Whole(s) => s.flat_face(m, cos_min),
-            Core::Segment(_) => None,
+            Core::Segment(_) | Core::Flat(_) => None,
         }
     }
     /// A segment has no interior: the gauge of a point on it is `|x|/h`, of any other point
@@ -133,12 +166,14 @@ impl SupportMap for Core<'_> {
                     Real::INFINITY
                 }
             }
+            // Not asked of the padded cast's cores (GJK's face snapping is the distance's).
+            Core::Flat(_) => Real::INFINITY,
         }
     }
     fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
         match self {
             Core::Whole(s) => s.normal_at(id, p),
-            Core::Segment(_) => None,
+            Core::Segment(_) | Core::Flat(_) => None,
         }
     }
     fn piece_count(&self) -> u32 {
@@ -151,12 +186,13 @@ impl SupportMap for Core<'_> {
                     1
                 }
             }
+            Core::Flat(v) => v.len() as u32,
         }
     }
     fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
         match self {
             Core::Whole(s) => s.disc(m, cos_min),
-            Core::Segment(_) => None,
+            Core::Segment(_) | Core::Flat(_) => None,
         }
     }
 }

@@ -380,8 +380,9 @@ fn solve(
     }
     // No bracket can be certified much below the rounding of the bounds themselves.
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
-    // A sphere or capsule against a polytope: GJK on the cores, exact on polyhedral features.
-    if let Some(cores) = Cores::of(pair).filter(Cores::polyhedral) {
+    // Spheres, capsules and padded polygons against polytopes and each other: GJK on the
+    // cores, exact on polyhedral features.
+    if let Some(cores) = Cores::with_flat(pair).filter(Cores::polyhedral) {
         match padded_cast(&cores.posed(pair), ray, cores.pad(), tol, stop) {
             PaddedEnd::Hit(h) => {
                 let (a, b) = cores.padded(&h.normal, h.a, h.b);

@@ -95,6 +95,24 @@ pub(crate) fn padded_cast<S: SupportMap>(
         a: first.a,
         b: first.b,
     };
+    // A threshold is decided as soon as the bounds allow: GJK's support bounds from below, the
+    // ball about any point of Q it passes from above (the support point along r first).
+    let decide = |lo: Real, hi: Real| {
+        let s = stop?;
+        if lo > s.value {
+            Some(PaddedEnd::Decided(false, lo))
+        } else if s.stop_below && hi < s.value {
+            Some(PaddedEnd::Decided(true, hi))
+        } else {
+            None
+        }
+    };
+    if stop.is_some() {
+        let up = ball_exit(1.0, r.dot(&first.w), first.w.norm_squared(), rho);
+        if let Some(end) = decide(lo, up) {
+            return end;
+        }
+    }
     let mut alpha = lo;
     let mut simplex = [Pt::default(); 4];
     let mut wts = [0.0; 4];
@@ -143,6 +161,13 @@ pub(crate) fn padded_cast<S: SupportMap>(
             }
             v = nv;
             gap = Real::INFINITY;
+            if stop.is_some() {
+                let q = x - v;
+                let up = ball_exit(1.0, r.dot(&q), q.norm_squared(), rho);
+                if let Some(end) = decide(lo, up) {
+                    return end;
+                }
+            }
         }
         let mut pts = [Vertex::default(); 3];
         for (p, s) in pts.iter_mut().zip(&simplex[..k]) {
@@ -163,13 +188,8 @@ pub(crate) fn padded_cast<S: SupportMap>(
                 };
             }
         }
-        if let Some(s) = stop {
-            if lo > s.value {
-                return PaddedEnd::Decided(false, lo);
-            }
-            if s.stop_below && hi < s.value {
-                return PaddedEnd::Decided(true, hi);
-            }
+        if let Some(end) = decide(lo, hi) {
+            return end;
         }
         // Closed, GJK's normal supporting Q at its point, and the point found from the ray's
         // point at the value reported: exact. (The bracket pins α' to second order in the
