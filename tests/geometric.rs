@@ -292,7 +292,7 @@ fn sphere_against_a_padded_polygon_in_closed_form() {
     let above = dcol::Pose::from_position([0.3, 0.2, 1.5]).unwrap();
     // Beyond the edge x = 1: ‖(4 − α, 1)‖ = 0.3α, the smaller root (4/α > 1 there).
     let beside = dcol::Pose::from_position([4.0, 0.0, 1.0]).unwrap();
-    let (a, b, c) = (1.0 - 0.09, -8.0, 17.0);
+    let (a, b, c): (f64, f64, f64) = (1.0 - 0.09, -8.0, 17.0);
     let edge: f64 = (-b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
     assert!(4.0 / edge > 1.0);
     for (pose, want) in [(above, 5.0), (beside, edge)] {
