@@ -573,3 +573,49 @@ fn interior_point_failure_returns_a_finite_iterate() {
         );
     }
 }
+
+/// Found by a 240 s fuzz run (2026-11-26): a thin box against a needle cone whose pose has a
+/// subnormal quaternion, separated, through GJK: the distance gradient's rotation columns for
+/// that quaternion (~1/|q|) overflowed to NaN and inf and were returned as they were. Now, as on
+/// the interior-point path, `InvalidPose` (the quaternion is too small for its derivatives).
+#[test]
+fn distance_gradient_with_a_subnormal_quaternion_is_an_error() {
+    let bx = Shape::cuboid(
+        0.009191271839475091,
+        0.0008228427557793545,
+        0.9743038071259632,
+    )
+    .unwrap();
+    let cone = Shape::cone(0.03973296711680782, 8.64347295338369e-6).unwrap();
+    let p1 = Pose::new(
+        [
+            -3.116065629443292e-252,
+            -0.009234912642099642,
+            6.72785534447242e-7,
+        ],
+        [
+            1823910887312123.5,
+            599389.6391241322,
+            81560.99794003204,
+            -8274814984.359502,
+        ],
+    )
+    .unwrap();
+    let p2 = Pose::new(
+        [
+            -5.407644769970246e-6,
+            7.846341649500268e-7,
+            9.663538567177854,
+        ],
+        [-5e-324, 5e-324, -0.0, 0.0],
+    )
+    .unwrap();
+    match dcol::distance_gradient(&bx, &p1, &cone, &p2, &Options::default()) {
+        Err(Error::InvalidPose(_)) => {}
+        Ok((d, g)) => panic!("{d:?} {g:?}: expected InvalidPose"),
+        Err(e) => panic!("{e:?}: expected InvalidPose"),
+    }
+    // The distance itself is fine.
+    let d = distance(&bx, &p1, &cone, &p2, &Options::default()).unwrap();
+    assert!(d.distance > 8.6 && d.distance < 8.7, "{d:?}");
+}

@@ -253,7 +253,21 @@ fn distance_query_until(
             cutoff,
         );
         match sep {
-            Settled::Apart(d, g, beyond) => return Ok((d, g, beyond)),
+            Settled::Apart(d, g, beyond) => {
+                // As on the interior-point path: a gradient that overflows (a quaternion so
+                // small that derivatives with respect to it are not representable) is an error,
+                // or a numerical failure with zeros, never a non-finite number.
+                let finite = g.iter().all(|v| v.is_finite());
+                super::derivatives::check_representable(finite, pose1, pose2)?;
+                if !finite {
+                    let d = Distance {
+                        status: SolveStatus::NumericalFailure,
+                        ..d
+                    };
+                    return Ok((d, [0.0; 14], beyond));
+                }
+                return Ok((d, g, beyond));
+            }
             Settled::Overlapping(w) => {
                 let d = Distance {
                     path: DistancePath::Gjk,
