@@ -228,15 +228,18 @@ fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
     })
 }
 
-/// A sphere or capsule against another shape through the cores (`super::cores`): when the
-/// cores are apart, `sd = ‖cores‖ − R₁ − R₂` at their closest points (GJK, certified); when
-/// they overlap, the cores' penetration minus the radii (EPA on the cores: a point or segment
-/// against a polytope has no curvature to refine). K is the cores' difference padded by
-/// `R₁ + R₂`, so both are exact. `None` when neither shape is padded, or when GJK on the cores
-/// neither certifies a gap nor finds them overlapping.
-/// With the answer, its path when GJK gave it.
+/// A sphere, capsule or padded polygon against another shape through the cores
+/// (`super::cores`, [`Cores::with_polygons`]): when the cores are apart, `sd = ‖cores‖ − R₁ − R₂`
+/// at their closest points (GJK, certified); when they overlap, the cores' penetration minus
+/// the radii (EPA on the cores: a point, segment or plane polygon against a polytope has no
+/// curvature to refine). K is the cores' difference padded by `R₁ + R₂`, so both are exact.
+/// A positive answer with a polygon's core goes to the distance query (as before the polygon
+/// was cored, so that separated answers stay the distance's). `None` when no shape is padded,
+/// when GJK on the cores neither certifies a gap nor finds them overlapping, or when EPA on
+/// them fails (a flat difference: parallel polygons, a point or a segment in a polygon's
+/// plane). With the answer, its path when GJK gave it.
 fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<DistancePath>)> {
-    let cores = Cores::of(pair)?;
+    let cores = Cores::with_polygons(pair)?;
     let pad = cores.pad();
     let polyhedral = cores.polyhedral();
     let padded = |p: Penetration| {
@@ -251,6 +254,11 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
     };
     let posed = cores.posed(pair);
     match gjk::distance(&posed, d, tol, GJK_BUDGET, polyhedral, None) {
+        // Shapes apart with a polygon's plane polygon: the distance query answers (its
+        // GJK path did not certify them, or it would have been taken before).
+        GjkEnd::Separated(s) if cores.flat() && s.distance - pad > 0.0 => {
+            Some((EpaEnd::Separated, None))
+        }
         GjkEnd::Separated(s) => {
             let p = padded(Penetration {
                 sd: s.distance,
