@@ -15,7 +15,7 @@ use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
-use crate::solver::raycast::Pair;
+use crate::solver::raycast::{Pair, Vertex};
 use crate::solver::SolveStatus;
 
 /// GJK iterations before the polish (curved pairs hand over earlier, polytopes end exactly).
@@ -37,6 +37,15 @@ pub(crate) enum Settled {
     Unsettled,
 }
 
+/// GJK's tetrahedron on a certified overlap ([`GjkEnd::Inside`]): support vertices whose `w`
+/// hold `d` strictly inside, a start for EPA (the signed distance). They are of the cores
+/// ([`Cores::of`]) when `cored`, else of the shapes.
+#[derive(Clone, Copy)]
+pub(crate) struct Start {
+    pub cored: bool,
+    pub tet: [Vertex; 4],
+}
+
 /// The distance and gradient by GJK, or a certified overlap, or neither (`cutoff` in world
 /// units; `ell` is the larger bounding radius).
 #[allow(clippy::too_many_arguments)]
@@ -50,19 +59,15 @@ pub(crate) fn separated(
     gradient: bool,
     cutoff: Option<Real>,
 ) -> Settled {
-    match settle(
+    separated_start(
         shape1, pose1, shape2, pose2, tolerance, ell, gradient, cutoff,
-    ) {
-        Ok(Some((d, g, beyond))) => Settled::Apart(d, g, beyond),
-        Ok(None) => Settled::Unsettled,
-        Err(a) => Settled::Overlapping(pose1.position() + a * ell),
-    }
+    )
+    .0
 }
 
-/// [`separated`], with `Err(a)` for a certified overlap (`a`: the common point relative to
-/// `r₁`, normalised units).
+/// [`separated`], with GJK's tetrahedron when it certified an overlap.
 #[allow(clippy::too_many_arguments)]
-fn settle(
+pub(crate) fn separated_start(
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
@@ -71,7 +76,7 @@ fn settle(
     ell: Real,
     gradient: bool,
     cutoff: Option<Real>,
-) -> Result<Option<(Distance, [Real; 14], bool)>, Vec3> {
+) -> (Settled, Option<Start>) {
     let inv = 1.0 / ell;
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     let r1 = *pose1.position();
@@ -82,6 +87,13 @@ fn settle(
         .all(|s| s.kind() == ShapeKind::Polytope);
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     let cutoff = cutoff.map(|c| c * inv);
+    // A certified overlap: the common point `a` (normalised, relative to r₁) in world units.
+    let overlap = |a: Vec3, cored: bool, tet: [Vertex; 4]| {
+        (
+            Settled::Overlapping(r1 + a * ell),
+            Some(Start { cored, tet }),
+        )
+    };
     let beyond = || {
         let far = Distance {
             distance: Real::INFINITY,
@@ -92,7 +104,7 @@ fn settle(
             status: SolveStatus::Converged,
             path: DistancePath::Gjk,
         };
-        Ok(Some((far, [0.0; 14], true)))
+        (Settled::Apart(far, [0.0; 14], true), None)
     };
     // Newton's method on the sphere of normals first where the witnesses are mostly on smooth
     // pieces (not against a cutoff, which GJK decides early).
@@ -109,12 +121,12 @@ fn settle(
         match cored(&pair, &d, tol, cutoff) {
             Some(GjkEnd::Separated(s)) => s,
             Some(GjkEnd::Beyond) => return beyond(),
-            Some(GjkEnd::Inside { a, .. }) => return Err(a),
+            Some(GjkEnd::Inside { a, tet }) => return overlap(a, true, tet),
             _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff) {
                 GjkEnd::Separated(s) => s,
                 GjkEnd::Beyond => return beyond(),
-                GjkEnd::Inside { a } => return Err(a),
-                _ => return Ok(None),
+                GjkEnd::Inside { a, tet } => return overlap(a, false, tet),
+                _ => return (Settled::Unsettled, None),
             },
         }
     };
@@ -128,7 +140,7 @@ fn settle(
             .chain(closest2.iter())
             .all(|v| v.is_finite());
     if !finite {
-        return Ok(None);
+        return (Settled::Unsettled, None);
     }
     let n = s.normal;
     let grad = if gradient {
@@ -149,7 +161,7 @@ fn settle(
             Route::ClosedForm => DistancePath::ClosedForm,
         },
     };
-    Ok(Some((result, grad, false)))
+    (Settled::Apart(result, grad, false), None)
 }
 
 /// `∂d/∂(r₁, q₁, r₂, q₂)` of `d = max over unit n of n·(r₂ − r₁) − h₁(n) − h₂(−n)` (the

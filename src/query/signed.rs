@@ -11,14 +11,14 @@ use super::context::{DistancePath, Options, SignedDistance};
 use super::cores::Cores;
 use super::derivatives::check_representable;
 use super::distance::{distance, MAX_OFFSET_RATIO};
-use super::separated::witness_gradient;
+use super::separated::{witness_gradient, Start};
 use crate::error::{Error, ErrorDetail};
 use crate::math::Vec3;
 use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self as gjk, penetration, EpaEnd, GjkEnd, Penetration, Route};
-use crate::solver::raycast::Pair;
+use crate::solver::raycast::{Pair, Vertex};
 use crate::solver::SolveStatus;
 
 /// The bracket is closed to this fraction of the options' tolerance (units of ℓ).
@@ -90,8 +90,11 @@ pub fn signed_distance(
         path: d.path,
     };
     let inscribed = len < shape1.inscribed_radius() + shape2.inscribed_radius();
+    // GJK's tetrahedron where it certified an overlap: EPA's start (polyhedral pairs), and
+    // the overlap of the cores settled.
+    let mut start = None;
     if !inscribed {
-        if let super::separated::Settled::Apart(d, _, _) = super::separated::separated(
+        match super::separated::separated_start(
             shape1,
             pose1,
             shape2,
@@ -101,7 +104,8 @@ pub fn signed_distance(
             false,
             None,
         ) {
-            return Ok(from_distance(d));
+            (super::separated::Settled::Apart(d, _, _), _) => return Ok(from_distance(d)),
+            (_, s) => start = s,
         }
     }
     let inv = 1.0 / ell;
@@ -116,9 +120,15 @@ pub fn signed_distance(
         Some(p) => (EpaEnd::Closed(p), None),
         None => match sphere_and_solid(&pair, &d) {
             Some(p) => (EpaEnd::Closed(p), Some(DistancePath::ClosedForm)),
-            None => match cored(&pair, &d, tol) {
+            None => match cored(&pair, &d, tol, start.filter(|s| s.cored)) {
                 Some((end, path)) => (end, path),
-                None => (penetration(&pair, &d, tol, BUDGET, curved), None),
+                None => {
+                    let tet = start.filter(|s| !s.cored && !curved).map(|s| s.tet);
+                    (
+                        penetration(&pair, &d, tol, BUDGET, curved, tet.as_ref()),
+                        None,
+                    )
+                }
             },
         },
     };
@@ -238,7 +248,12 @@ fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
 /// when GJK on the cores neither certifies a gap nor finds them overlapping, or when EPA on
 /// them fails (a flat difference: parallel polygons, a point or a segment in a polygon's
 /// plane). With the answer, its path when GJK gave it.
-fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<DistancePath>)> {
+fn cored(
+    pair: &Pair<'_, Shape>,
+    d: &Vec3,
+    tol: Real,
+    start: Option<Start>,
+) -> Option<(EpaEnd, Option<DistancePath>)> {
     let cores = Cores::with_polygons(pair)?;
     let pad = cores.pad();
     let polyhedral = cores.polyhedral();
@@ -253,6 +268,19 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
         }
     };
     let posed = cores.posed(pair);
+    // The cores' EPA; polyhedral cores start from GJK's tetrahedron where there is one (on
+    // curved pieces, measured, GJK's thin tetrahedron starts EPA no better than four fresh
+    // support calls in the directions of a regular one).
+    let epa =
+        |tet: Option<&[Vertex; 4]>| match penetration(&posed, d, tol, BUDGET, !polyhedral, tet) {
+            EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
+            EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
+            EpaEnd::Separated | EpaEnd::Failed => None,
+        };
+    // GJK on these cores (those of `Cores::of`: no polygon) certified their overlap already.
+    if let Some(s) = start.filter(|_| !cores.flat()) {
+        return epa(Some(&s.tet).filter(|_| polyhedral));
+    }
     match gjk::distance(&posed, d, tol, GJK_BUDGET, polyhedral, None) {
         // Shapes apart with a polygon's plane polygon: the distance query answers (its
         // GJK path did not certify them, or it would have been taken before).
@@ -275,13 +303,8 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
             };
             Some((EpaEnd::Closed(p), Some(path)))
         }
-        GjkEnd::Overlap | GjkEnd::Inside { .. } => {
-            match penetration(&posed, d, tol, BUDGET, !polyhedral) {
-                EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
-                EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
-                EpaEnd::Separated | EpaEnd::Failed => None,
-            }
-        }
+        GjkEnd::Overlap => epa(None),
+        GjkEnd::Inside { tet, .. } => epa(Some(&tet).filter(|_| polyhedral)),
         _ => None,
     }
 }

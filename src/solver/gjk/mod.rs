@@ -74,8 +74,9 @@ pub(crate) struct Separation {
     pub route: Route,
 }
 
-/// How GJK ended.
+/// How GJK ended. (`Inside` carries its tetrahedron, 320 bytes, on the stack: no allocation.)
 #[derive(Clone, Copy, Debug)]
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum GjkEnd {
     Separated(Separation),
     /// The origin lies in (or on) the simplex, or the bracket pins the distance at 0: touching
@@ -83,9 +84,11 @@ pub(crate) enum GjkEnd {
     Overlap,
     /// The origin lies strictly inside a tetrahedron of support points: overlap certified,
     /// with a point common to both shapes: `a`, shape 1's witness (relative to its origin;
-    /// shape 2's is `a − d`, to rounding).
+    /// shape 2's is `a − d`, to rounding). `tet`: that tetrahedron's support vertices (their
+    /// `w` hold `d` strictly inside), a start for EPA.
     Inside {
         a: Vec3,
+        tet: [Vertex; 4],
     },
     /// No certificate within the budget.
     Uncertified,
@@ -374,7 +377,10 @@ fn inside(s: &[Pt; 4]) -> GjkEnd {
         .iter()
         .zip(lam)
         .fold(Vec3::zeros(), |acc, (p, l)| acc + p.v.a * (l / sum));
-    GjkEnd::Inside { a }
+    GjkEnd::Inside {
+        a,
+        tet: s.map(|p| p.v),
+    }
 }
 
 /// `Σ wᵢ cᵢ` and the witnesses `Σ wᵢ aᵢ`, `Σ wᵢ bᵢ`.
