@@ -243,8 +243,8 @@ fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
 /// at their closest points (GJK, certified); when they overlap, the cores' penetration minus
 /// the radii (EPA on the cores: a point, segment or plane polygon against a polytope has no
 /// curvature to refine). K is the cores' difference padded by `R₁ + R₂`, so both are exact.
-/// A positive answer with a polygon's core goes to the distance query (as before the polygon
-/// was cored, so that separated answers stay the distance's). `None` when no shape is padded,
+/// A gap proven positive with a polygon's core goes to the distance query (as before the
+/// polygon was cored, so that separated answers stay the distance's). `None` when no shape is padded,
 /// when GJK on the cores neither certifies a gap nor finds them overlapping, or when EPA on
 /// them fails (a flat difference: parallel polygons, a point or a segment in a polygon's
 /// plane). With the answer, its path when GJK gave it.
@@ -268,6 +268,7 @@ fn cored(
         }
     };
     let posed = cores.posed(pair);
+    let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
     // The cores' EPA; polyhedral cores start from GJK's tetrahedron where there is one (on
     // curved pieces, measured, GJK's thin tetrahedron starts EPA no better than four fresh
     // support calls in the directions of a regular one).
@@ -282,9 +283,12 @@ fn cored(
         return epa(Some(&s.tet).filter(|_| polyhedral));
     }
     match gjk::distance(&posed, d, tol, GJK_BUDGET, polyhedral, None) {
-        // Shapes apart with a polygon's plane polygon: the distance query answers (its
-        // GJK path did not certify them, or it would have been taken before).
-        GjkEnd::Separated(s) if cores.flat() && s.distance - pad > 0.0 => {
+        // Shapes proven apart (the bracket [upper − tol, upper] above the radii) with a
+        // polygon's plane polygon: the distance query answers, as it did before polygons were
+        // cored (its GJK path did not certify them, or it would have been taken before).
+        // Within the tolerance of touching the cores' answer stands: its normal is theirs
+        // (the distance query has none at 0).
+        GjkEnd::Separated(s) if cores.flat() && s.distance - tol.max(floor) - pad > floor => {
             Some((EpaEnd::Separated, None))
         }
         GjkEnd::Separated(s) => {
