@@ -60,12 +60,11 @@ pub(crate) fn separated(
     cutoff: Option<Real>,
 ) -> Settled {
     separated_start(
-        shape1, pose1, shape2, pose2, tolerance, ell, gradient, cutoff,
+        shape1, pose1, shape2, pose2, tolerance, ell, gradient, cutoff, None,
     )
-    .0
 }
 
-/// [`separated`], with GJK's tetrahedron when it certified an overlap.
+/// [`separated`]; where GJK certified an overlap, its tetrahedron is written to `start`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn separated_start(
     shape1: &Shape,
@@ -76,7 +75,8 @@ pub(crate) fn separated_start(
     ell: Real,
     gradient: bool,
     cutoff: Option<Real>,
-) -> (Settled, Option<Start>) {
+    start: Option<&mut Option<Start>>,
+) -> Settled {
     let inv = 1.0 / ell;
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     let r1 = *pose1.position();
@@ -87,12 +87,14 @@ pub(crate) fn separated_start(
         .all(|s| s.kind() == ShapeKind::Polytope);
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     let cutoff = cutoff.map(|c| c * inv);
+    // GJK's tetrahedron, when asked for.
+    let mut tet = start.is_some().then(|| [Vertex::default(); 4]);
     // A certified overlap: the common point `a` (normalised, relative to r₁) in world units.
-    let overlap = |a: Vec3, cored: bool, tet: [Vertex; 4]| {
-        (
-            Settled::Overlapping(r1 + a * ell),
-            Some(Start { cored, tet }),
-        )
+    let overlap = |a: Vec3, cored: bool, tet: Option<[Vertex; 4]>| {
+        if let (Some(out), Some(tet)) = (start, tet) {
+            *out = Some(Start { cored, tet });
+        }
+        Settled::Overlapping(r1 + a * ell)
     };
     let beyond = || {
         let far = Distance {
@@ -104,7 +106,7 @@ pub(crate) fn separated_start(
             status: SolveStatus::Converged,
             path: DistancePath::Gjk,
         };
-        (Settled::Apart(far, [0.0; 14], true), None)
+        Settled::Apart(far, [0.0; 14], true)
     };
     // Newton's method on the sphere of normals first where the witnesses are mostly on smooth
     // pieces (not against a cutoff, which GJK decides early).
@@ -118,16 +120,19 @@ pub(crate) fn separated_start(
     } else {
         // Spheres and capsules by their cores first; where those do not certify a positive
         // gap (touching within the tolerance, or closer), the shapes themselves.
-        match cored(&pair, &d, tol, cutoff) {
+        match cored(&pair, &d, tol, cutoff, tet.as_mut()) {
             Some(GjkEnd::Separated(s)) => s,
             Some(GjkEnd::Beyond) => return beyond(),
-            Some(GjkEnd::Inside { a, tet }) => return overlap(a, true, tet),
-            _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff) {
-                GjkEnd::Separated(s) => s,
-                GjkEnd::Beyond => return beyond(),
-                GjkEnd::Inside { a, tet } => return overlap(a, false, tet),
-                _ => return (Settled::Unsettled, None),
-            },
+            Some(GjkEnd::Inside { a }) => return overlap(a, true, tet),
+            _ => {
+                match gjk::distance_start(&pair, &d, tol, BUDGET, polyhedral, cutoff, tet.as_mut())
+                {
+                    GjkEnd::Separated(s) => s,
+                    GjkEnd::Beyond => return beyond(),
+                    GjkEnd::Inside { a } => return overlap(a, false, tet),
+                    _ => return Settled::Unsettled,
+                }
+            }
         }
     };
     let dist = s.distance * ell;
@@ -140,7 +145,7 @@ pub(crate) fn separated_start(
             .chain(closest2.iter())
             .all(|v| v.is_finite());
     if !finite {
-        return (Settled::Unsettled, None);
+        return Settled::Unsettled;
     }
     let n = s.normal;
     let grad = if gradient {
@@ -161,7 +166,7 @@ pub(crate) fn separated_start(
             Route::ClosedForm => DistancePath::ClosedForm,
         },
     };
-    (Settled::Apart(result, grad, false), None)
+    Settled::Apart(result, grad, false)
 }
 
 /// `∂d/∂(r₁, q₁, r₂, q₂)` of `d = max over unit n of n·(r₂ − r₁) − h₁(n) − h₂(−n)` (the
@@ -250,16 +255,23 @@ fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separ
 /// Only a gap certified positive (the cores' bracket above the radii) is an answer;
 /// `GjkEnd::Beyond` when the cores' lower bound exceeds the cutoff plus the radii; `None`
 /// when neither shape is padded or the cores do not settle it.
-fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real, cutoff: Option<Real>) -> Option<GjkEnd> {
+fn cored(
+    pair: &Pair<'_, Shape>,
+    d: &Vec3,
+    tol: Real,
+    cutoff: Option<Real>,
+    tet: Option<&mut [Vertex; 4]>,
+) -> Option<GjkEnd> {
     let cores = Cores::of(pair)?;
     let pad = cores.pad();
-    let end = gjk::distance(
+    let end = gjk::distance_start(
         &cores.posed(pair),
         d,
         tol,
         BUDGET,
         cores.polyhedral(),
         cutoff.map(|c| c + pad),
+        tet,
     );
     match end {
         GjkEnd::Separated(s) => {

@@ -94,7 +94,7 @@ pub fn signed_distance(
     // the overlap of the cores settled.
     let mut start = None;
     if !inscribed {
-        match super::separated::separated_start(
+        if let super::separated::Settled::Apart(d, _, _) = super::separated::separated_start(
             shape1,
             pose1,
             shape2,
@@ -103,9 +103,9 @@ pub fn signed_distance(
             ell,
             false,
             None,
+            Some(&mut start),
         ) {
-            (super::separated::Settled::Apart(d, _, _), _) => return Ok(from_distance(d)),
-            (_, s) => start = s,
+            return Ok(from_distance(d));
         }
     }
     let inv = 1.0 / ell;
@@ -282,7 +282,8 @@ fn cored(
     if let Some(s) = start.filter(|_| !cores.flat()) {
         return epa(Some(&s.tet).filter(|_| polyhedral));
     }
-    match gjk::distance(&posed, d, tol, GJK_BUDGET, polyhedral, None) {
+    let mut tet = [Vertex::default(); 4];
+    match gjk::distance_start(&posed, d, tol, GJK_BUDGET, polyhedral, None, Some(&mut tet)) {
         // Shapes proven apart (the bracket [upper − tol, upper] above the radii) with a
         // polygon's plane polygon: the distance query answers, as it did before polygons were
         // cored (its GJK path did not certify them, or it would have been taken before).
@@ -308,7 +309,7 @@ fn cored(
             Some((EpaEnd::Closed(p), Some(path)))
         }
         GjkEnd::Overlap => epa(None),
-        GjkEnd::Inside { tet, .. } => epa(Some(&tet).filter(|_| polyhedral)),
+        GjkEnd::Inside { .. } => epa(Some(&tet).filter(|_| polyhedral)),
         _ => None,
     }
 }
