@@ -1,5 +1,6 @@
 //! Shapes with their padding taken off, for GJK: a sphere is its centre and a capsule its
-//! segment, padded by their radius; every other shape is itself.
+//! segment, padded by their radius; every other shape is itself. For the signed distance
+//! ([`Cores::with_polygons`]) a padded polygon is its plane polygon, padded by its radius, too.
 //!
 //! The distance of two padded shapes is the distance of their cores minus the two radii
 //! (where that is positive), with witness points moved by the radii along the normal: what
@@ -7,7 +8,7 @@
 //! sphere or capsule against a polytope ends exactly, in a few iterations, as two polytopes do.
 
 use crate::math::{Real, Vec3};
-use crate::shapes::{argmax_dot, PieceEval, Shape, SupportMap};
+use crate::shapes::{PieceEval, Shape, ShapeKind, SupportMap};
 use crate::solver::raycast::Pair;
 
 /// A shape for GJK: whole, or the core of a padded one.
@@ -17,8 +18,9 @@ pub(crate) enum Core<'a> {
     Whole(&'a Shape),
     /// The segment `[−h, h]·e_x` (a point when `h = 0`) of a capsule or sphere.
     Segment(Real),
-    /// The plane polygon of a padded polygon, by its vertices (body frame).
-    Flat(&'a [Vec3]),
+    /// The plane polygon of a padded polygon (its vertices, body frame, `z = 0`), with the
+    /// shape for its gauge.
+    Flat(&'a Shape, &'a [Vec3]),
 }
 
 impl<'a> Core<'a> {
@@ -30,21 +32,22 @@ impl<'a> Core<'a> {
         }
     }
 
-    /// The core of `shape` as [`Core::of`], and a padded polygon's plane polygon (for the
-    /// proximity's padded cast, `crate::solver::gjk::padded`).
-    pub(crate) fn of_with_flat(shape: &'a Shape) -> (Core<'a>, Real) {
-        match shape.flat_vertices() {
-            Some((vertices, radius)) if radius > 0.0 => (Core::Flat(vertices), radius),
-            _ => Core::of(shape),
+    /// [`Core::of`], and a padded polygon's plane polygon with its radius.
+    pub(crate) fn with_polygon(shape: &'a Shape) -> (Core<'a>, Real) {
+        if shape.kind() == ShapeKind::Polygon {
+            if let Some((vertices, radius)) = shape.flat_vertices() {
+                return (Core::Flat(shape, vertices), radius);
+            }
         }
+        Core::of(shape)
     }
 
     /// Whether GJK on this core ends exactly (no curvature): a polytope, polygon, segment or
     /// point.
     pub(crate) fn polyhedral(&self) -> bool {
         match self {
-            Core::Whole(s) => s.kind() == crate::shapes::ShapeKind::Polytope,
-            Core::Segment(_) | Core::Flat(_) => true,
+            Core::Whole(s) => s.kind() == ShapeKind::Polytope,
+            Core::Segment(_) | Core::Flat(..) => true,
         }
     }
 }
@@ -60,20 +63,20 @@ pub(crate) struct Cores<'a> {
 impl<'a> Cores<'a> {
     /// The cores of `pair`'s shapes; `None` when neither is a sphere or capsule.
     pub(crate) fn of(pair: &Pair<'a, Shape>) -> Option<Self> {
-        let (c1, p1) = Core::of(pair.one.shape);
-        let (c2, p2) = Core::of(pair.two.shape);
-        let inv = pair.one.inv_scale;
-        (p1 + p2 > 0.0).then_some(Cores {
-            cores: [c1, c2],
-            radii: [p1 * inv, p2 * inv],
-        })
+        Self::from(pair, Core::of)
     }
 
-    /// The cores of `pair`'s shapes with padded polygons cored too ([`Core::of_with_flat`]);
-    /// `None` when no shape is padded.
-    pub(crate) fn with_flat(pair: &Pair<'a, Shape>) -> Option<Self> {
-        let (c1, p1) = Core::of_with_flat(pair.one.shape);
-        let (c2, p2) = Core::of_with_flat(pair.two.shape);
+    /// The cores of `pair`'s shapes with padded polygons as their plane polygons
+    /// ([`Core::with_polygon`]); `None` when no shape is padded. Two polygons in parallel
+    /// planes, or a polygon against a point or a segment parallel to its plane, have a flat
+    /// difference of cores: EPA on it finds no tetrahedron, and the caller uses the shapes.
+    pub(crate) fn with_polygons(pair: &Pair<'a, Shape>) -> Option<Self> {
+        Self::from(pair, Core::with_polygon)
+    }
+
+    fn from(pair: &Pair<'a, Shape>, core: fn(&'a Shape) -> (Core<'a>, Real)) -> Option<Self> {
+        let (c1, p1) = core(pair.one.shape);
+        let (c2, p2) = core(pair.two.shape);
         let inv = pair.one.inv_scale;
         (p1 + p2 > 0.0).then_some(Cores {
             cores: [c1, c2],
@@ -88,6 +91,11 @@ impl<'a> Cores<'a> {
             [pair.one.rot, pair.two.rot],
             pair.one.inv_scale,
         )
+    }
+
+    /// Whether a padded polygon is taken as its plane polygon.
+    pub(crate) fn flat(&self) -> bool {
+        self.cores.iter().any(|c| matches!(c, Core::Flat(..)))
     }
 
     /// Whether GJK and EPA on the cores end exactly.
@@ -122,9 +130,15 @@ impl SupportMap for Core<'_> {
                 let id = u32::from(m.x < 0.0 && *h > 0.0);
                 (end(*h, id), id)
             }
-            Core::Flat(v) => {
-                let (k, _) = argmax_dot(v, m);
-                (v[k], k as u32)
+            Core::Flat(_, v) => {
+                let (mut best, mut h) = (0, Real::NEG_INFINITY);
+                for (k, p) in v.iter().enumerate() {
+                    let hk = p.dot(m);
+                    if hk > h {
+                        (best, h) = (k, hk);
+                    }
+                }
+                (v[best], best as u32)
             }
         }
     }
@@ -139,7 +153,7 @@ impl SupportMap for Core<'_> {
                     hess: crate::math::Mat3::zeros(),
                 })
             }
-            Core::Flat(v) => v.get(id as usize).map(|a| PieceEval {
+            Core::Flat(_, v) => v.get(id as usize).map(|a| PieceEval {
                 value: a.dot(m),
                 grad: *a,
                 hess: crate::math::Mat3::zeros(),
@@ -149,10 +163,10 @@ impl SupportMap for Core<'_> {
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
         match self {
             Core::Whole(s) => s.flat_face(m, cos_min),
-            Core::Segment(_) | Core::Flat(_) => None,
+            Core::Segment(_) | Core::Flat(..) => None,
         }
     }
-    /// A segment has no interior: the gauge of a point on it is `|x|/h`, of any other point
+    /// A segment or plane polygon has no interior: the gauge of a point on it is `|x|/h`, of any other point
     /// infinite (no scaling of the segment reaches it).
     fn gauge(&self, p: &Vec3) -> Real {
         match self {
@@ -166,14 +180,20 @@ impl SupportMap for Core<'_> {
                     Real::INFINITY
                 }
             }
-            // Not asked of the padded cast's cores (GJK's face snapping is the distance's).
-            Core::Flat(_) => Real::INFINITY,
+            // In the plane, the padded polygon's gauge is the plane polygon's.
+            Core::Flat(s, _) => {
+                if p.z == 0.0 {
+                    s.gauge(p)
+                } else {
+                    Real::INFINITY
+                }
+            }
         }
     }
     fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
         match self {
             Core::Whole(s) => s.normal_at(id, p),
-            Core::Segment(_) | Core::Flat(_) => None,
+            Core::Segment(_) | Core::Flat(..) => None,
         }
     }
     fn piece_count(&self) -> u32 {
@@ -186,13 +206,13 @@ impl SupportMap for Core<'_> {
                     1
                 }
             }
-            Core::Flat(v) => v.len() as u32,
+            Core::Flat(_, v) => v.len() as u32,
         }
     }
     fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
         match self {
             Core::Whole(s) => s.disc(m, cos_min),
-            Core::Segment(_) | Core::Flat(_) => None,
+            Core::Segment(_) | Core::Flat(..) => None,
         }
     }
 }

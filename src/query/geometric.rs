@@ -382,7 +382,7 @@ fn solve(
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     // Spheres, capsules and padded polygons against polytopes and each other: GJK on the
     // cores, exact on polyhedral features.
-    if let Some(cores) = Cores::with_flat(pair).filter(Cores::polyhedral) {
+    if let Some(cores) = Cores::with_polygons(pair).filter(Cores::polyhedral) {
         match padded_cast(&cores.posed(pair), ray, cores.pad(), tol, stop) {
             PaddedEnd::Hit(h) => {
                 let (a, b) = cores.padded(&h.normal, h.a, h.b);

@@ -15,7 +15,7 @@ use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
-use crate::solver::raycast::Pair;
+use crate::solver::raycast::{Pair, Vertex};
 use crate::solver::SolveStatus;
 
 /// GJK iterations before the polish (curved pairs hand over earlier, polytopes end exactly).
@@ -37,6 +37,15 @@ pub(crate) enum Settled {
     Unsettled,
 }
 
+/// GJK's tetrahedron on a certified overlap ([`GjkEnd::Inside`]): support vertices whose `w`
+/// hold `d` strictly inside, a start for EPA (the signed distance). They are of the cores
+/// ([`Cores::of`]) when `cored`, else of the shapes.
+#[derive(Clone, Copy)]
+pub(crate) struct Start {
+    pub cored: bool,
+    pub tet: [Vertex; 4],
+}
+
 /// The distance and gradient by GJK, or a certified overlap, or neither (`cutoff` in world
 /// units; `ell` is the larger bounding radius).
 #[allow(clippy::too_many_arguments)]
@@ -50,19 +59,14 @@ pub(crate) fn separated(
     gradient: bool,
     cutoff: Option<Real>,
 ) -> Settled {
-    match settle(
-        shape1, pose1, shape2, pose2, tolerance, ell, gradient, cutoff,
-    ) {
-        Ok(Some((d, g, beyond))) => Settled::Apart(d, g, beyond),
-        Ok(None) => Settled::Unsettled,
-        Err(a) => Settled::Overlapping(pose1.position() + a * ell),
-    }
+    separated_start(
+        shape1, pose1, shape2, pose2, tolerance, ell, gradient, cutoff, None,
+    )
 }
 
-/// [`separated`], with `Err(a)` for a certified overlap (`a`: the common point relative to
-/// `r₁`, normalised units).
+/// [`separated`]; where GJK certified an overlap, its tetrahedron is written to `start`.
 #[allow(clippy::too_many_arguments)]
-fn settle(
+pub(crate) fn separated_start(
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
@@ -71,7 +75,8 @@ fn settle(
     ell: Real,
     gradient: bool,
     cutoff: Option<Real>,
-) -> Result<Option<(Distance, [Real; 14], bool)>, Vec3> {
+    start: Option<&mut Option<Start>>,
+) -> Settled {
     let inv = 1.0 / ell;
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     let r1 = *pose1.position();
@@ -82,6 +87,15 @@ fn settle(
         .all(|s| s.kind() == ShapeKind::Polytope);
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     let cutoff = cutoff.map(|c| c * inv);
+    // GJK's tetrahedron, when asked for.
+    let mut tet = start.is_some().then(|| [Vertex::default(); 4]);
+    // A certified overlap: the common point `a` (normalised, relative to r₁) in world units.
+    let overlap = |a: Vec3, cored: bool, tet: Option<[Vertex; 4]>| {
+        if let (Some(out), Some(tet)) = (start, tet) {
+            *out = Some(Start { cored, tet });
+        }
+        Settled::Overlapping(r1 + a * ell)
+    };
     let beyond = || {
         let far = Distance {
             distance: Real::INFINITY,
@@ -92,7 +106,7 @@ fn settle(
             status: SolveStatus::Converged,
             path: DistancePath::Gjk,
         };
-        Ok(Some((far, [0.0; 14], true)))
+        Settled::Apart(far, [0.0; 14], true)
     };
     // Newton's method on the sphere of normals first where the witnesses are mostly on smooth
     // pieces (not against a cutoff, which GJK decides early).
@@ -106,16 +120,19 @@ fn settle(
     } else {
         // Spheres and capsules by their cores first; where those do not certify a positive
         // gap (touching within the tolerance, or closer), the shapes themselves.
-        match cored(&pair, &d, tol, cutoff) {
+        match cored(&pair, &d, tol, cutoff, tet.as_mut()) {
             Some(GjkEnd::Separated(s)) => s,
             Some(GjkEnd::Beyond) => return beyond(),
-            Some(GjkEnd::Inside { a, .. }) => return Err(a),
-            _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff) {
-                GjkEnd::Separated(s) => s,
-                GjkEnd::Beyond => return beyond(),
-                GjkEnd::Inside { a } => return Err(a),
-                _ => return Ok(None),
-            },
+            Some(GjkEnd::Inside { a }) => return overlap(a, true, tet),
+            _ => {
+                match gjk::distance_start(&pair, &d, tol, BUDGET, polyhedral, cutoff, tet.as_mut())
+                {
+                    GjkEnd::Separated(s) => s,
+                    GjkEnd::Beyond => return beyond(),
+                    GjkEnd::Inside { a } => return overlap(a, false, tet),
+                    _ => return Settled::Unsettled,
+                }
+            }
         }
     };
     let dist = s.distance * ell;
@@ -128,7 +145,7 @@ fn settle(
             .chain(closest2.iter())
             .all(|v| v.is_finite());
     if !finite {
-        return Ok(None);
+        return Settled::Unsettled;
     }
     let n = s.normal;
     let grad = if gradient {
@@ -149,7 +166,7 @@ fn settle(
             Route::ClosedForm => DistancePath::ClosedForm,
         },
     };
-    Ok(Some((result, grad, false)))
+    Settled::Apart(result, grad, false)
 }
 
 /// `∂d/∂(r₁, q₁, r₂, q₂)` of `d = max over unit n of n·(r₂ − r₁) − h₁(n) − h₂(−n)` (the
@@ -238,16 +255,23 @@ fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separ
 /// Only a gap certified positive (the cores' bracket above the radii) is an answer;
 /// `GjkEnd::Beyond` when the cores' lower bound exceeds the cutoff plus the radii; `None`
 /// when neither shape is padded or the cores do not settle it.
-fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real, cutoff: Option<Real>) -> Option<GjkEnd> {
+fn cored(
+    pair: &Pair<'_, Shape>,
+    d: &Vec3,
+    tol: Real,
+    cutoff: Option<Real>,
+    tet: Option<&mut [Vertex; 4]>,
+) -> Option<GjkEnd> {
     let cores = Cores::of(pair)?;
     let pad = cores.pad();
-    let end = gjk::distance(
+    let end = gjk::distance_start(
         &cores.posed(pair),
         d,
         tol,
         BUDGET,
         cores.polyhedral(),
         cutoff.map(|c| c + pad),
+        tet,
     );
     match end {
         GjkEnd::Separated(s) => {

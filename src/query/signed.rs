@@ -11,14 +11,14 @@ use super::context::{DistancePath, Options, SignedDistance};
 use super::cores::Cores;
 use super::derivatives::check_representable;
 use super::distance::{distance, MAX_OFFSET_RATIO};
-use super::separated::witness_gradient;
+use super::separated::{witness_gradient, Start};
 use crate::error::{Error, ErrorDetail};
 use crate::math::Vec3;
 use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self as gjk, penetration, EpaEnd, GjkEnd, Penetration, Route};
-use crate::solver::raycast::Pair;
+use crate::solver::raycast::{Pair, Vertex};
 use crate::solver::SolveStatus;
 
 /// The bracket is closed to this fraction of the options' tolerance (units of ℓ).
@@ -90,8 +90,11 @@ pub fn signed_distance(
         path: d.path,
     };
     let inscribed = len < shape1.inscribed_radius() + shape2.inscribed_radius();
+    // GJK's tetrahedron where it certified an overlap: EPA's start (polyhedral pairs), and
+    // the overlap of the cores settled.
+    let mut start = None;
     if !inscribed {
-        if let super::separated::Settled::Apart(d, _, _) = super::separated::separated(
+        if let super::separated::Settled::Apart(d, _, _) = super::separated::separated_start(
             shape1,
             pose1,
             shape2,
@@ -100,6 +103,7 @@ pub fn signed_distance(
             ell,
             false,
             None,
+            Some(&mut start),
         ) {
             return Ok(from_distance(d));
         }
@@ -116,9 +120,15 @@ pub fn signed_distance(
         Some(p) => (EpaEnd::Closed(p), None),
         None => match sphere_and_solid(&pair, &d) {
             Some(p) => (EpaEnd::Closed(p), Some(DistancePath::ClosedForm)),
-            None => match cored(&pair, &d, tol) {
+            None => match cored(&pair, &d, tol, start.filter(|s| s.cored)) {
                 Some((end, path)) => (end, path),
-                None => (penetration(&pair, &d, tol, BUDGET, curved), None),
+                None => {
+                    let tet = start.filter(|s| !s.cored && !curved).map(|s| s.tet);
+                    (
+                        penetration(&pair, &d, tol, BUDGET, curved, tet.as_ref()),
+                        None,
+                    )
+                }
             },
         },
     };
@@ -228,15 +238,23 @@ fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
     })
 }
 
-/// A sphere or capsule against another shape through the cores (`super::cores`): when the
-/// cores are apart, `sd = ‖cores‖ − R₁ − R₂` at their closest points (GJK, certified); when
-/// they overlap, the cores' penetration minus the radii (EPA on the cores: a point or segment
-/// against a polytope has no curvature to refine). K is the cores' difference padded by
-/// `R₁ + R₂`, so both are exact. `None` when neither shape is padded, or when GJK on the cores
-/// neither certifies a gap nor finds them overlapping.
-/// With the answer, its path when GJK gave it.
-fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<DistancePath>)> {
-    let cores = Cores::of(pair)?;
+/// A sphere, capsule or padded polygon against another shape through the cores
+/// (`super::cores`, [`Cores::with_polygons`]): when the cores are apart, `sd = ‖cores‖ − R₁ − R₂`
+/// at their closest points (GJK, certified); when they overlap, the cores' penetration minus
+/// the radii (EPA on the cores: a point, segment or plane polygon against a polytope has no
+/// curvature to refine). K is the cores' difference padded by `R₁ + R₂`, so both are exact.
+/// A gap proven positive with a polygon's core goes to the distance query (as before the
+/// polygon was cored, so that separated answers stay the distance's). `None` when no shape is padded,
+/// when GJK on the cores neither certifies a gap nor finds them overlapping, or when EPA on
+/// them fails (a flat difference: parallel polygons, a point or a segment in a polygon's
+/// plane). With the answer, its path when GJK gave it.
+fn cored(
+    pair: &Pair<'_, Shape>,
+    d: &Vec3,
+    tol: Real,
+    start: Option<Start>,
+) -> Option<(EpaEnd, Option<DistancePath>)> {
+    let cores = Cores::with_polygons(pair)?;
     let pad = cores.pad();
     let polyhedral = cores.polyhedral();
     let padded = |p: Penetration| {
@@ -250,7 +268,30 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
         }
     };
     let posed = cores.posed(pair);
-    match gjk::distance(&posed, d, tol, GJK_BUDGET, polyhedral, None) {
+    let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
+    // The cores' EPA; polyhedral cores start from GJK's tetrahedron where there is one (on
+    // curved pieces, measured, GJK's thin tetrahedron starts EPA no better than four fresh
+    // support calls in the directions of a regular one).
+    let epa =
+        |tet: Option<&[Vertex; 4]>| match penetration(&posed, d, tol, BUDGET, !polyhedral, tet) {
+            EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
+            EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
+            EpaEnd::Separated | EpaEnd::Failed => None,
+        };
+    // GJK on these cores (those of `Cores::of`: no polygon) certified their overlap already.
+    if let Some(s) = start.filter(|_| !cores.flat()) {
+        return epa(Some(&s.tet).filter(|_| polyhedral));
+    }
+    let mut tet = [Vertex::default(); 4];
+    match gjk::distance_start(&posed, d, tol, GJK_BUDGET, polyhedral, None, Some(&mut tet)) {
+        // Shapes proven apart (the bracket [upper − tol, upper] above the radii) with a
+        // polygon's plane polygon: the distance query answers, as it did before polygons were
+        // cored (its GJK path did not certify them, or it would have been taken before).
+        // Within the tolerance of touching the cores' answer stands: its normal is theirs
+        // (the distance query has none at 0).
+        GjkEnd::Separated(s) if cores.flat() && s.distance - tol.max(floor) - pad > floor => {
+            Some((EpaEnd::Separated, None))
+        }
         GjkEnd::Separated(s) => {
             let p = padded(Penetration {
                 sd: s.distance,
@@ -267,13 +308,8 @@ fn cored(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<(EpaEnd, Option<
             };
             Some((EpaEnd::Closed(p), Some(path)))
         }
-        GjkEnd::Overlap | GjkEnd::Inside { .. } => {
-            match penetration(&posed, d, tol, BUDGET, !polyhedral) {
-                EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
-                EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
-                EpaEnd::Separated | EpaEnd::Failed => None,
-            }
-        }
+        GjkEnd::Overlap => epa(None),
+        GjkEnd::Inside { .. } => epa(Some(&tet).filter(|_| polyhedral)),
         _ => None,
     }
 }

@@ -322,19 +322,22 @@ struct Best {
 
 /// The signed distance of an overlapping (or touching) pair at offset `d` (normalised),
 /// closing the bracket to `tol` within `budget` support calls. `curved`: run the polish.
+/// `tet`: support vertices of the pair to start from (GJK's last simplex), when they span a
+/// tetrahedron; otherwise EPA starts from four support calls of its own.
 pub(crate) fn penetration<S: SupportMap>(
     pair: &Pair<'_, S>,
     d: &Vec3,
     tol: Real,
     budget: u32,
     curved: bool,
+    tet: Option<&[Vertex; 4]>,
 ) -> EpaEnd {
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
     let tol = tol.max(4.0 * floor);
     let eps = floor;
     let mut poly = Poly::new(d);
     let mut supports = 0u32;
-    if !start(pair, &mut poly, &mut supports) {
+    if !tet.is_some_and(|t| start_from(&mut poly, t)) && !start(pair, &mut poly, &mut supports) {
         return EpaEnd::Failed;
     }
     let mut best = Best {
@@ -434,40 +437,42 @@ fn start<S: SupportMap>(pair: &Pair<'_, S>, poly: &mut Poly, supports: &mut u32)
         Vec3::new(-s, -s, s),
     ];
     for sign in [1.0, -1.0] {
-        poly.verts.clear();
-        poly.faces.clear();
-        poly.keys.clear();
-        for dir in &dirs {
-            poly.verts.push(pair.support(&(dir * sign)));
-            *supports += 1;
-        }
-        let w = [0, 1, 2, 3].map(|i| poly.verts[i].w);
-        let vol = (w[1] - w[0]).cross(&(w[2] - w[0])).dot(&(w[3] - w[0]));
-        let scale = (w[1] - w[0]).norm() * (w[2] - w[0]).norm() * (w[3] - w[0]).norm();
-        if !(vol.abs() > 1e-9 * scale) {
-            continue;
-        }
-        // With vol > 0, (0,1,2) has 3 on its positive side: orient it the other way.
-        let faces: [[u16; 3]; 4] = if vol > 0.0 {
-            [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
-        } else {
-            [[0, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]]
-        };
-        let mut ok = true;
-        for v in faces {
-            match poly.face(v) {
-                Some(f) => {
-                    poly.faces.push(f);
-                    poly.keys.push(f.rho);
-                }
-                None => ok = false,
-            }
-        }
-        if ok && poly.link_all() {
+        let tet = dirs.map(|dir| pair.support(&(dir * sign)));
+        *supports += 4;
+        if start_from(poly, &tet) {
             return true;
         }
     }
     false
+}
+
+/// The polytope of the four vertices `tet`, its faces oriented outward; false when they do
+/// not span a tetrahedron (relative volume 1e-9).
+fn start_from(poly: &mut Poly, tet: &[Vertex; 4]) -> bool {
+    poly.verts.clear();
+    poly.faces.clear();
+    poly.keys.clear();
+    poly.verts.extend(tet.iter().copied());
+    let w = tet.map(|v| v.w);
+    let vol = (w[1] - w[0]).cross(&(w[2] - w[0])).dot(&(w[3] - w[0]));
+    let scale = (w[1] - w[0]).norm() * (w[2] - w[0]).norm() * (w[3] - w[0]).norm();
+    if !(vol.abs() > 1e-9 * scale) {
+        return false;
+    }
+    // With vol > 0, (0,1,2) has 3 on its positive side: orient it the other way.
+    let faces: [[u16; 3]; 4] = if vol > 0.0 {
+        [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
+    } else {
+        [[0, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]]
+    };
+    for v in faces {
+        let Some(f) = poly.face(v) else {
+            return false;
+        };
+        poly.faces.push(f);
+        poly.keys.push(f.rho);
+    }
+    poly.link_all()
 }
 
 /// The certified upper bound on `sd` with closest face `f`: `−(min ρ_f − rounding)` when every

@@ -14,6 +14,7 @@
 use super::Cert;
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::SupportMap;
+use crate::solver::dense::lu_solve_one;
 use crate::solver::polish::{
     assemble_kkt, drop_piece, eval, normalise_multipliers, solve_dense, Active, DampedNewton,
     Stationarity, MAX_DIM, MAX_PIECES,
@@ -214,12 +215,14 @@ pub(super) fn newton<S: SupportMap>(
         mu,
         lam,
         |n, mu, lam, jac, rhs| system(pair, d, act, n, mu, lam, jac, rhs),
-        |jac, rhs| {
-            if dim == 4 {
-                solve4(jac, rhs)
-            } else {
-                solve_dense(jac, rhs, dim)
-            }
+        |jac, rhs| match dim {
+            4 => solve4(jac, rhs),
+            5 => solve_fixed::<5>(jac, rhs),
+            6 => solve_fixed::<6>(jac, rhs),
+            7 => solve_fixed::<7>(jac, rhs),
+            8 => solve_fixed::<8>(jac, rhs),
+            9 => solve_fixed::<9>(jac, rhs),
+            _ => solve_dense(jac, rhs, dim),
         },
     )
 }
@@ -267,5 +270,69 @@ fn solve4(jac: &[[Real; MAX_DIM]; MAX_DIM], rhs: &mut [Real; MAX_DIM]) -> bool {
         return false;
     }
     rhs[..4].copy_from_slice(x.as_slice());
+    true
+}
+
+/// [`solve_dense`] of order `N` known at compile time: the same pivots, operations and checks
+/// (every pivot above 1e-13 of the largest entry), so the same numbers, with fixed loop bounds
+/// and the largest entry found by independent per-column maxima (`solve_dense` finds it twice,
+/// each time by one chain of dependent comparisons: most of its time at order 8).
+fn solve_fixed<const N: usize>(
+    jac: &[[Real; MAX_DIM]; MAX_DIM],
+    rhs: &mut [Real; MAX_DIM],
+) -> bool {
+    let mut a = [[0.0; N]; N];
+    for (row, src) in a.iter_mut().zip(jac) {
+        row.copy_from_slice(&src[..N]);
+    }
+    // The largest |entry| (a NaN passed over, as there).
+    let mut col = [0.0 as Real; N];
+    for row in &a {
+        for (m, v) in col.iter_mut().zip(row) {
+            let x = v.abs();
+            if x > *m {
+                *m = x;
+            }
+        }
+    }
+    let big = col
+        .iter()
+        .fold(0.0, |m: Real, &x| if x > m { x } else { m });
+    if !(big > 0.0) || !big.is_finite() {
+        return false;
+    }
+    let floor = 1e-13 * big;
+    let mut ipiv = [0usize; N];
+    for k in 0..N {
+        let (mut p, mut pmax) = (k, a[k][k].abs());
+        for (i, row) in a.iter().enumerate().skip(k + 1) {
+            let x = row[k].abs();
+            if x > pmax {
+                p = i;
+                pmax = x;
+            }
+        }
+        if !(pmax > floor) {
+            return false;
+        }
+        a.swap(p, k);
+        ipiv[k] = p;
+        let pivot_row = a[k];
+        let inv = 1.0 / pivot_row[k];
+        for row in a[k + 1..].iter_mut() {
+            let f = row[k] * inv;
+            row[k] = f;
+            if f == 0.0 {
+                continue;
+            }
+            for (x, pv) in row[k + 1..].iter_mut().zip(&pivot_row[k + 1..]) {
+                *x -= f * pv;
+            }
+        }
+    }
+    let mut b = [0.0; N];
+    b.copy_from_slice(&rhs[..N]);
+    lu_solve_one(&a, &ipiv, N, &mut b);
+    rhs[..N].copy_from_slice(&b);
     true
 }
