@@ -93,7 +93,28 @@ pub fn signed_distance(
     // GJK's tetrahedron where it certified an overlap: EPA's start (polyhedral pairs), and
     // the overlap of the cores settled.
     let mut start = None;
-    if !inscribed {
+    // A curved pair (an ellipsoid, cylinder or cone) whose slab along the offset does not
+    // separate it is mostly overlapping: the distance query's Newton and GJK would only find
+    // that out (about a microsecond on deep overlaps), so such a pair goes to EPA at once,
+    // which hands a separated pair back to the distance query.
+    let curved = [shape1, shape2].iter().any(|s| {
+        matches!(
+            s.kind(),
+            ShapeKind::Ellipsoid | ShapeKind::Cylinder | ShapeKind::Cone
+        )
+    });
+    let probe_overlaps = || {
+        let pair = Pair::new(
+            [shape1, shape2],
+            [pose1.rotation(), pose2.rotation()],
+            1.0 / ell,
+        );
+        let u = offset / len;
+        let v = pair.support(&u);
+        u.dot(&(offset / ell)) - u.dot(&v.w) <= 0.0
+    };
+    let probed = !inscribed && curved && probe_overlaps();
+    if !(inscribed || probed) {
         if let super::separated::Settled::Apart(d, _, _) = super::separated::separated_start(
             shape1,
             pose1,
@@ -138,7 +159,17 @@ pub fn signed_distance(
         EpaEnd::Separated => {
             return distance(shape1, pose1, shape2, pose2, options).map(from_distance);
         }
-        EpaEnd::Failed => return Err(Error::Internal("signed_distance: degenerate polytope")),
+        EpaEnd::Failed => {
+            // A pair sent here by the probe without the distance query's try: a separated one
+            // is the distance query's answer.
+            if probed {
+                let d = distance(shape1, pose1, shape2, pose2, options)?;
+                if d.distance > 0.0 {
+                    return Ok(from_distance(d));
+                }
+            }
+            return Err(Error::Internal("signed_distance: degenerate polytope"));
+        }
     };
     // Touching: within rounding of 0.
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
