@@ -307,29 +307,7 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
         _ => None,
     };
     let boxed = |posed: &Posed<'_, Shape>| Some(posed.shape.centred_box()? * posed.inv_scale);
-    // A sphere and a centred box, in either order (K = B ⊕ B(ρ) both ways).
-    if let (Some(h), Some(rho)) = (boxed(&pair.one), ball(&pair.two)) {
-        let hit = sphere_box(ray, pair.one.rot, &h, rho)?;
-        return Some(Answer {
-            alpha: hit.alpha,
-            normal: hit.normal / hit.normal.dot(ray),
-            a: hit.box_point,
-            b: -hit.normal * rho,
-            solver: Solver::ClosedForm,
-        });
-    }
-    if let (Some(rho), Some(h)) = (ball(&pair.one), boxed(&pair.two)) {
-        let hit = sphere_box(ray, pair.two.rot, &h, rho)?;
-        return Some(Answer {
-            alpha: hit.alpha,
-            normal: hit.normal / hit.normal.dot(ray),
-            a: hit.normal * rho,
-            b: -hit.box_point,
-            solver: Solver::ClosedForm,
-        });
-    }
-    // A sphere and a cylinder or cone (a solid of revolution): `m` the unit normal from the
-    // solid to the sphere, the offset from the solid to the sphere `±ray`.
+    // A sphere and a cylinder or cone (a solid of revolution): its meridian section.
     let revolved = |posed: &Posed<'_, Shape>| {
         let (mut v, n) = posed.shape.revolution_section()?;
         for x in v.iter_mut() {
@@ -337,23 +315,30 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
         }
         Some((v, n))
     };
-    if let (Some((v, n)), Some(rho)) = (revolved(&pair.one), ball(&pair.two)) {
-        let hit = sphere_revolution(ray, pair.one.rot, &v[..n], rho)?;
+    // A sphere and a centred box, cylinder or cone, in either order: the hit for the offset
+    // from the solid to the sphere (`±ray`), its normal from the solid to the sphere.
+    for (solid, sphere, first) in [(&pair.one, &pair.two, true), (&pair.two, &pair.one, false)] {
+        let Some(rho) = ball(sphere) else {
+            continue;
+        };
+        let q = if first { *ray } else { -ray };
+        let hit = if let Some(h) = boxed(solid) {
+            sphere_box(&q, solid.rot, &h, rho)
+        } else if let Some((v, n)) = revolved(solid) {
+            sphere_revolution(&q, solid.rot, &v[..n], rho)
+        } else {
+            continue;
+        }?;
+        let (a, b) = if first {
+            (hit.box_point, -hit.normal * rho)
+        } else {
+            (-hit.normal * rho, hit.box_point)
+        };
         return Some(Answer {
             alpha: hit.alpha,
             normal: hit.normal / hit.normal.dot(ray),
-            a: hit.box_point,
-            b: -hit.normal * rho,
-            solver: Solver::ClosedForm,
-        });
-    }
-    if let (Some(rho), Some((v, n))) = (ball(&pair.one), revolved(&pair.two)) {
-        let hit = sphere_revolution(&-ray, pair.two.rot, &v[..n], rho)?;
-        return Some(Answer {
-            alpha: hit.alpha,
-            normal: hit.normal / hit.normal.dot(ray),
-            a: -hit.normal * rho,
-            b: hit.box_point,
+            a,
+            b,
             solver: Solver::ClosedForm,
         });
     }

@@ -62,7 +62,7 @@ pub(crate) struct SegmentHit {
 
 /// Least positive α with `‖d − αc‖ = αρ` (`d2 = ‖d‖²`, `dc = d·c`, `c2 = ‖c‖²`), or ∞.
 #[inline]
-fn vertex_root(d2: Real, dc: Real, c2: Real, rho: Real) -> Real {
+pub(crate) fn vertex_root(d2: Real, dc: Real, c2: Real, rho: Real) -> Real {
     let disc = dc * dc - (c2 - rho * rho) * d2;
     if !(disc >= 0.0) {
         return Real::INFINITY;

@@ -21,6 +21,7 @@ use super::simplex::reduce;
 use super::Pt;
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
+use crate::solver::closed_form::vertex_root as ball_exit;
 use crate::solver::raycast::{Pair, Stop, Vertex};
 
 /// Rounds (GJK runs at a new point of the ray).
@@ -55,21 +56,6 @@ pub(crate) enum PaddedEnd {
     Decided(bool, Real),
     /// No certificate (a degenerate simplex, or the rounds ran out).
     Failed,
-}
-
-/// Least positive α with `‖r − αc‖ = αρ` for the unit `r` (`rc = r·c`, `c2 = ‖c‖²`), or ∞.
-#[inline]
-fn ball_exit(rr: Real, rc: Real, c2: Real, rho: Real) -> Real {
-    let disc = rc * rc - (c2 - rho * rho) * rr;
-    if !(disc >= 0.0) {
-        return Real::INFINITY;
-    }
-    let den = rc + disc.sqrt();
-    if den > 0.0 {
-        rr / den
-    } else {
-        Real::INFINITY
-    }
 }
 
 /// α' of the padded pair whose cores are `pair`, for the unit ray `r` and the radii summed
