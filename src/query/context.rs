@@ -59,9 +59,10 @@ pub enum DistancePath {
     /// [`crate::Method::InteriorPoint`]).
     #[default]
     InteriorPoint,
-    /// GJK on the support maps closed its certified bracket on its own, or certified an overlap
-    /// (the origin strictly inside a tetrahedron of support points, whose combination is the
-    /// common point returned as both witnesses).
+    /// GJK on the support maps closed its certified bracket on its own, or an overlap was
+    /// certified (the origin strictly inside a tetrahedron of support points, or two spheres'
+    /// or capsules' segments no farther apart than their radii), with a common point returned
+    /// as both witnesses.
     Gjk,
     /// Newton's method on the contact pieces closed the bracket: after GJK identified them, or
     /// from the offset's direction on its own (an ellipsoid, or a cone with a sphere, cone or

@@ -115,7 +115,11 @@ pub(crate) fn separated_start(
             .then(|| gjk::direct::distance(&pair, &d, tol))
             .flatten()
     };
-    let s = if let Some(s) = closed_form(&pair, &d, tol).or_else(newton) {
+    let closed = match closed_form(&pair, &d, tol) {
+        Ok(s) => s,
+        Err(w) => return overlap(w, false, None),
+    };
+    let s = if let Some(s) = closed.or_else(newton) {
         s
     } else {
         // Spheres and capsules by their cores first; where those do not certify a positive
@@ -207,18 +211,27 @@ pub(crate) fn witness_gradient(
 }
 
 /// Sphere and capsule pairs (the closest points of their segments), and a sphere with a
-/// centred box or a cylinder (the point of those closest to its centre), certified.
-fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
+/// centred box or a cylinder (the point of those closest to its centre), certified; `Err(w)`
+/// for sphere and capsule pairs whose segments are no farther apart than the radii summed:
+/// they overlap (or touch), and `w`, dividing the segments' closest points in the ratio of the
+/// radii, lies in both (relative to shape 1's origin).
+fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Result<Option<Separation>, Vec3> {
     if let Some(s) = sphere_and_solid(pair, d, tol) {
-        return Some(s);
+        return Ok(Some(s));
     }
     let seg = RoundedSegment::of;
-    let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
+    let (Some(one), Some(two)) = (seg(&pair.one), seg(&pair.two)) else {
+        return Ok(None);
+    };
     let (x1, x2) = closest_segment_points(&one, d, &two);
     let diff = x2 - x1;
     let len = diff.norm();
-    if !(len > one.radius + two.radius) {
-        return None;
+    let pad = one.radius + two.radius;
+    if len <= pad {
+        return Err(x1 + diff * (one.radius / pad));
+    }
+    if !(len > pad) {
+        return Ok(None);
     }
     let n = diff / len;
     let a = x1 + n * one.radius;
@@ -230,13 +243,15 @@ fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation
     let lower = n.dot(d) - h(&one) - h(&two);
     let upper = (d + b - a).norm();
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
-    (lower > floor && upper - lower <= tol.max(floor)).then_some(Separation {
-        distance: upper,
-        normal: n,
-        a,
-        b,
-        route: Route::ClosedForm,
-    })
+    Ok(
+        (lower > floor && upper - lower <= tol.max(floor)).then_some(Separation {
+            distance: upper,
+            normal: n,
+            a,
+            b,
+            route: Route::ClosedForm,
+        }),
+    )
 }
 
 /// A sphere (either side) against a centred box or a cylinder: the solid's point closest to the
