@@ -1,8 +1,9 @@
-//! α* of a padded pair (a sphere or capsule against a polytope or box) on its polyhedral
-//! cores: GJK from a point of the ray, then the exact value on the feature it found.
+//! α* of a padded pair (a sphere, capsule or padded polygon against a polytope, a box or
+//! another of those) on its polyhedral cores: GJK from a point of the ray, then the exact
+//! value on the feature it found.
 //!
 //! With `Q = C₁ ⊕ (−C₂)` the cores' Minkowski difference (a sphere's core is its centre, a
-//! capsule's its segment) and `ρ` the radii summed, `K = Q ⊕ B(ρ)` and α* is the least α with
+//! capsule's its segment, a padded polygon's its plane polygon) and `ρ` the radii summed, `K = Q ⊕ B(ρ)` and α* is the least α with
 //! `dist(r, αQ) ≤ αρ`, i.e. `dist(x, Q) = ρ` at `x = r/α*`. Each round runs GJK from `x = r/α`
 //! to the point `q` of Q nearest it (warm-started from the previous round's simplex; on
 //! polyhedral cores GJK ends exactly) and certifies, in normalised units:
@@ -16,6 +17,14 @@
 //! face's plane of Q, padded by ρ): on the right feature both bounds then meet to rounding,
 //! so a pair typically ends after one GJK run and one support call. Elsewhere a Newton step
 //! on `t ↦ dist(t r, Q) − ρ` (convex in `t = 1/α`) takes its place.
+//!
+//! A closed bracket alone does not make the point right: the ball bound pins α to second
+//! order in the point, so a GJK run that stalled on rounding a little off the contact feature
+//! (a simplex weight of 1e-4, say) still closes the bracket to 1e-12 with a point 1e-6 off.
+//! An answer is accepted only when GJK's last support point lies no farther than rounding
+//! beyond its point along its normal (the normal supports Q there) and the point was found at
+//! the α reported; otherwise the simplex and each of its faces are solved exactly and
+//! certified in turn (`settle_faces`).
 
 use super::simplex::reduce;
 use super::Pt;
@@ -60,7 +69,8 @@ pub(crate) enum PaddedEnd {
 
 /// α' of the padded pair whose cores are `pair`, for the unit ray `r` and the radii summed
 /// `rho > 0`, closing the bracket to `rel_tol·α'`; stops early on `stop` as the ray cast does.
-/// The cores must be polyhedral (polytopes, segments, points) with the origin inside Q.
+/// The cores must be polyhedral (polytopes, plane polygons, segments, points) with the origin
+/// in Q (a plane polygon holds it in its relative interior; ρ > 0 puts it inside K).
 pub(crate) fn padded_cast<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
@@ -163,16 +173,15 @@ pub(crate) fn padded_cast<S: SupportMap>(
         // GJK's nearest point q = x − v of Q bounds α' from above.
         let q = point(pts, &wts[..k]);
         let up = ball_exit(1.0, r.dot(&q.w), q.w.norm_squared(), rho);
+        let this = (r / up - q.w).try_normalize(0.0).map(|normal| PaddedHit {
+            alpha: up,
+            normal,
+            a: q.a,
+            b: q.b,
+        });
         if up < hi {
             hi = up;
-            if let Some(normal) = (r / up - q.w).try_normalize(0.0) {
-                best = PaddedHit {
-                    alpha: up,
-                    normal,
-                    a: q.a,
-                    b: q.b,
-                };
-            }
+            best = this.unwrap_or(best);
         }
         if let Some(end) = decide(lo, hi) {
             return end;
@@ -183,7 +192,10 @@ pub(crate) fn padded_cast<S: SupportMap>(
         let closed = hi - lo <= rel_tol * lo;
         let exact = gap <= GAP_TOL * (1.0 + q.w.norm());
         if closed && exact && (up - alpha).abs() <= 16.0 * Real::EPSILON * alpha {
-            return PaddedEnd::Hit(best);
+            // This round's point (an earlier one may have given the same bound to rounding).
+            if let Some(h) = this {
+                return PaddedEnd::Hit(h);
+            }
         }
         // The simplex's feature solved exactly gives the next point of the ray; near the end
         // (or where GJK stalled) it and its faces are certified in turn.
