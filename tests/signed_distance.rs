@@ -550,3 +550,62 @@ fn gradient_matches_finite_differences() {
         "{cases} cases, {open} open"
     );
 }
+
+/// A sphere whose centre lies inside a polytope that is not a box (an octahedron
+/// |x| + |y| + |z| ≤ 1, turned): the depth is the centre's distance to the nearest facet plane
+/// plus the radius, the normal that facet's, in either order; and with the centre outside,
+/// the polytope's closest point (a vertex) minus the radius.
+#[test]
+fn sphere_in_an_octahedron() {
+    let s3 = 3f64.sqrt();
+    let mut a = Vec::new();
+    for sx in [-1.0, 1.0] {
+        for sy in [-1.0, 1.0] {
+            for sz in [-1.0, 1.0] {
+                a.push([sx, sy, sz]);
+            }
+        }
+    }
+    let octa = Shape::polytope(&a, &[1.0; 8]).unwrap();
+    let ball = Shape::sphere(0.2).unwrap();
+    let q = [0.9, 0.1, -0.3, 0.2];
+    let rot = rotation_from_quaternion(q);
+    let opts = Options::default();
+    // Inside, nearest the facet (1, 1, ±1)/√3: depth (1 − 0.15)/√3 + 0.2.
+    let c = Vec3::new(0.1, 0.05, 0.0);
+    let (po, pb) = (
+        pose(Vec3::new(0.3, -0.2, 0.5), q),
+        pose(Vec3::new(0.3, -0.2, 0.5) + rot * c, q),
+    );
+    let want = -(0.85 / s3 + 0.2);
+    for (sd, sign) in [
+        (signed_distance(&octa, &po, &ball, &pb, &opts).unwrap(), 1.0),
+        (
+            signed_distance(&ball, &pb, &octa, &po, &opts).unwrap(),
+            -1.0,
+        ),
+    ] {
+        assert!(
+            (sd.distance - want).abs() < 1e-14,
+            "{} vs {want}",
+            sd.distance
+        );
+        let n = rot.transpose() * sd.normal * sign;
+        assert!(
+            (n.x - 1.0 / s3).abs() < 1e-14 && (n.y - 1.0 / s3).abs() < 1e-14,
+            "{n:?}"
+        );
+        assert!((sd.closest2 - sd.closest1 - sd.normal * sd.distance).norm() < 1e-14);
+        assert_eq!(sd.path, dcol::DistancePath::ClosedForm);
+    }
+    // Outside, beyond the vertex (1, 0, 0): ‖c − e_x‖ − ρ.
+    let c = Vec3::new(1.1, 0.05, 0.0);
+    let pb = pose(Vec3::new(0.3, -0.2, 0.5) + rot * c, q);
+    let sd = signed_distance(&octa, &po, &ball, &pb, &opts).unwrap();
+    let want = (c - Vec3::x()).norm() - 0.2;
+    assert!(
+        (sd.distance - want).abs() < 1e-13,
+        "{} vs {want}",
+        sd.distance
+    );
+}

@@ -294,6 +294,14 @@ impl Shape {
         }
     }
 
+    /// A polytope's facets: outward unit normals and offsets (`n_i·u ≤ o_i`, body frame).
+    pub(crate) fn facets(&self) -> Option<(&[Vec3], &[Real])> {
+        match &self.geometry {
+            Geometry::Polytope(p) => Some(p.facets()),
+            _ => None,
+        }
+    }
+
     /// `(radius, half-length)` of a cylinder: the sphere–cylinder distance in closed form.
     pub(crate) fn cylinder_dims(&self) -> Option<(Real, Real)> {
         match &self.geometry {

@@ -15,6 +15,8 @@ pub struct Polytope {
     vertices: Vec<Vec3>,
     /// The facets' outward unit normals.
     normals: Vec<Vec3>,
+    /// The facets' offsets along their unit normals, `b_i/|a_i|`.
+    offsets: Vec<Real>,
     /// Half extents when the polytope is a box centred at its origin and aligned with its axes.
     half_extents: Option<Vec3>,
     bounding_radius: Real,
@@ -116,6 +118,7 @@ impl Polytope {
             vertices,
             half_extents,
             normals: n,
+            offsets: off,
             bounding_radius: rho.max(iota),
             inscribed_radius: iota,
         })
@@ -142,6 +145,11 @@ impl Polytope {
     /// The vertices (deduplicated).
     pub fn vertices(&self) -> &[Vec3] {
         &self.vertices
+    }
+
+    /// The facets' outward unit normals and their offsets (`n_i·x ≤ o_i`).
+    pub(crate) fn facets(&self) -> (&[Vec3], &[Real]) {
+        (&self.normals, &self.offsets)
     }
 
     /// Half extents when this is a box centred at its origin and aligned with its axes.

@@ -385,7 +385,8 @@ pub(crate) struct SphereSolid {
 /// A sphere against a centred box or a cylinder, in closed form: with `c` the centre in the
 /// solid's body frame, outside the solid `sd = ‖c − p‖ − ρ` at its closest point `p`; inside,
 /// `sd = −(δ + ρ)` with `δ` the distance to the nearest face (a box's face, a cylinder's side
-/// or cap) and the normal that face's. `None` for other pairs.
+/// or cap, any polytope's facet) and the normal that face's. Against a polytope that is not a
+/// centred box, only with the centre inside. `None` for other pairs.
 pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSolid> {
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
         Some((0.0, radius)) => Some(radius * posed.inv_scale),
@@ -408,6 +409,20 @@ pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSol
         let mut u = Vec3::zeros();
         u[k] = if c[k] < 0.0 { -1.0 } else { 1.0 };
         (closest_on_box(&c, &h), (u, gaps[k]))
+    } else if let Some((normals, offsets)) = solid.shape.facets() {
+        // Any other polytope, the centre inside only (outside, its closest point is GJK's):
+        // the distance from an interior point to the boundary is the least distance to a
+        // facet's plane (a plane that bounds no facet lies farther).
+        let (k, depth) = normals
+            .iter()
+            .zip(offsets)
+            .map(|(n, o)| o - n.dot(&c))
+            .enumerate()
+            .min_by(|x, y| x.1.total_cmp(&y.1))?;
+        if !(depth >= 0.0) {
+            return None;
+        }
+        (c, (normals[k], depth))
     } else {
         let (radius, half) = solid.shape.cylinder_dims()?;
         let r = (c.y * c.y + c.z * c.z).sqrt();
