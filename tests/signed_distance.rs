@@ -609,3 +609,49 @@ fn sphere_in_an_octahedron() {
         sd.distance
     );
 }
+
+/// A sphere against a cone (height 1, half angle 45°: apex at x = −3/4, base of radius 1 at
+/// x = 1/4), in closed form in the offset's meridian plane: centre inside near the base and
+/// near the side, and outside beyond the base; both orders, turned.
+#[test]
+fn sphere_and_a_cone() {
+    let cone = Shape::cone(1.0, std::f64::consts::FRAC_PI_4).unwrap();
+    let ball = Shape::sphere(0.1).unwrap();
+    let q = [0.8, -0.3, 0.4, 0.1];
+    let rot = rotation_from_quaternion(q);
+    let origin = Vec3::new(0.2, 0.1, -0.4);
+    let opts = Options::default();
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    // (centre in the cone's frame, signed distance, unit normal from the cone in its frame)
+    let cases = [
+        (Vec3::new(0.0, 0.1, 0.0), -(0.25 + 0.1), Vec3::x()),
+        (
+            Vec3::new(-0.3, 0.0, 0.4),
+            -((0.75 - 0.7) * h + 0.1),
+            Vec3::new(-h, 0.0, h),
+        ),
+        (Vec3::new(0.5, 0.2, 0.0), 0.25 - 0.1, Vec3::x()),
+    ];
+    let pc = pose(origin, q);
+    for (c, want, n) in cases {
+        let pb = pose(origin + rot * c, q);
+        for (sd, sign) in [
+            (signed_distance(&cone, &pc, &ball, &pb, &opts).unwrap(), 1.0),
+            (
+                signed_distance(&ball, &pb, &cone, &pc, &opts).unwrap(),
+                -1.0,
+            ),
+        ] {
+            assert!(
+                (sd.distance - want).abs() < 1e-14,
+                "{c:?}: {} vs {want}",
+                sd.distance
+            );
+            assert!(
+                (rot.transpose() * sd.normal * sign - n).norm() < 1e-14,
+                "{c:?}"
+            );
+            assert_eq!(sd.path, dcol::DistancePath::ClosedForm);
+        }
+    }
+}

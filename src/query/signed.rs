@@ -174,6 +174,12 @@ pub fn signed_distance(
     // Touching: within rounding of 0.
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
     let sd = if p.sd.abs() <= floor { 0.0 } else { p.sd };
+    // A separated pair the probe sent past the distance query (its closed forms and cores
+    // answer separated pairs too): the distance query's answer, bit for bit, as for every
+    // separated pair.
+    if probed && sd > 0.0 {
+        return distance(shape1, pose1, shape2, pose2, options).map(from_distance);
+    }
     let out = SignedDistance {
         distance: sd * ell,
         normal: p.normal,

@@ -27,7 +27,7 @@
 
 use super::raycast::{Pair, Posed};
 use crate::math::{Mat3, Real, Vec3};
-use crate::shapes::Shape;
+use crate::shapes::{Shape, ShapeKind};
 
 /// A rounded segment in the normalised world frame: unit axis, half-length, radius.
 #[derive(Clone, Copy, Debug)]
@@ -372,6 +372,51 @@ pub(crate) fn closest_on_cylinder(c: &Vec3, radius: Real, half_length: Real) -> 
     Vec3::new(c.x.clamp(-half_length, half_length), c.y * k, c.z * k)
 }
 
+/// The point of a solid of revolution about body x with the meridian section `section`
+/// (counter-clockwise `(axial, radial)` vertices, symmetric in the radial coordinate) closest
+/// to `c` (body frame), and the outward normal and distance of the boundary nearest `c` when
+/// `c` lies inside (the least distance to an edge's line, as for any convex polygon). The
+/// closest point lies in the meridian half-plane of `c`: a plane problem.
+fn closest_on_section(c: &Vec3, section: &[(Real, Real)]) -> (Vec3, (Vec3, Real)) {
+    let radial = (c.y * c.y + c.z * c.z).sqrt();
+    let u = if radial > 0.0 {
+        Vec3::new(0.0, c.y / radial, c.z / radial)
+    } else {
+        Vec3::y()
+    };
+    let (pa, pr) = (c.x, radial);
+    let m = section.len();
+    // Inside: the nearest edge line; outside: the nearest point of the edges.
+    let (mut depth, mut normal) = (Real::INFINITY, (1.0, 0.0));
+    let (mut best, mut closest) = (Real::INFINITY, (pa, pr));
+    for i in 0..m {
+        let (ca, cr) = section[i];
+        let (ea, er) = (section[(i + 1) % m].0 - ca, section[(i + 1) % m].1 - cr);
+        let len2 = ea * ea + er * er;
+        if !(len2 > 0.0) {
+            continue;
+        }
+        let len = len2.sqrt();
+        let (na, nr) = (er / len, -ea / len);
+        let gap = na * ca + nr * cr - (na * pa + nr * pr);
+        if gap < depth {
+            (depth, normal) = (gap, (na, nr));
+        }
+        let t = (((pa - ca) * ea + (pr - cr) * er) / len2).clamp(0.0, 1.0);
+        let (qa, qr) = (ca + t * ea, cr + t * er);
+        let dist2 = (pa - qa) * (pa - qa) + (pr - qr) * (pr - qr);
+        if dist2 < best {
+            (best, closest) = (dist2, (qa, qr));
+        }
+    }
+    if depth >= 0.0 {
+        let n = Vec3::new(normal.0, 0.0, 0.0) + u * normal.1;
+        return (*c, (n, depth));
+    }
+    let p = Vec3::new(closest.0, 0.0, 0.0) + u * closest.1;
+    (p, (Vec3::x(), 0.0))
+}
+
 /// The signed distance of a sphere and a centred box or a cylinder (either order), in the
 /// pair's normalised frame: `sd`, the unit normal from shape 1 to shape 2, and the witnesses
 /// relative to each shape's origin (`d + b − a = sd·normal`).
@@ -385,8 +430,8 @@ pub(crate) struct SphereSolid {
 /// A sphere against a centred box or a cylinder, in closed form: with `c` the centre in the
 /// solid's body frame, outside the solid `sd = ‖c − p‖ − ρ` at its closest point `p`; inside,
 /// `sd = −(δ + ρ)` with `δ` the distance to the nearest face (a box's face, a cylinder's side
-/// or cap, any polytope's facet) and the normal that face's. Against a polytope that is not a
-/// centred box, only with the centre inside. `None` for other pairs.
+/// or cap, a cone's base or side, any polytope's facet) and the normal that face's. Against a
+/// polytope that is not a centred box, only with the centre inside. `None` for other pairs.
 pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSolid> {
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
         Some((0.0, radius)) => Some(radius * posed.inv_scale),
@@ -423,6 +468,10 @@ pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSol
             return None;
         }
         (c, (normals[k], depth))
+    } else if solid.shape.kind() == ShapeKind::Cone {
+        let (v, m) = solid.shape.revolution_section()?;
+        let (p, (u, depth)) = closest_on_section(&c, &v[..m]);
+        (p, (u, depth))
     } else {
         let (radius, half) = solid.shape.cylinder_dims()?;
         let r = (c.y * c.y + c.z * c.z).sqrt();
