@@ -655,3 +655,84 @@ fn sphere_and_a_cone() {
         }
     }
 }
+
+/// A sphere centred inside an ellipsoid (semi-axes 2, 1, 0.5, turned): on the short axis the
+/// depth is that semi-axis; off the axes the nearest boundary point solves Eberly's secular
+/// equation, checked against a dense search over the boundary; both orders.
+#[test]
+fn sphere_inside_an_ellipsoid() {
+    let semi = [2.0, 1.0, 0.5];
+    let p = [[1.0 / 4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 4.0]];
+    let ell = Shape::ellipsoid(p).unwrap();
+    let ball = Shape::sphere(0.05).unwrap();
+    let q = [0.7, 0.2, -0.5, 0.4];
+    let rot = rotation_from_quaternion(q);
+    let origin = Vec3::new(-0.3, 0.2, 0.1);
+    let pe = pose(origin, q);
+    let opts = Options::default();
+    // The nearest boundary point to c by a dense search over the surface (then a local one).
+    let search = |c: &Vec3| {
+        let point = |th: f64, ph: f64| {
+            Vec3::new(
+                semi[0] * th.sin() * ph.cos(),
+                semi[1] * th.sin() * ph.sin(),
+                semi[2] * th.cos(),
+            )
+        };
+        let (mut best, mut at) = (f64::INFINITY, (0.0, 0.0));
+        for i in 0..=400 {
+            for j in 0..800 {
+                let (th, ph) = (
+                    std::f64::consts::PI * i as f64 / 400.0,
+                    std::f64::consts::TAU * j as f64 / 800.0,
+                );
+                let d = (point(th, ph) - c).norm();
+                if d < best {
+                    (best, at) = (d, (th, ph));
+                }
+            }
+        }
+        let mut step = 0.01;
+        while step > 1e-12 {
+            let mut moved = false;
+            for (dt, dp) in [(step, 0.0), (-step, 0.0), (0.0, step), (0.0, -step)] {
+                let d = (point(at.0 + dt, at.1 + dp) - c).norm();
+                if d < best {
+                    (best, at, moved) = (d, (at.0 + dt, at.1 + dp), true);
+                }
+            }
+            if !moved {
+                step *= 0.5;
+            }
+        }
+        best
+    };
+    for c in [
+        Vec3::new(0.0, 0.0, 0.1),
+        Vec3::new(0.7, -0.3, 0.2),
+        Vec3::new(-1.2, 0.4, -0.15),
+    ] {
+        let want = -(search(&c) + 0.05);
+        let pb = pose(origin + rot * c, q);
+        for sd in [
+            signed_distance(&ell, &pe, &ball, &pb, &opts).unwrap(),
+            signed_distance(&ball, &pb, &ell, &pe, &opts).unwrap(),
+        ] {
+            assert!(
+                (sd.distance - want).abs() < 1e-10,
+                "{c:?}: {} vs {want}",
+                sd.distance
+            );
+            assert_eq!(sd.path, dcol::DistancePath::ClosedForm);
+            assert!((sd.closest2 - sd.closest1 - sd.normal * sd.distance).norm() < 1e-13);
+        }
+    }
+    // On the short axis: the depth is that semi-axis less the offset.
+    let pb = pose(origin + rot * Vec3::new(0.0, 0.0, 0.1), q);
+    let sd = signed_distance(&ell, &pe, &ball, &pb, &opts).unwrap();
+    assert!(
+        (sd.distance + (0.4 + 0.05)).abs() < 1e-14,
+        "{}",
+        sd.distance
+    );
+}

@@ -15,6 +15,10 @@ pub struct Ellipsoid {
     p_inv: Mat3,
     eig_min: Real,
     eig_max: Real,
+    /// Principal directions (columns, body frame), longest semi-axis first.
+    axes: Mat3,
+    /// Semi-axes, descending.
+    semi: Vec3,
 }
 
 impl Ellipsoid {
@@ -71,13 +75,26 @@ impl Ellipsoid {
         let u = chol.l().transpose();
         let p_inv = chol.inverse();
         let p_inv = (p_inv + p_inv.transpose()) * 0.5;
+        // Principal axes, longest first (smallest eigenvalue first).
+        let se = m.symmetric_eigen();
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&i, &j| se.eigenvalues[i].total_cmp(&se.eigenvalues[j]));
+        let axes = Mat3::from_columns(&order.map(|i| se.eigenvectors.column(i).into_owned()));
+        let semi = Vec3::from(order.map(|i| 1.0 / se.eigenvalues[i].sqrt()));
         Ok(Ellipsoid {
             p: m,
             u,
             p_inv,
             eig_min,
             eig_max,
+            axes,
+            semi,
         })
+    }
+
+    /// The principal directions (columns, body frame) and semi-axes, longest first.
+    pub(crate) fn principal(&self) -> (&Mat3, &Vec3) {
+        (&self.axes, &self.semi)
     }
 
     /// The (symmetrised) matrix `P`.

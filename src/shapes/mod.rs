@@ -294,6 +294,14 @@ impl Shape {
         }
     }
 
+    /// An ellipsoid's principal directions (columns, body frame) and semi-axes, longest first.
+    pub(crate) fn ellipsoid_principal(&self) -> Option<(&crate::math::Mat3, &Vec3)> {
+        match &self.geometry {
+            Geometry::Ellipsoid(e) => Some(e.principal()),
+            _ => None,
+        }
+    }
+
     /// A polytope's facets: outward unit normals and offsets (`n_i·u ≤ o_i`, body frame).
     pub(crate) fn facets(&self) -> Option<(&[Vec3], &[Real])> {
         match &self.geometry {

@@ -372,6 +372,46 @@ pub(crate) fn closest_on_cylinder(c: &Vec3, radius: Real, half_length: Real) -> 
     Vec3::new(c.x.clamp(-half_length, half_length), c.y * k, c.z * k)
 }
 
+/// The point of an ellipsoid's boundary nearest an interior point `y` (principal frame, semi-axes
+/// `e` descending) and its distance; `None` outside, or with `y` in the plane of the two longer
+/// axes (where the nearest point may be one of two).
+///
+/// The nearest point is `xᵢ = eᵢ²yᵢ/(t + eᵢ²)` at the root `t` of
+/// `F(t) = Σ (eᵢyᵢ/(t + eᵢ²))² − 1`: a global minimiser of `‖x − y‖²` on `xᵀAx = 1`
+/// (`A = diag(1/eᵢ²)`) needs `I + tA ⪰ 0`, i.e. `t ≥ −e₃²`, and on `(−e₃², 0]` F decreases
+/// strictly from +∞ to `F(0) ≤ 0`: one root (Eberly, *Distance from a point to an ellipse,
+/// an ellipsoid, or a hyperellipsoid*). Newton's method from `t₀ = −e₃² + e₃|y₃|`, where
+/// `F ≥ 0`, climbs to it monotonically (F is convex there).
+fn ellipsoid_depth(y: &Vec3, e: &Vec3) -> Option<(Vec3, Real)> {
+    let z = y.abs();
+    if !(z.z > 0.0) || z.component_div(e).norm_squared() > 1.0 {
+        return None;
+    }
+    let e2 = e.component_mul(e);
+    let ez = e.component_mul(&z);
+    let f = |t: Real| (0..3).map(|i| (ez[i] / (t + e2[i])).powi(2)).sum::<Real>() - 1.0;
+    let df = |t: Real| {
+        -2.0 * (0..3)
+            .map(|i| ez[i].powi(2) / (t + e2[i]).powi(3))
+            .sum::<Real>()
+    };
+    let mut t = -e2.z + e.z * z.z;
+    for _ in 0..100 {
+        let ft = f(t);
+        if !(ft > 0.0) {
+            break;
+        }
+        let next = t - ft / df(t);
+        if !(next > t) {
+            break;
+        }
+        t = next;
+    }
+    let x = Vec3::from_fn(|i, _| e2[i] * y[i] / (t + e2[i]));
+    let depth = (x - y).norm();
+    (depth.is_finite() && x.iter().all(|v| v.is_finite())).then_some((x, depth))
+}
+
 /// The point of a solid of revolution about body x with the meridian section `section`
 /// (counter-clockwise `(axial, radial)` vertices, symmetric in the radial coordinate) closest
 /// to `c` (body frame), and the outward normal and distance of the boundary nearest `c` when
@@ -430,8 +470,9 @@ pub(crate) struct SphereSolid {
 /// A sphere against a centred box or a cylinder, in closed form: with `c` the centre in the
 /// solid's body frame, outside the solid `sd = ‖c − p‖ − ρ` at its closest point `p`; inside,
 /// `sd = −(δ + ρ)` with `δ` the distance to the nearest face (a box's face, a cylinder's side
-/// or cap, a cone's base or side, any polytope's facet) and the normal that face's. Against a
-/// polytope that is not a centred box, only with the centre inside. `None` for other pairs.
+/// or cap, a cone's base or side, any polytope's facet, an ellipsoid's nearest point) and the
+/// normal that face's. Against a polytope that is not a centred box, or an ellipsoid, only with
+/// the centre inside. `None` for other pairs.
 pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSolid> {
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
         Some((0.0, radius)) => Some(radius * posed.inv_scale),
@@ -468,6 +509,16 @@ pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSol
             return None;
         }
         (c, (normals[k], depth))
+    } else if let Some((axes, semi)) = solid.shape.ellipsoid_principal() {
+        // The centre inside only (outside, its closest point is GJK's).
+        let (x, depth) = ellipsoid_depth(&axes.tr_mul(&c), semi)?;
+        let y = axes.tr_mul(&c);
+        let u = if depth > 0.0 {
+            (x - y) / depth
+        } else {
+            Vec3::from_fn(|i, _| x[i] / (semi[i] * semi[i])).try_normalize(0.0)?
+        };
+        (c, (axes * u, depth))
     } else if solid.shape.kind() == ShapeKind::Cone {
         let (v, m) = solid.shape.revolution_section()?;
         let (p, (u, depth)) = closest_on_section(&c, &v[..m]);
