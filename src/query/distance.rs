@@ -251,6 +251,7 @@ fn distance_query_until(
             ell,
             gradient,
             cutoff,
+            None,
         );
         match sep {
             Settled::Apart(d, g, beyond) => {

@@ -47,26 +47,10 @@ pub(crate) struct Start {
 }
 
 /// The distance and gradient by GJK, or a certified overlap, or neither (`cutoff` in world
-/// units; `ell` is the larger bounding radius).
+/// units; `ell` is the larger bounding radius); where GJK certified an overlap, its
+/// tetrahedron is written to `start`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn separated(
-    shape1: &Shape,
-    pose1: &Pose,
-    shape2: &Shape,
-    pose2: &Pose,
-    tolerance: Real,
-    ell: Real,
-    gradient: bool,
-    cutoff: Option<Real>,
-) -> Settled {
-    separated_start(
-        shape1, pose1, shape2, pose2, tolerance, ell, gradient, cutoff, None,
-    )
-}
-
-/// [`separated`]; where GJK certified an overlap, its tetrahedron is written to `start`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn separated_start(
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
@@ -128,15 +112,12 @@ pub(crate) fn separated_start(
             Some(GjkEnd::Separated(s)) => s,
             Some(GjkEnd::Beyond) => return beyond(),
             Some(GjkEnd::Inside { a }) => return overlap(a, true, tet),
-            _ => {
-                match gjk::distance_start(&pair, &d, tol, BUDGET, polyhedral, cutoff, tet.as_mut())
-                {
-                    GjkEnd::Separated(s) => s,
-                    GjkEnd::Beyond => return beyond(),
-                    GjkEnd::Inside { a } => return overlap(a, false, tet),
-                    _ => return Settled::Unsettled,
-                }
-            }
+            _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff, tet.as_mut()) {
+                GjkEnd::Separated(s) => s,
+                GjkEnd::Beyond => return beyond(),
+                GjkEnd::Inside { a } => return overlap(a, false, tet),
+                _ => return Settled::Unsettled,
+            },
         }
     };
     let dist = s.distance * ell;
@@ -279,7 +260,7 @@ fn cored(
 ) -> Option<GjkEnd> {
     let cores = Cores::of(pair)?;
     let pad = cores.pad();
-    let end = gjk::distance_start(
+    let end = gjk::distance(
         &cores.posed(pair),
         d,
         tol,

@@ -115,7 +115,7 @@ pub fn signed_distance(
     };
     let probed = !inscribed && curved && probe_overlaps();
     if !(inscribed || probed) {
-        if let super::separated::Settled::Apart(d, _, _) = super::separated::separated_start(
+        if let super::separated::Settled::Apart(d, _, _) = super::separated::separated(
             shape1,
             pose1,
             shape2,
@@ -320,7 +320,7 @@ fn cored(
         return epa(Some(&s.tet).filter(|_| polyhedral));
     }
     let mut tet = [Vertex::default(); 4];
-    match gjk::distance_start(&posed, d, tol, GJK_BUDGET, polyhedral, None, Some(&mut tet)) {
+    match gjk::distance(&posed, d, tol, GJK_BUDGET, polyhedral, None, Some(&mut tet)) {
         // Shapes proven apart (the bracket [upper − tol, upper] above the radii) with a
         // polygon's plane polygon: the distance query answers, as it did before polygons were
         // cored (its GJK path did not certify them, or it would have been taken before).

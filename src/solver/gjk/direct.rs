@@ -280,7 +280,7 @@ mod tests {
         let (ra, rb) = (rot(qa), rot(qb));
         let pair = Pair::new([a, b], [&ra, &rb], 1.0);
         let s = distance(&pair, &d, 1e-13).expect("Newton certifies");
-        let GjkEnd::Separated(g) = gjk::distance(&pair, &d, 1e-13, 400, false, None) else {
+        let GjkEnd::Separated(g) = gjk::distance(&pair, &d, 1e-13, 400, false, None, None) else {
             panic!("GJK did not certify");
         };
         assert!(

@@ -83,7 +83,7 @@ pub(crate) enum GjkEnd {
     Overlap,
     /// The origin lies strictly inside a tetrahedron of support points: overlap certified,
     /// with a point common to both shapes: `a`, shape 1's witness (relative to its origin;
-    /// shape 2's is `a − d`, to rounding). [`distance_start`] hands over the tetrahedron.
+    /// shape 2's is `a − d`, to rounding). [`distance`] hands over the tetrahedron.
     Inside {
         a: Vec3,
     },
@@ -164,24 +164,10 @@ impl Cert {
 /// GJK distance of the pair at offset `d` (normalised), closing the bracket to `tol`
 /// (normalised; widened to the rounding of the bounds at large offsets) within `budget`
 /// iterations; [`GjkEnd::Beyond`] as soon as the lower bound exceeds `cutoff`.
-// Without a tetrahedron wanted (the crate's callers use `distance_start`; `direct`'s tests
-// use this).
-#[cfg_attr(not(test), allow(dead_code))]
-pub(crate) fn distance<S: SupportMap>(
-    pair: &Pair<'_, S>,
-    d: &Vec3,
-    tol: Real,
-    budget: u32,
-    polyhedral: bool,
-    cutoff: Option<Real>,
-) -> GjkEnd {
-    distance_start(pair, d, tol, budget, polyhedral, cutoff, None)
-}
-
-/// [`distance`]; on [`GjkEnd::Inside`] the tetrahedron's support vertices (their `w` hold `d`
+/// On [`GjkEnd::Inside`] the tetrahedron's support vertices (their `w` hold `d`
 /// strictly inside: a start for EPA) are written to `tet`. (An out-parameter, not a field of
 /// the variant: the 320 bytes in every `GjkEnd` cost the distance query about 5 %.)
-pub(crate) fn distance_start<S: SupportMap>(
+pub(crate) fn distance<S: SupportMap>(
     pair: &Pair<'_, S>,
     d: &Vec3,
     tol: Real,
