@@ -97,23 +97,20 @@ pub fn signed_distance(
     // separate it is mostly overlapping: the distance query's Newton and GJK would only find
     // that out (about a microsecond on deep overlaps), so such a pair goes to EPA at once,
     // which hands a separated pair back to the distance query.
-    let curved = [shape1, shape2].iter().any(|s| {
+    let rounded = [shape1, shape2].iter().any(|s| {
         matches!(
             s.kind(),
             ShapeKind::Ellipsoid | ShapeKind::Cylinder | ShapeKind::Cone
         )
     });
+    let inv = 1.0 / ell;
+    let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
+    let d = offset * inv;
     let probe_overlaps = || {
-        let pair = Pair::new(
-            [shape1, shape2],
-            [pose1.rotation(), pose2.rotation()],
-            1.0 / ell,
-        );
         let u = offset / len;
-        let v = pair.support(&u);
-        u.dot(&(offset / ell)) - u.dot(&v.w) <= 0.0
+        u.dot(&d) - u.dot(&pair.support(&u).w) <= 0.0
     };
-    let probed = !inscribed && curved && probe_overlaps();
+    let probed = !inscribed && rounded && probe_overlaps();
     if !(inscribed || probed) {
         if let super::separated::Settled::Apart(d, _, _) = super::separated::separated(
             shape1,
@@ -129,9 +126,6 @@ pub fn signed_distance(
             return Ok(from_distance(d));
         }
     }
-    let inv = 1.0 / ell;
-    let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
-    let d = offset * inv;
     let curved = [shape1, shape2]
         .iter()
         .any(|s| s.kind() != ShapeKind::Polytope);
