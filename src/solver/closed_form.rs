@@ -96,6 +96,28 @@ pub(crate) fn rounded_segments(
             normal: d / len,
         });
     }
+    // The face, when both are segments and not parallel: P is planar, so a ray whose foot on
+    // the offset plane lies inside P leaves K there (K's boundary is met once), and no other
+    // feature need be tried.
+    if h1 > 0.0 && h2 > 0.0 {
+        let m = a1.cross(&a2);
+        let mn = m.norm();
+        if mn > 1e-12 {
+            let m = m / mn;
+            let dm = d.dot(&m);
+            let alpha = dm.abs() / rho;
+            // Solve s a₁ − t a₂ = (d − (d·m)m)/α for (s, t) by the 2×2 normal equations.
+            let q = (d - m * dm) / alpha;
+            let g12 = a1.dot(&a2);
+            let det = 1.0 - g12 * g12;
+            let (b1, b2) = (q.dot(&a1), q.dot(&a2));
+            let s = (b1 - g12 * b2) / det;
+            let t = -(b2 - g12 * b1) / det;
+            if s.abs() <= h1 && t.abs() <= h2 && alpha.is_finite() && alpha > 0.0 {
+                return hit(d, alpha, a1 * s - a2 * t, s, t);
+            }
+        }
+    }
     // Best so far: (α, s, t) with the point s a₁ − t a₂ of P (unscaled).
     let mut best = (Real::INFINITY, 0.0, 0.0);
     let mut consider = |alpha: Real, s: Real, t: Real| {
@@ -142,32 +164,16 @@ pub(crate) fn rounded_segments(
         // c = −t a₂, e = a₁, τ = s.
         edge(-a2 * (ti * h2), a1, h1, None, Some(ti * h2));
     }
-    // The face, when both are segments and not parallel.
-    if h1 > 0.0 && h2 > 0.0 {
-        let m = a1.cross(&a2);
-        let mn = m.norm();
-        if mn > 1e-12 {
-            let m = m / mn;
-            let dm = d.dot(&m);
-            let alpha = dm.abs() / rho;
-            // Solve s a₁ − t a₂ = (d − (d·m)m)/α for (s, t) by the 2×2 normal equations.
-            let q = (d - m * dm) / alpha;
-            let g12 = a1.dot(&a2);
-            let det = 1.0 - g12 * g12;
-            let (b1, b2) = (q.dot(&a1), q.dot(&a2));
-            let s = (b1 - g12 * b2) / det;
-            let t = -(b2 - g12 * b1) / det;
-            if s.abs() <= h1 && t.abs() <= h2 {
-                consider(alpha, s, t);
-            }
-        }
-    }
     let (alpha, s, t) = best;
     if !(alpha.is_finite() && alpha > 0.0) {
         return None;
     }
-    // The exit point d/α of K is p + ρ n̂ with p = s a₁ − t a₂.
-    let p = a1 * s - a2 * t;
+    hit(d, alpha, a1 * s - a2 * t, s, t)
+}
+
+/// The answer at `α` with the point `p = s a₁ − t a₂` of P: the exit point `d/α` of K is
+/// `p + ρ n̂`.
+fn hit(d: &Vec3, alpha: Real, p: Vec3, s: Real, t: Real) -> Option<SegmentHit> {
     let normal = (d / alpha - p).try_normalize(0.0)?;
     Some(SegmentHit {
         alpha,
