@@ -80,7 +80,8 @@
 #define DCOL_SOLVER_INTERIOR_POINT 0
 
 /**
- * dcol_proximity_result.solver: the certified ray cast on support maps.
+ * dcol_proximity_result.solver: a certified ray cast on support maps (portal refinement, or
+ * GJK on the cores of spheres, capsules and padded polygons against polytopes and each other).
  */
 #define DCOL_SOLVER_RAY_CAST 1
 
@@ -91,7 +92,7 @@
 
 /**
  * dcol_proximity_result.solver: a closed form for the pair (spheres, capsules, a sphere and a
- * box, and every pair with a half-space).
+ * box, cylinder or cone, and every pair with a half-space).
  */
 #define DCOL_SOLVER_CLOSED_FORM 3
 

@@ -54,12 +54,13 @@ pub const DCOL_DERIVATIVES_SUBGRADIENT: u32 = 3;
 
 /// dcol_proximity_result.solver: the interior-point solver.
 pub const DCOL_SOLVER_INTERIOR_POINT: u32 = 0;
-/// dcol_proximity_result.solver: the certified ray cast on support maps.
+/// dcol_proximity_result.solver: a certified ray cast on support maps (portal refinement, or
+/// GJK on the cores of spheres, capsules and padded polygons against polytopes and each other).
 pub const DCOL_SOLVER_RAY_CAST: u32 = 1;
 /// dcol_proximity_result.solver: the ray cast and a Newton polish on the contact features.
 pub const DCOL_SOLVER_POLISH: u32 = 2;
 /// dcol_proximity_result.solver: a closed form for the pair (spheres, capsules, a sphere and a
-/// box, and every pair with a half-space).
+/// box, cylinder or cone, and every pair with a half-space).
 pub const DCOL_SOLVER_CLOSED_FORM: u32 = 3;
 
 fn arr(v: &Vec3) -> [f64; 3] {

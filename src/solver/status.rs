@@ -26,13 +26,15 @@ pub enum Solver {
     /// [`Method::InteriorPoint`]).
     #[default]
     InteriorPoint,
-    /// The ray cast on the support maps (portal refinement) closed its bracket on its own.
+    /// A ray cast on the support maps closed its bracket on its own: portal refinement, or
+    /// (spheres, capsules and padded polygons against polytopes and each other) GJK on the
+    /// shapes' cores with the exact value on the feature it found.
     RayCast,
     /// The ray cast identified the contact features and the Newton polish on them closed the
     /// bracket.
     Polish,
-    /// A closed form for the pair (spheres, capsules, a sphere and a box, a half-space and any
-    /// other shape).
+    /// A closed form for the pair (spheres, capsules, a sphere and a box, cylinder or cone, a
+    /// half-space and any other shape).
     ClosedForm,
 }
 
