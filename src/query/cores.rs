@@ -121,6 +121,24 @@ fn end(h: Real, id: u32) -> Vec3 {
 }
 
 impl SupportMap for Core<'_> {
+    /// A segment's (or point's) support in world axes without turning the direction and the
+    /// point: `±h` times the world axis (`rot · (±h e_x)`, exactly).
+    #[inline(always)]
+    fn support_world(&self, rot: &crate::math::Mat3, n: &Vec3) -> (Vec3, u32) {
+        match self {
+            Core::Segment(h) if *h == 0.0 => (Vec3::zeros(), 0),
+            Core::Segment(h) => {
+                let u = rot.column(0);
+                let id = u32::from(u.dot(n) < 0.0);
+                let s = if id == 0 { *h } else { -*h };
+                (u * s, id)
+            }
+            _ => {
+                let (p, id) = self.support(&rot.tr_mul(n));
+                (rot * p, id)
+            }
+        }
+    }
     #[inline]
     fn support(&self, m: &Vec3) -> (Vec3, u32) {
         match self {

@@ -130,6 +130,14 @@ pub(crate) trait SupportMap {
     /// A support point for direction `m` (any `m ≠ 0`; not necessarily unit) and the index of the
     /// piece it belongs to. `h(m) = m·point`.
     fn support(&self, m: &Vec3) -> (Vec3, u32);
+    /// [`SupportMap::support`] for a world direction `n` of the shape turned by `rot` (world
+    /// from body), the point in world axes: `rot · support(rotᵀn)`. A shape whose support
+    /// needs less than the two turns may say so.
+    #[inline(always)]
+    fn support_world(&self, rot: &Mat3, n: &Vec3) -> (Vec3, u32) {
+        let (p, id) = self.support(&rot.tr_mul(n));
+        (rot * p, id)
+    }
     /// Piece `id` evaluated at `m` (`None` where it is not differentiable or `id` is unknown).
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval>;
     /// The outward unit normal of a flat face (a polytope facet, a disc, a padded polygon's

@@ -31,9 +31,8 @@ impl<S: SupportMap> Posed<'_, S> {
     /// direction `n`, and its piece.
     #[inline]
     pub fn support(&self, n: &Vec3) -> (Vec3, u32) {
-        let m = self.rot.tr_mul(n);
-        let (p, id) = self.shape.support(&m);
-        (self.rot * p * self.inv_scale, id)
+        let (p, id) = self.shape.support_world(self.rot, n);
+        (p * self.inv_scale, id)
     }
 
     /// [`SupportMap::gauge`] of a point given in the normalised world frame (relative to the
