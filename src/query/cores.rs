@@ -8,7 +8,7 @@
 //! sphere or capsule against a polytope ends exactly, in a few iterations, as two polytopes do.
 
 use crate::math::{Real, Vec3};
-use crate::shapes::{PieceEval, Shape, ShapeKind, SupportMap};
+use crate::shapes::{turned, PieceEval, Shape, ShapeKind, SupportMap};
 use crate::solver::raycast::Pair;
 
 /// A shape for GJK: whole, or the core of a padded one.
@@ -133,10 +133,7 @@ impl SupportMap for Core<'_> {
                 let s = if id == 0 { *h } else { -*h };
                 (u * s, id)
             }
-            _ => {
-                let (p, id) = self.support(&rot.tr_mul(n));
-                (rot * p, id)
-            }
+            _ => turned(self, rot, n),
         }
     }
     #[inline]

@@ -26,7 +26,7 @@ pub use halfspace::Halfspace;
 pub use polygon::Polygon;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
-pub(crate) use support::{PieceEval, SupportMap};
+pub(crate) use support::{turned, PieceEval, SupportMap};
 
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};

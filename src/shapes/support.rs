@@ -126,6 +126,13 @@ impl Round<'_> {
 
 /// What the geometric solvers need of a shape: its support map, its pieces, its flat faces.
 /// Everything is in the body frame and in the shape's own units.
+/// `rot · support(rotᵀn)`: the support point of a shape turned by `rot`, in world axes.
+#[inline(always)]
+pub(crate) fn turned<S: SupportMap + ?Sized>(shape: &S, rot: &Mat3, n: &Vec3) -> (Vec3, u32) {
+    let (p, id) = shape.support(&rot.tr_mul(n));
+    (rot * p, id)
+}
+
 pub(crate) trait SupportMap {
     /// A support point for direction `m` (any `m ≠ 0`; not necessarily unit) and the index of the
     /// piece it belongs to. `h(m) = m·point`.
@@ -135,8 +142,7 @@ pub(crate) trait SupportMap {
     /// needs less than the two turns may say so.
     #[inline(always)]
     fn support_world(&self, rot: &Mat3, n: &Vec3) -> (Vec3, u32) {
-        let (p, id) = self.support(&rot.tr_mul(n));
-        (rot * p, id)
+        turned(self, rot, n)
     }
     /// Piece `id` evaluated at `m` (`None` where it is not differentiable or `id` is unknown).
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval>;
