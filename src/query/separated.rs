@@ -16,6 +16,7 @@ use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
 use crate::solver::raycast::{Pair, Vertex};
+use crate::solver::segment_solid::{segment_solid, SegmentSolid};
 use crate::solver::SolveStatus;
 
 /// GJK iterations before the polish (curved pairs hand over earlier, polytopes end exactly).
@@ -37,18 +38,27 @@ pub(crate) enum Settled {
     Unsettled,
 }
 
-/// GJK's tetrahedron on a certified overlap ([`GjkEnd::Inside`]): support vertices whose `w`
-/// hold `d` strictly inside, a start for EPA (the signed distance). They are of the cores
-/// ([`Cores::of`]) when `cored`, else of the shapes.
+/// What the distance's GJK leaves for the signed distance (`super::signed`) when it does not
+/// prove the shapes apart.
+// Written once per query through an out-parameter, never moved in a loop: the size is fine.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy)]
-pub(crate) struct Start {
-    pub cored: bool,
-    pub tet: [Vertex; 4],
+pub(crate) enum Start {
+    /// GJK's tetrahedron on a certified overlap ([`GjkEnd::Inside`]): support vertices whose
+    /// `w` hold `d` strictly inside, a start for EPA. They are of the cores ([`Cores::of`])
+    /// when `cored`, else of the shapes.
+    Tet { cored: bool, tet: [Vertex; 4] },
+    /// The cores ([`Cores::of`]) certified apart, but not by more than their radii and the
+    /// tolerance: their GJK answer (the cores' distance and witnesses, not padded), from which
+    /// the signed distance is the distance less the radii.
+    CoresApart(Separation),
 }
 
 /// The distance and gradient by GJK, or a certified overlap, or neither (`cutoff` in world
 /// units; `ell` is the larger bounding radius); where GJK certified an overlap, its
-/// tetrahedron is written to `start`.
+/// tetrahedron is written to `start`, and where it found the cores apart by less than their
+/// radii (an overlap certified too when by less than the radii to rounding) or within the
+/// tolerance of them, the cores' answer.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn separated(
     shape1: &Shape,
@@ -59,7 +69,7 @@ pub(crate) fn separated(
     ell: Real,
     gradient: bool,
     cutoff: Option<Real>,
-    start: Option<&mut Option<Start>>,
+    mut start: Option<&mut Option<Start>>,
 ) -> Settled {
     let inv = 1.0 / ell;
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
@@ -74,9 +84,9 @@ pub(crate) fn separated(
     // GJK's tetrahedron, when asked for.
     let mut tet = start.is_some().then(|| [Vertex::default(); 4]);
     // A certified overlap: the common point `a` (normalised, relative to r₁) in world units.
-    let overlap = |a: Vec3, cored: bool, tet: Option<[Vertex; 4]>| {
+    let overlap = |a: Vec3, cored: bool, tet: Option<[Vertex; 4]>, start: Option<&mut _>| {
         if let (Some(out), Some(tet)) = (start, tet) {
-            *out = Some(Start { cored, tet });
+            *out = Some(Start::Tet { cored, tet });
         }
         Settled::Overlapping(r1 + a * ell)
     };
@@ -101,23 +111,34 @@ pub(crate) fn separated(
     };
     let closed = match closed_form(&pair, &d, tol) {
         Ok(s) => s,
-        Err(w) => return overlap(w, false, None),
+        Err(w) => return overlap(w, false, None, None),
     };
     let s = if let Some(s) = closed.or_else(newton) {
         s
     } else {
         // Spheres and capsules by their cores first; where those do not certify a positive
         // gap (touching within the tolerance, or closer), the shapes themselves.
-        match cored(&pair, &d, tol, cutoff, tet.as_mut()) {
-            Some(GjkEnd::Separated(s)) => s,
-            Some(GjkEnd::Beyond) => return beyond(),
-            Some(GjkEnd::Inside { a }) => return overlap(a, true, tet),
-            _ => match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff, tet.as_mut()) {
-                GjkEnd::Separated(s) => s,
-                GjkEnd::Beyond => return beyond(),
-                GjkEnd::Inside { a } => return overlap(a, false, tet),
-                _ => return Settled::Unsettled,
-            },
+        let cores = cored(&pair, &d, tol, cutoff, tet.as_mut());
+        match cores {
+            Ok(Some(GjkEnd::Separated(s))) => s,
+            Ok(Some(GjkEnd::Beyond)) => return beyond(),
+            Ok(Some(GjkEnd::Inside { a })) => return overlap(a, true, tet, start),
+            _ => {
+                if let Err(close) = cores {
+                    if let Some(out) = start.as_deref_mut() {
+                        *out = Some(Start::CoresApart(close.separation));
+                    }
+                    if let Some(w) = close.common {
+                        return Settled::Overlapping(r1 + w * ell);
+                    }
+                }
+                match gjk::distance(&pair, &d, tol, BUDGET, polyhedral, cutoff, tet.as_mut()) {
+                    GjkEnd::Separated(s) => s,
+                    GjkEnd::Beyond => return beyond(),
+                    GjkEnd::Inside { a } => return overlap(a, false, tet, start),
+                    _ => return Settled::Unsettled,
+                }
+            }
         }
     };
     let dist = s.distance * ell;
@@ -191,14 +212,19 @@ pub(crate) fn witness_gradient(
     grad
 }
 
-/// Sphere and capsule pairs (the closest points of their segments), and a sphere with a
-/// centred box or a cylinder (the point of those closest to its centre), certified; `Err(w)`
-/// for sphere and capsule pairs whose segments are no farther apart than the radii summed:
-/// they overlap (or touch), and `w`, dividing the segments' closest points in the ratio of the
-/// radii, lies in both (relative to shape 1's origin).
+/// Sphere and capsule pairs (the closest points of their segments), a sphere with a
+/// centred box or a cylinder (the point of those closest to its centre), and a capsule with a
+/// centred box, a cylinder or a cone (the segment's closest points), certified; `Err(w)`
+/// for pairs found overlapping: sphere and capsule pairs whose segments are no farther apart
+/// than the radii summed (`w`, dividing the segments' closest points in the ratio of the
+/// radii, lies in both), and a capsule whose segment is nearer a solid than its radius (`w`
+/// the solid's closest point), `w` relative to shape 1's origin.
 fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Result<Option<Separation>, Vec3> {
     if let Some(s) = sphere_and_solid(pair, d, tol) {
         return Ok(Some(s));
+    }
+    if let Some(hit) = segment_solid(pair, d) {
+        return capsule_and_solid(pair, d, tol, &hit);
     }
     let seg = RoundedSegment::of;
     let (Some(one), Some(two)) = (seg(&pair.one), seg(&pair.two)) else {
@@ -235,6 +261,32 @@ fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Result<Option<Sep
     )
 }
 
+/// A capsule against a centred box, a cylinder or a cone from the segment's closest points
+/// (`crate::solver::segment_solid`): the segment farther from the solid than the radius, the
+/// distance certified as the sphere–solid one is; nearer (beyond rounding), `Err` with the
+/// solid's closest point, which lies within the radius of the segment, so in both shapes.
+fn capsule_and_solid(
+    pair: &Pair<'_, Shape>,
+    d: &Vec3,
+    tol: Real,
+    hit: &SegmentSolid,
+) -> Result<Option<Separation>, Vec3> {
+    let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
+    let (n, r) = (hit.normal, hit.radius);
+    if hit.distance < r - floor {
+        return Err(if hit.capsule_first { d + hit.b } else { hit.a });
+    }
+    if !(hit.distance > r) {
+        return Ok(None);
+    }
+    let (a, b) = if hit.capsule_first {
+        (hit.a + n * r, hit.b)
+    } else {
+        (hit.a, hit.b - n * r)
+    };
+    Ok(gjk::certify_candidate(pair, d, tol, &n, a, b))
+}
+
 /// A sphere (either side) against a centred box or a cylinder: the solid's point closest to the
 /// sphere's centre, in the solid's body frame; `None` when the centre is inside the solid or
 /// the pair is not one of these.
@@ -246,19 +298,32 @@ fn sphere_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separ
     gjk::certify_candidate(pair, d, tol, &ss.normal, ss.a, ss.b)
 }
 
+/// Cores certified apart by no more than their radii and the tolerance.
+struct Close {
+    /// The cores' GJK answer (not padded).
+    separation: Separation,
+    /// Where the cores' witnesses are closer than the radii (beyond rounding): a point common
+    /// to both shapes (normalised, relative to shape 1's origin), dividing the witnesses in the
+    /// ratio of the radii.
+    common: Option<Vec3>,
+}
+
 /// GJK on the cores when a shape is a sphere or capsule (`crate::query::cores`): the cores'
 /// certified distance minus the radii, the witnesses moved by the radii along the normal.
 /// Only a gap certified positive (the cores' bracket above the radii) is an answer;
 /// `GjkEnd::Beyond` when the cores' lower bound exceeds the cutoff plus the radii; `None`
-/// when neither shape is padded or the cores do not settle it.
+/// when neither shape is padded or the cores do not settle it; `Err` when the cores are apart
+/// by no more than the radii and the tolerance (touching or overlapping shapes).
 fn cored(
     pair: &Pair<'_, Shape>,
     d: &Vec3,
     tol: Real,
     cutoff: Option<Real>,
     tet: Option<&mut [Vertex; 4]>,
-) -> Option<GjkEnd> {
-    let cores = Cores::of(pair)?;
+) -> Result<Option<GjkEnd>, Close> {
+    let Some(cores) = Cores::of(pair) else {
+        return Ok(None);
+    };
     let pad = cores.pad();
     let end = gjk::distance(
         &cores.posed(pair),
@@ -274,20 +339,30 @@ fn cored(
             // The cores' bracket is [upper − tol, upper] (closed to tol).
             let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
             if !(s.distance - tol.max(floor) - pad > floor) {
-                return None;
+                // The witnesses `a` (core 1, from r₁) and `d + b` (core 2) are `s.distance`
+                // apart: closer than the radii, the point dividing them in the ratio of the
+                // radii lies within R₁ of core 1 and within R₂ of core 2, so in both shapes.
+                let common = (s.distance < pad - floor).then(|| {
+                    let (x1, x2) = (s.a, d + s.b);
+                    x1 + (x2 - x1) * (cores.radii[0] / pad)
+                });
+                return Err(Close {
+                    separation: s,
+                    common,
+                });
             }
             let (a, b) = cores.padded(&s.normal, s.a, s.b);
-            Some(GjkEnd::Separated(Separation {
+            Ok(Some(GjkEnd::Separated(Separation {
                 distance: s.distance - pad,
                 a,
                 b,
                 ..s
-            }))
+            })))
         }
-        GjkEnd::Beyond => Some(GjkEnd::Beyond),
+        GjkEnd::Beyond => Ok(Some(GjkEnd::Beyond)),
         // The cores overlap, so do the shapes (each core lies in its shape).
-        inside @ GjkEnd::Inside { .. } => Some(inside),
-        _ => None,
+        inside @ GjkEnd::Inside { .. } => Ok(Some(inside)),
+        _ => Ok(None),
     }
 }
 

@@ -21,6 +21,7 @@ pub(crate) mod gjk;
 mod ipm;
 pub(crate) mod polish;
 pub(crate) mod raycast;
+pub(crate) mod segment_solid;
 pub(crate) mod sensitivity;
 mod status;
 
