@@ -20,6 +20,7 @@ use crate::solver::direct::{after_cast, direct};
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::{polish, Polished};
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
+use crate::solver::segment_solid::segment_solid_alpha;
 use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
@@ -353,6 +354,27 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
     })
 }
 
+/// A capsule and a centred box, a cylinder or a cone: Newton's method on 1/α with the
+/// segment's closest points (`crate::solver::segment_solid`), certified as a polish answer is
+/// (the support functions at the normal below, the touching points' difference above).
+fn capsule_and_solid(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
+    let hit = segment_solid_alpha(pair, ray)?;
+    let n = hit.normal;
+    let nr = n.dot(ray);
+    if !(nr > 0.0) {
+        return None;
+    }
+    let lo = nr / pair.support(&n).w.dot(&n);
+    let hi = upper_from_point(&(hit.a - hit.b), ray, iota);
+    (lo.is_finite() && hi - lo <= tol * lo).then_some(Answer {
+        alpha: lo,
+        normal: n / nr,
+        a: hit.a,
+        b: hit.b,
+        solver: Solver::ClosedForm,
+    })
+}
+
 fn solve(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
@@ -365,6 +387,9 @@ fn solve(
     }
     // No bracket can be certified much below the rounding of the bounds themselves.
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
+    if let Some(ans) = capsule_and_solid(pair, ray, iota, tol) {
+        return Ok(Some(ans));
+    }
     // Spheres, capsules and padded polygons against polytopes and each other: GJK on the
     // cores, exact on polyhedral features.
     if let Some(cores) = Cores::with_polygons(pair).filter(Cores::polyhedral) {

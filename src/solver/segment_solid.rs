@@ -14,13 +14,15 @@
 //! (GJK's lower bound at the normal, the upper bound the witnesses' distance), as for every
 //! other closed form.
 
-use super::closed_form::{closest_on_box, closest_on_cylinder, closest_on_section};
+use super::closed_form::{closest_on_box, closest_on_cylinder};
 use super::raycast::{Pair, Posed};
 use crate::math::{Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
 /// Regula falsi steps at most (a step costs one nearest-point evaluation, 10–20 ns).
 const MAX_STEPS: usize = 60;
+/// Newton steps on 1/α at most.
+const MAX_NEWTON: usize = 40;
 
 /// The closest points of a capsule's segment and a solid, in the pair's normalised frame.
 #[derive(Clone, Copy, Debug)]
@@ -42,7 +44,17 @@ pub(crate) struct SegmentSolid {
 enum Nearest {
     Box(Vec3),
     Cylinder(Real, Real),
-    Section([(Real, Real); 4], usize),
+    /// A cone's meridian section: each edge's start `(axial, radial)`, direction and inverse
+    /// squared length.
+    Section([Edge; 3]),
+}
+
+/// An edge of a meridian section.
+#[derive(Clone, Copy)]
+struct Edge {
+    start: (Real, Real),
+    dir: (Real, Real),
+    inv_len2: Real,
 }
 
 impl Nearest {
@@ -57,7 +69,19 @@ impl Nearest {
             }
             ShapeKind::Cone => {
                 let (v, m) = shape.revolution_section()?;
-                Some(Nearest::Section(v, m))
+                if m != 3 {
+                    return None;
+                }
+                let edge = |i: usize| {
+                    let (c, n) = (v[i], v[(i + 1) % 3]);
+                    let dir = (n.0 - c.0, n.1 - c.1);
+                    Edge {
+                        start: c,
+                        dir,
+                        inv_len2: 1.0 / (dir.0 * dir.0 + dir.1 * dir.1),
+                    }
+                };
+                Some(Nearest::Section([edge(0), edge(1), edge(2)]))
             }
             _ => None,
         }
@@ -67,9 +91,39 @@ impl Nearest {
         match self {
             Nearest::Box(h) => closest_on_box(p, h),
             Nearest::Cylinder(r, h) => closest_on_cylinder(p, *r, *h),
-            Nearest::Section(v, m) => closest_on_section(p, &v[..*m]).0,
+            Nearest::Section(edges) => on_section(p, edges),
         }
     }
+}
+
+/// The point of a cone (its counter-clockwise meridian section `edges`) nearest `p` (body
+/// frame): `p` inside (on the left of every edge, in its meridian half-plane), else the nearest
+/// point of the section's edges. What `closest_on_section` gives, without the depth of an
+/// inside point (a square root per edge), with the edges' lengths computed once.
+fn on_section(p: &Vec3, edges: &[Edge; 3]) -> Vec3 {
+    let radial = (p.y * p.y + p.z * p.z).sqrt();
+    let (pa, pr) = (p.x, radial);
+    let mut inside = true;
+    let (mut best, mut closest) = (Real::INFINITY, (pa, pr));
+    for e in edges {
+        let (da, dr) = (pa - e.start.0, pr - e.start.1);
+        inside &= e.dir.0 * dr - e.dir.1 * da >= 0.0;
+        let t = ((da * e.dir.0 + dr * e.dir.1) * e.inv_len2).clamp(0.0, 1.0);
+        let (qa, qr) = (e.start.0 + t * e.dir.0, e.start.1 + t * e.dir.1);
+        let dist2 = (pa - qa) * (pa - qa) + (pr - qr) * (pr - qr);
+        if dist2 < best {
+            (best, closest) = (dist2, (qa, qr));
+        }
+    }
+    if inside {
+        return *p;
+    }
+    let (uy, uz) = if radial > 0.0 {
+        (p.y / radial, p.z / radial)
+    } else {
+        (1.0, 0.0)
+    };
+    Vec3::new(closest.0, uy * closest.1, uz * closest.1)
 }
 
 /// A capsule (of positive length) against a centred box, a cylinder or a cone, either order:
@@ -94,49 +148,7 @@ pub(crate) fn segment_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SegmentS
     let c = solid.rot.tr_mul(&centre) / s;
     let u = solid.rot.tr_mul(&seg.rot.column(0).into_owned());
     let h = half * seg.inv_scale / s;
-    let slope = |t: Real| {
-        let p = c + u * t;
-        u.dot(&(p - nearest.point(&p)))
-    };
-    let (mut lo, mut hi) = (-h, h);
-    let (mut glo, mut ghi) = (slope(lo), slope(hi));
-    let t = if glo >= 0.0 {
-        lo
-    } else if ghi <= 0.0 {
-        hi
-    } else {
-        // Regula falsi with the Illinois rule: the end kept twice in a row has its value
-        // halved, so that neither end stalls.
-        let mut side = 0i8;
-        let mut t = 0.5 * (lo + hi);
-        for _ in 0..MAX_STEPS {
-            t = (lo * ghi - hi * glo) / (ghi - glo);
-            if !(t > lo && t < hi) {
-                t = 0.5 * (lo + hi);
-            }
-            let g = slope(t);
-            if g == 0.0 || hi - lo <= 4.0 * Real::EPSILON * h {
-                break;
-            }
-            if g < 0.0 {
-                (lo, glo) = (t, g);
-                if side == -1 {
-                    ghi *= 0.5;
-                }
-                side = -1;
-            } else {
-                (hi, ghi) = (t, g);
-                if side == 1 {
-                    glo *= 0.5;
-                }
-                side = 1;
-            }
-            if (hi - lo) <= 1e-15 * h.max(1.0) {
-                break;
-            }
-        }
-        t
-    };
+    let t = closest_param(&nearest, &c, &u, h);
     let p = c + u * t;
     let q = nearest.point(&p);
     let gap = p - q;
@@ -161,6 +173,137 @@ pub(crate) fn segment_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SegmentS
         radius: radius * seg.inv_scale,
         capsule_first,
     })
+}
+
+/// The segment's parameter `t ∈ [−h, h]` of its point nearest the solid, for the segment
+/// `c + t·u` in the solid's body frame: an end where `φ'` keeps its sign, else its root by
+/// regula falsi with the Illinois rule (the end kept twice in a row has its value halved, so
+/// that neither end stalls).
+fn closest_param(nearest: &Nearest, c: &Vec3, u: &Vec3, h: Real) -> Real {
+    let slope = |t: Real| {
+        let p = c + u * t;
+        u.dot(&(p - nearest.point(&p)))
+    };
+    let (mut lo, mut hi) = (-h, h);
+    let (mut glo, mut ghi) = (slope(lo), slope(hi));
+    if glo >= 0.0 {
+        return lo;
+    }
+    if ghi <= 0.0 {
+        return hi;
+    }
+    let mut side = 0i8;
+    let mut t = 0.5 * (lo + hi);
+    for _ in 0..MAX_STEPS {
+        t = (lo * ghi - hi * glo) / (ghi - glo);
+        if !(t > lo && t < hi) {
+            t = 0.5 * (lo + hi);
+        }
+        let g = slope(t);
+        if g == 0.0 || hi - lo <= 4.0 * Real::EPSILON * h {
+            break;
+        }
+        if g < 0.0 {
+            (lo, glo) = (t, g);
+            if side == -1 {
+                ghi *= 0.5;
+            }
+            side = -1;
+        } else {
+            (hi, ghi) = (t, g);
+            if side == 1 {
+                glo *= 0.5;
+            }
+            side = 1;
+        }
+        if (hi - lo) <= 1e-15 * h.max(1.0) {
+            break;
+        }
+    }
+    t
+}
+
+/// α* of a capsule and a centred box, cylinder or cone, as a candidate (normalised units, the
+/// ray `r` unit, from shape 1 to shape 2): with the shapes scaled by α about their origins,
+/// or equivalently the capsule's segment moved to `β·e` from the solid's origin (β = 1/α, `e`
+/// the ray in the solid's frame), `G(β) = dist(segment, solid) − R` is convex in β (the
+/// distance is jointly convex in the segment's offset and parameter, and the least over the
+/// parameter keeps that), negative at 0 and positive beyond the bounding balls, so Newton's
+/// method from there, with `G'(β) = n·e` (`n` the unit normal from the solid to the segment at
+/// its closest points, by the envelope theorem), falls monotonically to its root 1/α*. The
+/// closest points there give the unit normal from shape 1 to shape 2 and the touching points
+/// `a` and `b` (relative to their origins), which the caller certifies.
+pub(crate) fn segment_solid_alpha(pair: &Pair<'_, Shape>, r: &Vec3) -> Option<AlphaHit> {
+    let capsule = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+        Some((half, radius)) if half > 0.0 => Some((half, radius)),
+        _ => None,
+    };
+    let (seg, solid, dir, capsule_first) = if capsule(&pair.one).is_some() {
+        (&pair.one, &pair.two, -r, true)
+    } else {
+        (&pair.two, &pair.one, *r, false)
+    };
+    let (half, radius) = capsule(seg)?;
+    let nearest = Nearest::of(solid.shape)?;
+    let s = solid.inv_scale;
+    let e = solid.rot.tr_mul(&dir) / s;
+    let u = solid.rot.tr_mul(&seg.rot.column(0).into_owned());
+    let k = seg.inv_scale / s;
+    let (h, rad) = (half * k, radius * k);
+    // Newton starts where G ≥ 0: at `h_K(r)` (`βr ∈ K` needs `β ≤ h_K(r)`), one support call;
+    // past the bounding balls (about the origins) if that is not finite.
+    let hk = pair.support(r).w.dot(r);
+    let reach = (half * k + rad + solid.shape.bounding_radius()) / e.norm();
+    let mut beta = if hk > 0.0 && hk.is_finite() {
+        hk.min(reach)
+    } else {
+        reach
+    };
+    let mut closest = (Vec3::zeros(), Vec3::zeros(), 0.0);
+    for _ in 0..MAX_NEWTON {
+        let c = e * beta;
+        let t = closest_param(&nearest, &c, &u, h);
+        let p = c + u * t;
+        let q = nearest.point(&p);
+        let dist = (p - q).norm();
+        if !(dist > 0.0 && dist.is_finite()) {
+            return None;
+        }
+        let n = (p - q) / dist;
+        let g = dist - rad;
+        let slope = n.dot(&e);
+        if !(slope > 0.0) {
+            return None;
+        }
+        closest = (p - c, q, beta);
+        let next = beta - g / slope;
+        let done = (beta - next).abs() <= 4.0 * Real::EPSILON * beta;
+        beta = next;
+        if done {
+            break;
+        }
+    }
+    // The touching points at the last evaluation (their normal from the solid to the segment).
+    let (on_segment, q, _) = closest;
+    let gap = (e * closest.2 + on_segment) - q;
+    let n = solid.rot * (gap / gap.norm());
+    let on_solid = solid.rot * q * s;
+    let on_capsule = solid.rot * on_segment * s - n * (rad * s);
+    let (normal, a, b) = if capsule_first {
+        (-n, on_capsule, on_solid)
+    } else {
+        (n, on_solid, on_capsule)
+    };
+    (normal.iter().all(|v| v.is_finite()) && beta.is_finite()).then_some(AlphaHit { normal, a, b })
+}
+
+/// The candidate of [`segment_solid_alpha`]: the unit normal from shape 1 to shape 2 and the
+/// touching points of the unscaled shapes (normalised, relative to their origins).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct AlphaHit {
+    pub normal: Vec3,
+    pub a: Vec3,
+    pub b: Vec3,
 }
 
 #[cfg(test)]
@@ -232,6 +375,27 @@ mod tests {
         let hit = segment_solid(&p, &d).unwrap();
         assert!((hit.distance - 1.25f64.sqrt()).abs() < 1e-14, "{hit:?}");
         assert!((hit.b + d - hit.a - hit.normal * hit.distance).norm() < 1e-14);
+    }
+
+    #[test]
+    fn the_cone_section_agrees_with_the_closed_form_module() {
+        let cone = Shape::cone(1.3, 0.4).unwrap();
+        let Some(Nearest::Section(edges)) = Nearest::of(&cone) else {
+            panic!("a cone has a section");
+        };
+        let (v, m) = cone.revolution_section().unwrap();
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as Real / (1u64 << 53) as Real * 4.0 - 2.0
+        };
+        for _ in 0..2000 {
+            let p = Vec3::new(next(), next(), next());
+            let want = super::super::closed_form::closest_on_section(&p, &v[..m]).0;
+            assert!((on_section(&p, &edges) - want).norm() < 1e-15, "{p:?}");
+        }
     }
 
     #[test]
