@@ -399,6 +399,44 @@ mod tests {
     }
 
     #[test]
+    fn alpha_of_a_capsule_over_a_cylinder_cap_and_rim_and_a_box_face() {
+        use crate::{proximity, Options, Solver};
+        let capsule = Shape::capsule(0.25, 2.0).unwrap();
+        let cyl = Shape::cylinder(0.5, 2.0).unwrap();
+        let id = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+        // The capsule along y (a quarter turn about z).
+        let q = [
+            (std::f64::consts::FRAC_PI_4).cos(),
+            0.0,
+            0.0,
+            (std::f64::consts::FRAC_PI_4).sin(),
+        ];
+        let o = Options::default();
+        // Over the cap: the scaled cap x = α meets the scaled capsule's side at 2 − α/4.
+        let cap = Pose::new([2.0, 0.0, 0.0], q).unwrap();
+        let p = proximity(&cyl, &id, &capsule, &cap, &o).unwrap();
+        assert_eq!(p.solver, Solver::ClosedForm);
+        assert!((p.alpha - 1.6).abs() < 1e-12, "{p:?}");
+        // Over the rim: (2 − α)² + (1 − α/2)² = (α/4)², the least root.
+        let rim = Pose::new([2.0, 0.0, 1.0], q).unwrap();
+        let p = proximity(&capsule, &rim, &cyl, &id, &o).unwrap();
+        let want = (5.0 - 1.25f64.sqrt()) / 2.375;
+        assert_eq!(p.solver, Solver::ClosedForm);
+        assert!((p.alpha - want).abs() < 1e-12, "{} vs {want}", p.alpha);
+        // The rim point (α, 0, α/2) of the scaled cylinder is (1, 0, 1/2) on the unscaled one,
+        // shape 2's contact point.
+        let c = p.contact2;
+        let touch = Vec3::new(1.0, 0.0, 0.5);
+        assert!((c - touch).norm() < 1e-9, "{c:?}");
+        // A box face: 3 − α·0.25 = α·0.5 for a cube of half-side 0.5 under the capsule.
+        let cube = Shape::cuboid(0.5, 0.5, 0.5).unwrap();
+        let up = Pose::new([0.0, 0.0, 3.0], q).unwrap();
+        let p = proximity(&cube, &id, &capsule, &up, &o).unwrap();
+        assert_eq!(p.solver, Solver::ClosedForm);
+        assert!((p.alpha - 4.0).abs() < 1e-12, "{p:?}");
+    }
+
+    #[test]
     fn a_segment_through_the_solid_has_no_answer() {
         let capsule = Shape::capsule(0.1, 4.0).unwrap();
         let cone = Shape::cone(1.0, 0.5).unwrap();
