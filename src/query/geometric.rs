@@ -17,6 +17,7 @@ use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
+use crate::solver::ellipsoid_point::sphere_alpha;
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::{polish, Polished};
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
@@ -375,6 +376,58 @@ fn capsule_and_solid(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) 
     })
 }
 
+/// A sphere and an ellipsoid, either order: the secular equation of the sphere's centre on the
+/// ray (`crate::solver::ellipsoid_point::sphere_alpha`), certified as a polish answer is.
+fn sphere_and_ellipsoid(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+) -> Option<Answer> {
+    let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+        Some((0.0, radius)) => Some(radius),
+        _ => None,
+    };
+    // The ellipsoid, the sphere's radius, the ray from the ellipsoid to the sphere, and whether
+    // the ellipsoid is shape 1.
+    let (solid, rho, dir, first) = match (ball(&pair.one), ball(&pair.two)) {
+        (None, Some(rho)) => (&pair.one, rho, *ray, true),
+        (Some(rho), None) => (&pair.two, rho, -ray, false),
+        _ => return None,
+    };
+    let (axes, semi) = solid.shape.ellipsoid_principal()?;
+    let s = solid.inv_scale;
+    let c = axes.tr_mul(&solid.rot.tr_mul(&dir)) / s;
+    let (beta, x) = sphere_alpha(&c, semi, rho)?;
+    let gap = c * beta - x;
+    let len = gap.norm();
+    if !(len > 0.0) {
+        return None;
+    }
+    // From the ellipsoid to the sphere, world axes; the touching points, normalised.
+    let m = solid.rot * (axes * (gap / len));
+    let on_solid = solid.rot * (axes * x) * s;
+    let on_sphere = -m * (rho * s);
+    let (n, a, b) = if first {
+        (m, on_solid, on_sphere)
+    } else {
+        (-m, on_sphere, on_solid)
+    };
+    let nr = n.dot(ray);
+    if !(nr > 0.0) {
+        return None;
+    }
+    let lo = nr / pair.support(&n).w.dot(&n);
+    let hi = upper_from_point(&(a - b), ray, iota);
+    (lo.is_finite() && hi - lo <= tol * lo).then_some(Answer {
+        alpha: lo,
+        normal: n / nr,
+        a,
+        b,
+        solver: Solver::ClosedForm,
+    })
+}
+
 fn solve(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
@@ -387,7 +440,9 @@ fn solve(
     }
     // No bracket can be certified much below the rounding of the bounds themselves.
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
-    if let Some(ans) = capsule_and_solid(pair, ray, iota, tol) {
+    if let Some(ans) = capsule_and_solid(pair, ray, iota, tol)
+        .or_else(|| sphere_and_ellipsoid(pair, ray, iota, tol))
+    {
         return Ok(Some(ans));
     }
     // Spheres, capsules and padded polygons against polytopes and each other: GJK on the

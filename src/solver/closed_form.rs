@@ -25,6 +25,7 @@
 //!
 //! Everything is in the caller's normalised units (unit `d`, lengths over ℓ).
 
+use super::ellipsoid_point;
 use super::raycast::{Pair, Posed};
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
@@ -378,58 +379,6 @@ pub(crate) fn closest_on_cylinder(c: &Vec3, radius: Real, half_length: Real) -> 
     Vec3::new(c.x.clamp(-half_length, half_length), c.y * k, c.z * k)
 }
 
-/// The point of an ellipsoid's boundary nearest an interior point `y` (principal frame, semi-axes
-/// `e` descending) and its distance, certified to `1e-12·e₁`; `None` outside, with `y` in the
-/// plane of the two longer axes (where the nearest point may be one of two), or when the
-/// bracket does not close.
-///
-/// The nearest point is `xᵢ = eᵢ²yᵢ/(t + eᵢ²)` at the root `t` of
-/// `F(t) = Σ (eᵢyᵢ/(t + eᵢ²))² − 1`: a global minimiser of `‖x − y‖²` on `xᵀAx = 1`
-/// (`A = diag(1/eᵢ²)`) needs `I + tA ⪰ 0`, i.e. `t ≥ −e₃²`, and on `(−e₃², 0]` F decreases
-/// strictly from +∞ to `F(0) ≤ 0`: one root (Eberly, *Distance from a point to an ellipse,
-/// an ellipsoid, or a hyperellipsoid*). Newton's method climbs to it monotonically (F is
-/// convex there) from the largest of `tᵢ = −eᵢ² + eᵢ|yᵢ|` (each term is 1 at its own `tᵢ`, so
-/// `F ≥ 0` there). The certificate: every `t > −e₃²` gives the lower bound
-/// `q(t) = Σ yᵢ² t aᵢ/(1 + t aᵢ) − t` on the squared depth (`aᵢ = 1/eᵢ²`; the minimum over x of
-/// `‖x − y‖² + t(xᵀAx − 1)`, weak duality), and `x` pushed radially onto the boundary gives an
-/// upper bound. Measured: from `t₃` alone a point 1e-13 off the plane of the longer axes needed
-/// more Newton steps than the loop allowed, and the answer was 7e-10 too deep.
-fn ellipsoid_depth(y: &Vec3, e: &Vec3) -> Option<(Vec3, Real)> {
-    let z = y.abs();
-    if !(z.z > 0.0) || z.component_div(e).norm_squared() > 1.0 {
-        return None;
-    }
-    let e2 = e.component_mul(e);
-    let ez = e.component_mul(&z);
-    let f = |t: Real| (0..3).map(|i| (ez[i] / (t + e2[i])).powi(2)).sum::<Real>() - 1.0;
-    let df = |t: Real| {
-        -2.0 * (0..3)
-            .map(|i| ez[i].powi(2) / (t + e2[i]).powi(3))
-            .sum::<Real>()
-    };
-    let mut t = (0..3).map(|i| -e2[i] + ez[i]).fold(-e2.z + ez.z, Real::max);
-    for _ in 0..200 {
-        let ft = f(t);
-        if !(ft > 0.0) {
-            break;
-        }
-        let next = t - ft / df(t);
-        if !(next > t) {
-            break;
-        }
-        t = next;
-    }
-    let x = Vec3::from_fn(|i, _| e2[i] * y[i] / (t + e2[i]));
-    let depth = (x - y).norm();
-    // The bracket [√q(t), ‖x' − y‖], x' = x / √(xᵀAx) on the boundary.
-    let q = (0..3).map(|i| z[i] * z[i] * t / (t + e2[i])).sum::<Real>() - t;
-    let on = x / x.component_div(e).norm();
-    let upper = (on - y).norm();
-    let lower = q.max(0.0).sqrt();
-    let closed = upper - lower <= 1e-12 * e.x && (depth - lower).abs() <= 1e-12 * e.x;
-    (closed && depth.is_finite() && x.iter().all(|v| v.is_finite())).then_some((x, depth))
-}
-
 /// The point of a solid of revolution about body x with the meridian section `section`
 /// (counter-clockwise `(axial, radial)` vertices, symmetric in the radial coordinate) closest
 /// to `c` (body frame), and the outward normal and distance of the boundary nearest `c` when
@@ -489,8 +438,9 @@ pub(crate) struct SphereSolid {
 /// solid's body frame, outside the solid `sd = ‖c − p‖ − ρ` at its closest point `p`; inside,
 /// `sd = −(δ + ρ)` with `δ` the distance to the nearest face (a box's face, a cylinder's side
 /// or cap, a cone's base or side, any polytope's facet, an ellipsoid's nearest point) and the
-/// normal that face's. Against a polytope that is not a centred box, or an ellipsoid, only with
-/// the centre inside. `None` for other pairs.
+/// normal that face's. Against a polytope that is not a centred box only with the centre
+/// inside; against an ellipsoid by its certified nearest point (`super::ellipsoid_point`).
+/// `None` for other pairs.
 pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSolid> {
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
         Some((0.0, radius)) => Some(radius * posed.inv_scale),
@@ -528,15 +478,22 @@ pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSol
         }
         (c, (normals[k], depth))
     } else if let Some((axes, semi)) = solid.shape.ellipsoid_principal() {
-        // The centre inside only (outside, its closest point is GJK's).
-        let (x, depth) = ellipsoid_depth(&axes.tr_mul(&c), semi)?;
         let y = axes.tr_mul(&c);
-        let u = if depth > 0.0 {
-            (x - y) / depth
+        let near = ellipsoid_point::nearest(&y, semi)?;
+        let x = near.x;
+        if !near.inside {
+            if !(near.dist > 0.0) {
+                return None;
+            }
+            (axes * x, (Vec3::x(), 0.0))
         } else {
-            Vec3::from_fn(|i, _| x[i] / (semi[i] * semi[i])).try_normalize(0.0)?
-        };
-        (c, (axes * u, depth))
+            let u = if near.dist > 0.0 {
+                (x - y) / near.dist
+            } else {
+                Vec3::from_fn(|i, _| x[i] / (semi[i] * semi[i])).try_normalize(0.0)?
+            };
+            (c, (axes * u, near.dist))
+        }
     } else if solid.shape.kind() == ShapeKind::Cone {
         let (v, m) = solid.shape.revolution_section()?;
         let (p, (u, depth)) = closest_on_section(&c, &v[..m]);
