@@ -357,7 +357,7 @@ fn random_pairs_against_brute_force() {
     let per_pair: usize = std::env::var("DCOL_SD_PAIRS")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(6);
+        .unwrap_or(100);
     let mut failures = Vec::new();
     let mut stats: BTreeMap<String, (usize, usize, u32)> = BTreeMap::new();
     let (mut worst_hi, mut worst_lo, mut worst_w) = (0.0f64, 0.0f64, 0.0f64);
@@ -735,4 +735,103 @@ fn sphere_inside_an_ellipsoid() {
         "{}",
         sd.distance
     );
+}
+
+/// A polytope overlapping a padded polygon (from the random sweep at 400 pairs per kind) whose
+/// EPA bracket closed with its best lower bound from an older face lying 6.7e-3 ℓ inside its
+/// support plane: the witnesses from that face's barycentric point missed the identity
+/// `closest2 − closest1 = distance·normal` by as much. They are now where the ray from d along
+/// the normal leaves the polytope, within the bracket of the identity.
+#[test]
+fn epa_witnesses_meet_the_identity_when_an_older_face_gave_the_bound() {
+    let a = [
+        [-0.1455341206910462, 0.8936268776126459, 1.6025422966492153],
+        [1.083463439934545, 1.6603905896699547, 0.09651045807186262],
+        [1.639877046166702, -0.07754888493954261, 1.0991183622585692],
+        [0.02527925469338055, 1.0459560118000732, -1.6180274939179071],
+        [0.8717003997470388, -1.736339881588577, -0.12948644254695893],
+        [-1.550301152579949, 0.06959770969205842, 0.892743490178842],
+        [
+            -0.14456376296298432,
+            -0.8635249004015462,
+            1.5457728293778776,
+        ],
+        [-1.006565000392277, 1.5501504388082925, 0.04430214651798514],
+        [1.7195938364752963, 0.09891895132913106, -1.080060849783396],
+        [
+            0.09623368710271837,
+            -0.8999375399571641,
+            -1.7575095862615404,
+        ],
+        [
+            -0.9082515253217835,
+            -1.4979717028023094,
+            -0.06714343207704936,
+        ],
+        [
+            -1.7656446059214796,
+            0.028761676786554558,
+            -0.9176946244809342,
+        ],
+    ];
+    let b = [
+        0.5955661170399245,
+        0.9143985749095058,
+        0.7330318030929298,
+        0.7775002065085859,
+        0.853698639557438,
+        0.9709034664521372,
+        0.8096348464203615,
+        1.0013709250368001,
+        0.6980411920173032,
+        0.7902730103568978,
+        1.1440358491425653,
+        0.5186551758286096,
+    ];
+    let polytope = Shape::polytope(&a, &b).unwrap();
+    let c = [
+        [-0.3358984724318488, 0.9418981984365139],
+        [-0.9889509248688338, 0.14824327371276616],
+        [-0.5521659150014533, -0.8337342516117519],
+        [0.4996878375364766, -0.8662055558688825],
+        [0.8020452697200035, 0.597263246248894],
+    ];
+    let d = [
+        0.8000006829085651,
+        0.47543535490763744,
+        0.7069649906983697,
+        0.5082250512809117,
+        0.43951078181427095,
+    ];
+    let polygon = Shape::polygon(&c, &d, 0.15224779354588275).unwrap();
+    let p1 = Pose::new(
+        [0.1, -0.2, 0.3],
+        [
+            0.40532400943524255,
+            -0.877412244479881,
+            -0.1548541233394683,
+            0.20464701585139689,
+        ],
+    )
+    .unwrap();
+    let p2 = Pose::new(
+        [
+            -0.009252469680020123,
+            -0.035290635794977904,
+            0.29237885907053335,
+        ],
+        [
+            0.7289205422092533,
+            -0.4530595308999354,
+            0.5057272845526125,
+            -0.08747467213507874,
+        ],
+    )
+    .unwrap();
+    let s = signed_distance(&polytope, &p1, &polygon, &p2, &Options::default()).unwrap();
+    assert_eq!(s.status, SolveStatus::Converged);
+    assert!((s.distance + 0.6251044976099122).abs() < 1e-9, "{s:?}");
+    let ell = polygon.bounding_radius();
+    let w = (s.closest2 - s.closest1 - s.normal * s.distance).norm() / ell;
+    assert!(w <= 1e-9, "witness identity off by {w:e} ℓ ({:?})", s.path);
 }

@@ -408,7 +408,18 @@ pub(crate) fn penetration<S: SupportMap>(
         }
     }
     if let Some(f) = best.face {
-        (best.a, best.b) = witnesses(&poly, &f);
+        // The face's barycentric point lies `−(lower + ρ_f)` inside the support plane at its
+        // normal: within the tolerance when the face closed the bracket, but an older face that
+        // gave a better lower bound may lie deeper (7e-9 seen on a capsule–ellipsoid pair, a
+        // witness identity off by as much). Then the witnesses are where the ray from `d` along
+        // the normal leaves the polytope: a point of K at a distance between the bracket's
+        // ends, exactly on the ray.
+        let gap = -(best.lower + f.rho);
+        (best.a, best.b) = if gap > tol {
+            ray_witnesses(&poly, &best.normal).unwrap_or_else(|| witnesses(&poly, &f))
+        } else {
+            witnesses(&poly, &f)
+        };
     }
     let out = Penetration {
         sd: best.lower,
@@ -497,6 +508,44 @@ fn witnesses(poly: &Poly, f: &Face) -> (Vec3, Vec3) {
         b += v.b * ti;
     }
     (a, b)
+}
+
+/// The witnesses where the ray from `d` along the unit `n` leaves the polytope: the nearest
+/// crossing of a live face (its barycentric combination of shape points); `None` when no face
+/// is crossed (to rounding).
+fn ray_witnesses(poly: &Poly, n: &Vec3) -> Option<(Vec3, Vec3)> {
+    let mut best: Option<(Real, usize, [Real; 3])> = None;
+    for (k, f) in poly.faces.iter().enumerate() {
+        let c = f.n.dot(n);
+        if !f.alive || !(c > 0.0) {
+            continue;
+        }
+        let w = f.v.map(|i| poly.verts[i as usize].w);
+        let s = f.n.dot(&(w[0] - poly.d)) / c;
+        if best.is_some_and(|b| b.0 <= s) || !(s >= 0.0) {
+            continue;
+        }
+        let x = poly.d + n * s;
+        let area = |p: &Vec3, q: &Vec3, r: &Vec3| (q - p).cross(&(r - p)).dot(&f.n);
+        let total = area(&w[0], &w[1], &w[2]);
+        let t = [
+            area(&x, &w[1], &w[2]) / total,
+            area(&w[0], &x, &w[2]) / total,
+            area(&w[0], &w[1], &x) / total,
+        ];
+        if total > 0.0 && t.iter().all(|v| *v >= -1e-12) {
+            best = Some((s, k, t));
+        }
+    }
+    let (_, k, t) = best?;
+    let f = &poly.faces[k];
+    let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
+    for (i, ti) in f.v.iter().zip(t) {
+        let v = &poly.verts[*i as usize];
+        a += v.a * ti;
+        b += v.b * ti;
+    }
+    Some((a, b))
 }
 
 /// Barycentric coordinates of the projection of `d` onto face `f`'s plane.
