@@ -21,7 +21,7 @@ use crate::solver::ellipsoid_point::sphere_alpha;
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::{polish, Polished};
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
-use crate::solver::segment_solid::segment_solid_alpha;
+use crate::solver::segment_solid::{rounded_facet_alpha, segment_solid_alpha};
 use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
@@ -356,10 +356,11 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
 }
 
 /// A capsule and a centred box, a cylinder or a cone: Newton's method on 1/α with the
-/// segment's closest points (`crate::solver::segment_solid`), certified as a polish answer is
-/// (the support functions at the normal below, the touching points' difference above).
+/// segment's closest points (`crate::solver::segment_solid`); a capsule and a polytope
+/// touching on a facet: the facets' slabs. Certified as a polish answer is (the
+/// support functions at the normal below, the touching points' difference above).
 fn capsule_and_solid(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
-    let hit = segment_solid_alpha(pair, ray)?;
+    let hit = segment_solid_alpha(pair, ray).or_else(|| rounded_facet_alpha(pair, ray))?;
     let n = hit.normal;
     let nr = n.dot(ray);
     if !(nr > 0.0) {
