@@ -19,6 +19,10 @@ pub struct Polytope {
     offsets: Vec<Real>,
     /// Half extents when the polytope is a box centred at its origin and aligned with its axes.
     half_extents: Option<Vec3>,
+    /// A box's support vertex for each sign pattern of the direction (−, 0, + per axis, base
+    /// 3): the first vertex of the list whose coordinates have the signs of the non-zero
+    /// components, which is the first maximiser `argmax_dot` returns.
+    box_support: Option<[u8; 27]>,
     bounding_radius: Real,
     inscribed_radius: Real,
 }
@@ -112,11 +116,13 @@ impl Polytope {
             return Err(unbounded());
         }
         let half_extents = centred_box(&n, &off);
+        let box_support = half_extents.and_then(|_| box_support(&vertices));
         Ok(Polytope {
             a: a.to_vec(),
             b: b.to_vec(),
             vertices,
             half_extents,
+            box_support,
             normals: n,
             offsets: off,
             bounding_radius: rho.max(iota),
@@ -202,9 +208,33 @@ pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3, scale: Real) {
     }
 }
 
+/// The table of `Polytope::box_support` for a centred box's eight vertices; `None` if they are
+/// not one vertex per octant.
+fn box_support(vertices: &[Vec3]) -> Option<[u8; 27]> {
+    if vertices.len() != 8 {
+        return None;
+    }
+    let mut table = [0u8; 27];
+    for (p, entry) in table.iter_mut().enumerate() {
+        let signs = [p / 9, (p / 3) % 3, p % 3].map(|d| d as i32 - 1);
+        let k = vertices.iter().position(|v| {
+            (0..3).all(|i| signs[i] == 0 || (v[i] > 0.0) == (signs[i] > 0) && v[i] != 0.0)
+        })?;
+        *entry = k as u8;
+    }
+    Some(table)
+}
+
 impl SupportMap for Polytope {
     #[inline]
     fn support(&self, m: &Vec3) -> (Vec3, u32) {
+        // A centred box: by the signs of the direction (three comparisons and a table, where
+        // the search costs a dot product per vertex).
+        if let Some(t) = &self.box_support {
+            let s = |v: Real| usize::from(v >= 0.0) + usize::from(v > 0.0);
+            let k = t[s(m.x) * 9 + s(m.y) * 3 + s(m.z)] as usize;
+            return (self.vertices[k], k as u32);
+        }
         let (k, _) = argmax_dot(&self.vertices, m);
         (self.vertices[k], k as u32)
     }
@@ -245,6 +275,47 @@ impl ConicShape for Polytope {
 mod tests {
     use super::super::test_util::member;
     use super::*;
+
+    #[test]
+    fn a_box_support_by_signs_is_the_search_s() {
+        let b = Polytope::new(
+            &[
+                [1.0, 0.0, 0.0],
+                [-1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, -1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [0.0, 0.0, -1.0],
+            ],
+            &[0.5, 0.5, 0.3, 0.3, 0.2, 0.2],
+        )
+        .unwrap();
+        assert!(b.box_support.is_some());
+        for p in 0..27 {
+            let m = Vec3::new(
+                (p / 9) as Real - 1.0,
+                ((p / 3) % 3) as Real - 1.0,
+                (p % 3) as Real - 1.0,
+            )
+            .component_mul(&Vec3::new(0.3, -1.7, 2.9));
+            let (v, k) = b.support(&m);
+            let (j, h) = super::super::support::argmax_dot(&b.vertices, &m);
+            assert_eq!(v, b.vertices[k as usize]);
+            assert_eq!(v.dot(&m), h, "{m:?}: vertex {k} against {j}");
+        }
+        // Not a box: no table.
+        let t = Polytope::new(
+            &[
+                [1.0, 1.0, 1.0],
+                [-1.0, 0.0, 0.0],
+                [0.0, -1.0, 0.0],
+                [0.0, 0.0, -1.0],
+            ],
+            &[1.0, 1.0, 1.0, 1.0],
+        )
+        .unwrap();
+        assert!(t.box_support.is_none());
+    }
 
     const BOX_A: [[Real; 3]; 6] = [
         [1.0, 0.0, 0.0],
