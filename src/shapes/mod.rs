@@ -9,6 +9,7 @@
 //! form at most one second-order cone plus nonnegative-orthant rows.
 
 mod capsule;
+mod climb;
 mod cone;
 mod cylinder;
 mod ellipsoid;

@@ -4,7 +4,16 @@
 use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
 use super::{check_halfspaces, BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
+use super::climb::Climb;
 use crate::math::{Real, Vec3};
+
+/// Polytopes with this many vertices or more find their support vertex by hill climbing
+/// (`super::climb`) rather than a dot product per vertex. Measured (proximity, 200 poses,
+/// random facets): against the same polytope 1 192 -> 942 ns at 20 facets (36 vertices),
+/// 2 885 -> 1 212 at 100, 4 236 -> 1 302 at 256; against a sphere 621 -> 651 at 20 facets,
+/// 1 101 -> 641 at 256; on benches/proximity's 12-facet polytope (20 vertices) the search
+/// stays ahead for spheres, capsules and ellipsoids (by 5-9 %).
+const CLIMB_MIN: usize = 24;
 
 /// A bounded convex polytope in halfspace form.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,6 +32,9 @@ pub struct Polytope {
     /// 3): the first vertex of the list whose coordinates have the signs of the non-zero
     /// components, which is the first maximiser `argmax_dot` returns.
     box_support: Option<[u8; 27]>,
+    /// The vertex graph and start table of the support map's hill climb (`super::climb`), for
+    /// polytopes with [`CLIMB_MIN`] vertices or more.
+    climb: Option<Climb>,
     bounding_radius: Real,
     inscribed_radius: Real,
 }
@@ -84,6 +96,8 @@ impl Polytope {
         // Vertices: intersections of three planes that satisfy all constraints.
         let mut rho: Real = 0.0;
         let mut vertices: Vec<Vec3> = Vec::new();
+        // The facets through each vertex (of every triple that gave it).
+        let mut incident: Vec<Vec<u16>> = Vec::new();
         for i in 0..m {
             for j in (i + 1)..m {
                 let cij = n[i].cross(&n[j]);
@@ -106,7 +120,15 @@ impl Polytope {
                         .all(|(nl, ol)| nl.dot(&v) <= ol + 1e-9 * ol.max(vn));
                     if feasible {
                         rho = rho.max(vn);
-                        add_vertex(&mut vertices, v, min_off);
+                        let at = add_vertex(&mut vertices, v, min_off);
+                        if at == incident.len() {
+                            incident.push(Vec::new());
+                        }
+                        for f in [i, j, k] {
+                            if !incident[at].contains(&(f as u16)) {
+                                incident[at].push(f as u16);
+                            }
+                        }
                     }
                 }
             }
@@ -117,12 +139,16 @@ impl Polytope {
         }
         let half_extents = centred_box(&n, &off);
         let box_support = half_extents.and_then(|_| box_support(&vertices));
+        let climb = (box_support.is_none() && vertices.len() >= CLIMB_MIN)
+            .then(|| Climb::new(&vertices, &incident, &n))
+            .flatten();
         Ok(Polytope {
             a: a.to_vec(),
             b: b.to_vec(),
             vertices,
             half_extents,
             box_support,
+            climb,
             normals: n,
             offsets: off,
             bounding_radius: rho.max(iota),
@@ -201,10 +227,14 @@ fn centred_box(normals: &[Vec3], offsets: &[Real]) -> Option<Vec3> {
 /// vertex give it once per triple of facets). `scale` is the smallest facet offset: two
 /// vertices closer than 1e-9 of it are one, however far from the origin (relative to `‖v‖`
 /// alone, the two faces of a box 1e10 times wider than thick merged into one).
-pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3, scale: Real) {
+pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3, scale: Real) -> usize {
     let tol = 1e-9 * v.norm().min(scale).max(Real::MIN_POSITIVE);
-    if !vertices.iter().any(|w| (w - v).norm() <= tol) {
-        vertices.push(v);
+    match vertices.iter().position(|w| (w - v).norm() <= tol) {
+        Some(k) => k,
+        None => {
+            vertices.push(v);
+            vertices.len() - 1
+        }
     }
 }
 
@@ -233,6 +263,10 @@ impl SupportMap for Polytope {
         if let Some(t) = &self.box_support {
             let s = |v: Real| usize::from(v >= 0.0) + usize::from(v > 0.0);
             let k = t[s(m.x) * 9 + s(m.y) * 3 + s(m.z)] as usize;
+            return (self.vertices[k], k as u32);
+        }
+        if let Some(c) = &self.climb {
+            let k = c.support(&self.vertices, m);
             return (self.vertices[k], k as u32);
         }
         let (k, _) = argmax_dot(&self.vertices, m);
@@ -275,6 +309,44 @@ impl ConicShape for Polytope {
 mod tests {
     use super::super::test_util::member;
     use super::*;
+
+    #[test]
+    fn the_hill_climb_finds_the_searchs_support_value() {
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
+        };
+        let mut climbed = 0;
+        for m in [12, 20, 40, 100, 256] {
+            for _ in 0..4 {
+                let a: Vec<[Real; 3]> = (0..m)
+                    .map(|_| {
+                        let v = Vec3::new(next(), next(), next()).normalize();
+                        [v.x, v.y, v.z]
+                    })
+                    .collect();
+                let b: Vec<Real> = (0..m).map(|_| 1.0 + 0.3 * next()).collect();
+                let Ok(p) = Polytope::new(&a, &b) else {
+                    continue;
+                };
+                climbed += usize::from(p.climb.is_some());
+                for _ in 0..2000 {
+                    // Directions on a coarse grid now and then: ties between vertices.
+                    let mut d = Vec3::new(next(), next(), next());
+                    if next() > 0.5 {
+                        d = d.map(|v| (v * 2.0).round());
+                    }
+                    let (v, _) = p.support(&d);
+                    let (_, h) = super::super::support::argmax_dot(&p.vertices, &d);
+                    assert!(v.dot(&d) >= h - 1e-15 * h.abs().max(1.0), "{d:?}");
+                }
+            }
+        }
+        assert!(climbed >= 15, "only {climbed} polytopes climb");
+    }
 
     #[test]
     fn a_box_support_by_signs_is_the_search_s() {
