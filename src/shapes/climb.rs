@@ -48,7 +48,9 @@ impl Climb {
         }
         let climb = Climb { start, first, adj };
         for (j, fj) in incident.iter().enumerate() {
-            let m = fj.iter().fold(Vec3::zeros(), |s, &f| s + normals[f as usize]);
+            let m = fj
+                .iter()
+                .fold(Vec3::zeros(), |s, &f| s + normals[f as usize]);
             let want = vertices[j].dot(&m);
             let tol = 1e-12 * (vertices[j].norm() * m.norm()).max(Real::MIN_POSITIVE);
             for c in 0..6 * N * N {

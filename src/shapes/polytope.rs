@@ -1,10 +1,10 @@
 //! Polytope: `A b ≤ b`, every `b_i > 0` (origin strictly inside), bounded. Scaled: the rows
 //! `α b_i − a_i·u ≥ 0`.
 
+use super::climb::Climb;
 use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
 use super::{check_halfspaces, BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
-use super::climb::Climb;
 use crate::math::{Real, Vec3};
 
 /// Polytopes with this many vertices or more find their support vertex by hill climbing
