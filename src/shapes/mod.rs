@@ -298,7 +298,7 @@ impl Shape {
     /// An ellipsoid's principal directions (columns, body frame) and semi-axes, longest first.
     pub(crate) fn ellipsoid_principal(&self) -> Option<(&crate::math::Mat3, &Vec3)> {
         match &self.geometry {
-            Geometry::Ellipsoid(e) => Some(e.principal()),
+            Geometry::Ellipsoid(e) => e.principal(),
             _ => None,
         }
     }

@@ -114,7 +114,10 @@ pub(crate) fn sphere_alpha(c: &Vec3, e: &Vec3, rho: Real) -> Option<(Real, Vec3)
     let (mut lo, mut hi) = (rho * e.z, rho * e.x);
     let exit = c / c.component_div(e).norm();
     let ax = exit.component_div(&e2).norm();
-    let mut t = (rho / ax).clamp(lo, hi);
+    if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
+        return None;
+    }
+    let mut t = (rho / ax).max(lo).min(hi);
     if !(t.is_finite() && psi(lo).0 <= 0.0 && psi(hi).0 >= 0.0) {
         return None;
     }
