@@ -119,51 +119,55 @@ pub(crate) fn rounded_segments(
             }
         }
     }
-    // Best so far: (α, s, t) with the point s a₁ − t a₂ of P (unscaled).
+    // Best so far: (α, s, t) with the point s a₁ − t a₂ of P (unscaled). Every feature's
+    // value is written with the scalars g = a₁·a₂, p = d·a₁, q = d·a₂ (no vector arithmetic).
     let mut best = (Real::INFINITY, 0.0, 0.0);
     let mut consider = |alpha: Real, s: Real, t: Real| {
         if alpha < best.0 {
             best = (alpha, s, t);
         }
     };
-    // Vertices (one point when both lengths are zero, two for a segment).
+    let (g, p, q) = (a1.dot(&a2), d.dot(&a1), d.dot(&a2));
+    // Vertices c = s a₁ − t a₂ (one point when both lengths are zero, two for a segment):
+    // d·c = s p − t q, ‖c‖² = s² + t² − 2 s t g.
     let s_ends: &[Real] = if h1 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
     let t_ends: &[Real] = if h2 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
     for &si in s_ends {
         for &ti in t_ends {
             let (s, t) = (si * h1, ti * h2);
-            let c = a1 * s - a2 * t;
-            consider(vertex_root(d2, d.dot(&c), c.norm_squared(), rho), s, t);
+            let c2 = s * s + t * t - 2.0 * s * t * g;
+            consider(vertex_root(d2, s * p - t * q, c2, rho), s, t);
         }
     }
-    // Edges: s fixed at an end with t free (direction −a₂), and t fixed with s free (a₁).
-    let mut edge = |c: Vec3, e: Vec3, half: Real, fixed_s: Option<Real>, fixed_t: Option<Real>| {
-        if half <= 0.0 {
-            return;
-        }
-        let dp = d - e * d.dot(&e);
-        let cp = c - e * c.dot(&e);
-        let alpha = vertex_root(dp.norm_squared(), dp.dot(&cp), cp.norm_squared(), rho);
-        if !alpha.is_finite() {
-            return;
-        }
-        // The closest point of the line α(c + τe) to d.
-        let tau = d.dot(&e) / alpha - c.dot(&e);
-        if tau.abs() <= half {
-            match (fixed_s, fixed_t) {
-                (Some(s), _) => consider(alpha, s, tau),
-                (_, Some(t)) => consider(alpha, tau, t),
-                _ => {}
+    // Edges: the vertex root with d and c projected off the edge's direction e, valid when
+    // the closest point τ of the line α(c + τe) to d lies on the edge. With s fixed at an end
+    // (c = s a₁, e = −a₂): ‖d⊥‖² = d² − q², d⊥·c⊥ = s(p − g q), ‖c⊥‖² = s²(1 − g²),
+    // τ = t = −q/α + s g. With t fixed (c = −t a₂, e = a₁): ‖d⊥‖² = d² − p²,
+    // d⊥·c⊥ = t(g p − q), ‖c⊥‖² = t²(1 − g²), τ = s = p/α + t g.
+    let sin2 = 1.0 - g * g;
+    if h2 > 0.0 {
+        for &si in s_ends {
+            let s = si * h1;
+            let alpha = vertex_root(d2 - q * q, s * (p - g * q), s * s * sin2, rho);
+            if alpha.is_finite() {
+                let t = -q / alpha + s * g;
+                if t.abs() <= h2 {
+                    consider(alpha, s, t);
+                }
             }
         }
-    };
-    for &si in s_ends {
-        // Points s a₁ − t a₂ = c + τ e with c = s a₁, e = −a₂, τ = t.
-        edge(a1 * (si * h1), -a2, h2, Some(si * h1), None);
     }
-    for &ti in t_ends {
-        // c = −t a₂, e = a₁, τ = s.
-        edge(-a2 * (ti * h2), a1, h1, None, Some(ti * h2));
+    if h1 > 0.0 {
+        for &ti in t_ends {
+            let t = ti * h2;
+            let alpha = vertex_root(d2 - p * p, t * (g * p - q), t * t * sin2, rho);
+            if alpha.is_finite() {
+                let s = p / alpha + t * g;
+                if s.abs() <= h1 {
+                    consider(alpha, s, t);
+                }
+            }
+        }
     }
     let (alpha, s, t) = best;
     if !(alpha.is_finite() && alpha > 0.0) {
