@@ -126,28 +126,70 @@ fn on_section(p: &Vec3, edges: &[Edge; 3]) -> Vec3 {
     Vec3::new(closest.0, uy * closest.1, uz * closest.1)
 }
 
+/// A capsule and a solid with a nearest point in closed form, in the solid's body frame and
+/// units: what the distance and α* share.
+struct Setup<'p, 'a> {
+    solid: &'p Posed<'a, Shape>,
+    nearest: Nearest,
+    capsule_first: bool,
+    /// `±v` (normalised world axes): `v` from shape 1 to shape 2, turned to point from the
+    /// solid to the capsule.
+    toward: Vec3,
+    /// The same in the solid's body frame and units.
+    e: Vec3,
+    /// The capsule's axis and half-length (body frame, solid's units).
+    u: Vec3,
+    h: Real,
+    /// The capsule's radius (normalised).
+    radius: Real,
+}
+
+impl<'p, 'a> Setup<'p, 'a> {
+    /// `None` unless one shape is a capsule of positive length and the other a centred box,
+    /// a cylinder or a cone.
+    fn of(pair: &'p Pair<'a, Shape>, v: &Vec3) -> Option<Self> {
+        let capsule = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+            Some((half, radius)) if half > 0.0 => Some((half, radius)),
+            _ => None,
+        };
+        let (seg, solid, toward, capsule_first) = if capsule(&pair.one).is_some() {
+            (&pair.one, &pair.two, -v, true)
+        } else {
+            (&pair.two, &pair.one, *v, false)
+        };
+        let (half, radius) = capsule(seg)?;
+        let nearest = Nearest::of(solid.shape)?;
+        let s = solid.inv_scale;
+        Some(Setup {
+            solid,
+            nearest,
+            capsule_first,
+            toward,
+            e: solid.rot.tr_mul(&toward) / s,
+            u: solid.rot.tr_mul(&seg.rot.column(0).into_owned()),
+            h: half * seg.inv_scale / s,
+            radius: radius * seg.inv_scale,
+        })
+    }
+}
+
 /// A capsule (of positive length) against a centred box, a cylinder or a cone, either order:
 /// the segment's closest points to the solid; `None` for other pairs, or when the segment is
 /// within `1e-9` of the solid (touching or crossing it: the normal is not defined to the
 /// working precision there).
 pub(crate) fn segment_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SegmentSolid> {
-    let capsule = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
-        Some((half, radius)) if half > 0.0 => Some((half, radius)),
-        _ => None,
-    };
-    // The capsule, the solid, the capsule's origin relative to the solid's (world axes).
-    let (seg, solid, centre, capsule_first) = if capsule(&pair.one).is_some() {
-        (&pair.one, &pair.two, -d, true)
-    } else {
-        (&pair.two, &pair.one, *d, false)
-    };
-    let (half, radius) = capsule(seg)?;
-    let nearest = Nearest::of(solid.shape)?;
-    // The solid's body frame and units.
+    let Setup {
+        solid,
+        nearest,
+        capsule_first,
+        toward: centre,
+        e: c,
+        u,
+        h,
+        radius,
+        ..
+    } = Setup::of(pair, d)?;
     let s = solid.inv_scale;
-    let c = solid.rot.tr_mul(&centre) / s;
-    let u = solid.rot.tr_mul(&seg.rot.column(0).into_owned());
-    let h = half * seg.inv_scale / s;
     let t = closest_param(&nearest, &c, &u, h);
     let p = c + u * t;
     let q = nearest.point(&p);
@@ -170,7 +212,7 @@ pub(crate) fn segment_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SegmentS
         normal,
         a,
         b,
-        radius: radius * seg.inv_scale,
+        radius,
         capsule_first,
     })
 }
@@ -234,26 +276,22 @@ fn closest_param(nearest: &Nearest, c: &Vec3, u: &Vec3, h: Real) -> Real {
 /// closest points there give the unit normal from shape 1 to shape 2 and the touching points
 /// `a` and `b` (relative to their origins), which the caller certifies.
 pub(crate) fn segment_solid_alpha(pair: &Pair<'_, Shape>, r: &Vec3) -> Option<AlphaHit> {
-    let capsule = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
-        Some((half, radius)) if half > 0.0 => Some((half, radius)),
-        _ => None,
-    };
-    let (seg, solid, dir, capsule_first) = if capsule(&pair.one).is_some() {
-        (&pair.one, &pair.two, -r, true)
-    } else {
-        (&pair.two, &pair.one, *r, false)
-    };
-    let (half, radius) = capsule(seg)?;
-    let nearest = Nearest::of(solid.shape)?;
+    let Setup {
+        solid,
+        nearest,
+        capsule_first,
+        e,
+        u,
+        h,
+        radius,
+        ..
+    } = Setup::of(pair, r)?;
     let s = solid.inv_scale;
-    let e = solid.rot.tr_mul(&dir) / s;
-    let u = solid.rot.tr_mul(&seg.rot.column(0).into_owned());
-    let k = seg.inv_scale / s;
-    let (h, rad) = (half * k, radius * k);
+    let rad = radius / s;
     // Newton starts where G ≥ 0: at `h_K(r)` (`βr ∈ K` needs `β ≤ h_K(r)`), one support call;
     // past the bounding balls (about the origins) if that is not finite.
     let hk = pair.support(r).w.dot(r);
-    let reach = (half * k + rad + solid.shape.bounding_radius()) / e.norm();
+    let reach = (h + rad + solid.shape.bounding_radius()) / e.norm();
     let mut beta = if hk > 0.0 && hk.is_finite() {
         hk.min(reach)
     } else {
