@@ -361,18 +361,33 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
 /// support functions at the normal below, the touching points' difference above).
 fn capsule_and_solid(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
     let hit = segment_solid_alpha(pair, ray).or_else(|| rounded_facet_alpha(pair, ray))?;
-    let n = hit.normal;
+    certified(pair, ray, iota, tol, &hit.normal, hit.a, hit.b)
+}
+
+/// A candidate α\* found outside the solvers, certified as a polish answer is: the unit normal
+/// `n` from shape 1 to shape 2 gives the lower bound `n·r / h_K(n)` (one support call), the
+/// touching points `a ∈ K₁`, `b ∈ K₂` the upper bound from `a − b ∈ K`; the answer when the
+/// bracket closes to `tol` (relative).
+fn certified(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+    n: &Vec3,
+    a: Vec3,
+    b: Vec3,
+) -> Option<Answer> {
     let nr = n.dot(ray);
     if !(nr > 0.0) {
         return None;
     }
-    let lo = nr / pair.support(&n).w.dot(&n);
-    let hi = upper_from_point(&(hit.a - hit.b), ray, iota);
+    let lo = nr / pair.support(n).w.dot(n);
+    let hi = upper_from_point(&(a - b), ray, iota);
     (lo.is_finite() && hi - lo <= tol * lo).then_some(Answer {
         alpha: lo,
         normal: n / nr,
-        a: hit.a,
-        b: hit.b,
+        a,
+        b,
         solver: Solver::ClosedForm,
     })
 }
@@ -414,19 +429,7 @@ fn sphere_and_ellipsoid(
     } else {
         (-m, on_sphere, on_solid)
     };
-    let nr = n.dot(ray);
-    if !(nr > 0.0) {
-        return None;
-    }
-    let lo = nr / pair.support(&n).w.dot(&n);
-    let hi = upper_from_point(&(a - b), ray, iota);
-    (lo.is_finite() && hi - lo <= tol * lo).then_some(Answer {
-        alpha: lo,
-        normal: n / nr,
-        a,
-        b,
-        solver: Solver::ClosedForm,
-    })
+    certified(pair, ray, iota, tol, &n, a, b)
 }
 
 fn solve(

@@ -304,8 +304,8 @@ fn cored(
     };
     let posed = cores.posed(pair);
     // Newton's method on the sphere of normals first where the other shape is an ellipsoid
-    // (smooth pieces: a point or a segment against it). Measured (benches/zz, 200 overlapping
-    // poses): ellipsoid–capsule with the cores apart 3.6 -> 1.2 µs; against a cylinder or a
+    // (smooth pieces: a point or a segment against it). Measured (200 overlapping poses, the
+    // old and new code back to back): ellipsoid–capsule with the cores apart 3.6 -> 1.2 µs; against a cylinder or a
     // cone (flat caps and rims) it fails more often than not and costs more than it saves.
     let smooth = [&pair.one, &pair.two]
         .iter()
