@@ -427,6 +427,21 @@ int write_report(const BenchRun& R) {
   }
   fclose(md);
   fclose(csv);
+  // DCOL_BENCH_RAW=path: every sample's time (one row per method, case and pair type), for
+  // what-if questions about the medians that the tables do not answer
+  if (const char* raw_path = std::getenv("DCOL_BENCH_RAW"); raw_path && *raw_path) {
+    FILE* raw = fopen(raw_path, "w");
+    if (!raw) {
+      fprintf(stderr, "cannot write %s\n", raw_path);
+      return 1;
+    }
+    fprintf(raw, "method,tol,pair,category,fcl_pair,ns\n");
+    for (const Method& m : methods)
+      for (const Sample& x : m.samples)
+        fprintf(raw, "\"%s\",%g,%s,%d,%d,%.1f\n", m.name.c_str(), m.tol,
+                pair_names[x.pair].c_str(), x.cat, x.fcl_pair ? 1 : 0, x.ns);
+    fclose(raw);
+  }
   for (const Method& m : methods)
     if (m.failures) printf("%s: %ld failed calls\n", label(m).c_str(), m.failures);
   printf("reference fallbacks: %ld\n", ref_fallbacks);

@@ -190,7 +190,7 @@ pub(crate) fn segment_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SegmentS
         ..
     } = Setup::of(pair, d)?;
     let s = solid.inv_scale;
-    let t = closest_param(&nearest, &c, &u, h);
+    let t = closest_param(&nearest, &c, &u, h, None);
     let p = c + u * t;
     let q = nearest.point(&p);
     let gap = p - q;
@@ -220,45 +220,93 @@ pub(crate) fn segment_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SegmentS
 /// The segment's parameter `t ∈ [−h, h]` of its point nearest the solid, for the segment
 /// `c + t·u` in the solid's body frame: an end where `φ'` keeps its sign, else its root by
 /// regula falsi with the Illinois rule (the end kept twice in a row has its value halved, so
-/// that neither end stalls).
-fn closest_param(nearest: &Nearest, c: &Vec3, u: &Vec3, h: Real) -> Real {
+/// that neither end stalls). `near`, a guess `(t₀, w)`: the root is sought first within `w`
+/// of `t₀` (the bracket widened fourfold until `φ'` changes sign), which saves the first
+/// steps' search over the whole segment when the guess is good.
+#[inline(always)]
+fn closest_param(
+    nearest: &Nearest,
+    c: &Vec3,
+    u: &Vec3,
+    h: Real,
+    near: Option<(Real, Real)>,
+) -> Real {
     let slope = |t: Real| {
         let p = c + u * t;
         u.dot(&(p - nearest.point(&p)))
     };
-    let (mut lo, mut hi) = (-h, h);
-    let (mut glo, mut ghi) = (slope(lo), slope(hi));
-    if glo >= 0.0 {
+    // The rounding of `u·(p − q)` (|u| = 1, p and q within about |c| + h of the origin): a
+    // value this small is a root to working precision, and halving the bracket further only
+    // follows the rounding's signs (it took 30 bisections to pin the last bits of a root already
+    // found).
+    let noise = 16.0 * Real::EPSILON * (c.x.abs() + c.y.abs() + c.z.abs() + h);
+    let (lo, hi, glo, ghi);
+    match near {
+        Some((t0, w)) if t0.abs() < h && w > 0.0 => {
+            let g0 = slope(t0);
+            if g0.abs() <= noise {
+                return t0;
+            }
+            // Walk from t₀ toward the root until φ' changes sign (or the segment ends).
+            let dir = if g0 < 0.0 { 1.0 } else { -1.0 };
+            let (mut from, mut gfrom, mut step) = (t0, g0, w);
+            loop {
+                let to = (from + dir * step).clamp(-h, h);
+                let gto = slope(to);
+                if (gto >= 0.0) == (g0 < 0.0) {
+                    (lo, glo, hi, ghi) = if dir > 0.0 {
+                        (from, gfrom, to, gto)
+                    } else {
+                        (to, gto, from, gfrom)
+                    };
+                    break;
+                }
+                if to.abs() >= h {
+                    return to;
+                }
+                (from, gfrom, step) = (to, gto, 4.0 * step);
+            }
+        }
+        _ => {
+            (lo, hi) = (-h, h);
+            (glo, ghi) = (slope(lo), slope(hi));
+            if glo >= 0.0 {
+                return lo;
+            }
+            if ghi <= 0.0 {
+                return hi;
+            }
+        }
+    }
+    if glo == 0.0 {
         return lo;
     }
-    if ghi <= 0.0 {
+    if ghi == 0.0 {
         return hi;
     }
-    let mut side = 0i8;
-    let mut t = 0.5 * (lo + hi);
+    // Anderson–Björck: `b` is the latest point and `a` the other end of the bracket; when the
+    // sign repeats, `a`'s value is scaled by `1 − g(c)/g(b)` (halved if that is not positive)
+    // so that the retained end does not stall.
+    let (mut a, mut fa, mut b, mut fb) = (lo, glo, hi, ghi);
+    let mut t = b;
     for _ in 0..MAX_STEPS {
-        t = (lo * ghi - hi * glo) / (ghi - glo);
-        if !(t > lo && t < hi) {
-            t = 0.5 * (lo + hi);
+        let (l, r) = if a < b { (a, b) } else { (b, a) };
+        t = (a * fb - b * fa) / (fb - fa);
+        if !(t > l && t < r) {
+            t = 0.5 * (l + r);
         }
         let g = slope(t);
-        if g == 0.0 || hi - lo <= 4.0 * Real::EPSILON * h {
+        if g.abs() <= noise {
             break;
         }
-        if g < 0.0 {
-            (lo, glo) = (t, g);
-            if side == -1 {
-                ghi *= 0.5;
-            }
-            side = -1;
+        if (g < 0.0) != (fb < 0.0) {
+            (a, fa) = (b, fb);
         } else {
-            (hi, ghi) = (t, g);
-            if side == 1 {
-                glo *= 0.5;
-            }
-            side = 1;
+            let m = 1.0 - g / fb;
+            fa *= if m > 0.0 { m } else { 0.5 };
         }
-        if (hi - lo) <= 1e-15 * h.max(1.0) {
+        (b, fb) = (t, g);
+        if (a - b).abs() <= 4.0 * Real::EPSILON * h.max(1.0) {
             break;
         }
     }
@@ -298,9 +346,16 @@ pub(crate) fn segment_solid_alpha(pair: &Pair<'_, Shape>, r: &Vec3) -> Option<Al
         reach
     };
     let mut closest = (Vec3::zeros(), Vec3::zeros(), 0.0);
+    // The closest parameter moves less at every step as Newton converges: each search starts
+    // at the last one's root, within the last move (a hundredth of the segment at first).
+    let mut near: Option<(Real, Real)> = None;
     for _ in 0..MAX_NEWTON {
         let c = e * beta;
-        let t = closest_param(&nearest, &c, &u, h);
+        let t = closest_param(&nearest, &c, &u, h, near);
+        near = Some(match near {
+            Some((t0, _)) => (t, (t - t0).abs().max(1e-9 * h)),
+            None => (t, 1e-2 * h),
+        });
         let p = c + u * t;
         let q = nearest.point(&p);
         let dist = (p - q).norm();
