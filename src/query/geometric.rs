@@ -17,6 +17,7 @@ use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
+use crate::solver::ellipsoid_pair::contact;
 use crate::solver::ellipsoid_point::sphere_alpha;
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::{polish, Polished};
@@ -432,6 +433,20 @@ fn sphere_and_ellipsoid(
     certified(pair, ray, iota, tol, &n, a, b)
 }
 
+/// Two ellipsoids: the Perram–Wertheim contact function
+/// (`crate::solver::ellipsoid_pair::contact`), certified as a polish answer is.
+fn two_ellipsoids(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
+    // Σᵢ = Rᵢ P⁻¹ Rᵢᵀ in the normalised lengths (a length scaled by s scales Σ by s²).
+    let sigma = |posed: &Posed<'_, Shape>| {
+        let inv = posed.shape.ellipsoid_inverse()?;
+        let s = posed.inv_scale;
+        Some(posed.rot * inv * posed.rot.transpose() * (s * s))
+    };
+    let (s1, s2) = (sigma(&pair.one)?, sigma(&pair.two)?);
+    let c = contact(&s1, &s2, ray)?;
+    certified(pair, ray, iota, tol, &c.normal, c.a, c.b)
+}
+
 fn solve(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
@@ -446,6 +461,7 @@ fn solve(
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     if let Some(ans) = capsule_and_solid(pair, ray, iota, tol)
         .or_else(|| sphere_and_ellipsoid(pair, ray, iota, tol))
+        .or_else(|| two_ellipsoids(pair, ray, iota, tol))
     {
         return Ok(Some(ans));
     }

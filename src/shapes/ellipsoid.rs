@@ -102,6 +102,12 @@ impl Ellipsoid {
         usable.then_some((&self.axes, &self.semi))
     }
 
+    /// `P⁻¹` (body frame), when the ellipsoid is well enough conditioned for the closed forms
+    /// (as [`Ellipsoid::principal`]).
+    pub(crate) fn inverse(&self) -> Option<&Mat3> {
+        self.principal().map(|_| &self.p_inv)
+    }
+
     /// The (symmetrised) matrix `P`.
     pub fn matrix(&self) -> &Mat3 {
         &self.p

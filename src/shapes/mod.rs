@@ -303,6 +303,14 @@ impl Shape {
         }
     }
 
+    /// An ellipsoid's `P⁻¹` (body frame), when it is well conditioned (semi-axes within 1e4).
+    pub(crate) fn ellipsoid_inverse(&self) -> Option<&crate::math::Mat3> {
+        match &self.geometry {
+            Geometry::Ellipsoid(e) => e.inverse(),
+            _ => None,
+        }
+    }
+
     /// A polytope's facets: outward unit normals and offsets (`n_i·u ≤ o_i`, body frame).
     pub(crate) fn facets(&self) -> Option<(&[Vec3], &[Real])> {
         match &self.geometry {

@@ -17,6 +17,7 @@
 pub(crate) mod closed_form;
 pub(crate) mod dense;
 pub(crate) mod direct;
+pub(crate) mod ellipsoid_pair;
 pub(crate) mod ellipsoid_point;
 pub(crate) mod gjk;
 mod ipm;
