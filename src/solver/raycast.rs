@@ -260,6 +260,13 @@ pub(crate) fn cast<S: SupportMap>(
     let mut portal = [p1, p2, p3];
     let mut best_lo = out.alpha_lo;
     let mut best_n = *r;
+    // The upper bound is certified from the best portal only when the plane's estimate
+    // `nr/off` says the bracket may have closed (and once more at the end): the convex
+    // combination's bound costs a square root and four divisions, and polytope pairs end
+    // flat without needing it on the way.
+    let mut best_plane = Real::INFINITY;
+    let mut best_dets = [1.0, 0.0, 0.0];
+    let mut certified_plane = Real::NAN;
     for it in 0..=max_iter {
         let [q1, q2, q3] = portal;
         let nn = (q2.w - q1.w).cross(&(q3.w - q1.w));
@@ -268,19 +275,21 @@ pub(crate) fn cast<S: SupportMap>(
             out.end = CastEnd::Degenerate;
             break;
         }
-        let n = nn / len;
+        let n = nn * (1.0 / len);
         let nr = n.dot(r);
         let off = n.dot(&q1.w);
         if !(nr > 0.0 && off > 0.0) {
             out.end = CastEnd::Degenerate;
             break;
         }
-        // Barycentric coordinates of the ray point t·r on the portal's plane, t = off/nr. On a
-        // portal shrunk to a sliver the plane's normal carries rounding, and its point need not
-        // lie in K (seen: α = nr/off below α* by 5e-11 relative on a curved pair cast to 1e-15);
-        // so the bound is taken from the convex combination of the vertices with these weights,
-        // which lies in K whatever their rounding, corrected for its distance from the ray.
-        let p = r * (off / nr);
+        // Barycentric coordinates (unnormalised) of the ray point t·r on the portal's plane,
+        // t = off/nr. On a portal shrunk to a sliver the plane's normal carries rounding, and
+        // its point need not lie in K (seen: α = nr/off below α* by 5e-11 relative on a curved
+        // pair cast to 1e-15); so the bound is taken from the convex combination of the
+        // vertices with these weights, which lies in K whatever their rounding, corrected for
+        // its distance from the ray (`bound`).
+        let t = off / nr;
+        let p = r * t;
         let d1 = det(&(q2.w - p), &(q3.w - p), &n);
         let d2 = det(&(q3.w - p), &(q1.w - p), &n);
         let d3 = det(&(q1.w - p), &(q2.w - p), &n);
@@ -292,15 +301,11 @@ pub(crate) fn cast<S: SupportMap>(
             out.end = CastEnd::Degenerate;
             break;
         }
-        let (d1, d2, d3) = (d1.max(0.0), d2.max(0.0), d3.max(0.0));
-        let s = d1 + d2 + d3;
-        let bary = [d1 / s, d2 / s, d3 / s];
-        let point = q1.w * bary[0] + q2.w * bary[1] + q3.w * bary[2];
-        let hi = upper_from_point(&point, r, iota);
-        if hi < out.alpha_hi {
-            out.alpha_hi = hi;
+        let plane = 1.0 / t;
+        if plane < best_plane {
+            best_plane = plane;
+            best_dets = [d1, d2, d3];
             out.portal = portal;
-            out.bary = bary;
         }
         if it == max_iter {
             out.end = CastEnd::Budget;
@@ -313,6 +318,14 @@ pub(crate) fn cast<S: SupportMap>(
         if lo > best_lo {
             best_lo = lo;
             best_n = n;
+        }
+        // The bracket with the best portal's certified bound, when the estimate says it may
+        // have closed or decided (once per new best portal).
+        let may_close = best_plane - best_lo <= rel_tol * best_lo;
+        let may_decide = stop.is_some_and(|s| s.stop_below && best_plane < s.value);
+        if (may_close || may_decide) && certified_plane != best_plane {
+            certified_plane = best_plane;
+            (out.alpha_hi, out.bary) = bound(&out.portal, best_dets, r, iota);
         }
         if out.alpha_hi - best_lo <= rel_tol * best_lo {
             out.end = CastEnd::Closed;
@@ -342,10 +355,25 @@ pub(crate) fn cast<S: SupportMap>(
             portal[0] = v4;
         }
     }
+    if best_plane.is_finite() && certified_plane != best_plane {
+        (out.alpha_hi, out.bary) = bound(&out.portal, best_dets, r, iota);
+    }
     out.alpha_lo = best_lo;
     out.normal = best_n;
     out.supports = supports;
     out
+}
+
+/// The certified upper bound on α' from a portal and the (unnormalised, possibly slightly
+/// negative) barycentric weights of the ray's point on its plane: the convex combination with
+/// the weights clamped at 0 is a point of K, and [`upper_from_point`] corrects for its distance
+/// from the ray. Also the normalised weights.
+fn bound(portal: &[Vertex; 3], dets: [Real; 3], r: &Vec3, iota: Real) -> (Real, [Real; 3]) {
+    let d = dets.map(|v| v.max(0.0));
+    let inv = 1.0 / (d[0] + d[1] + d[2]);
+    let bary = d.map(|v| v * inv);
+    let point = portal[0].w * bary[0] + portal[1].w * bary[1] + portal[2].w * bary[2];
+    (upper_from_point(&point, r, iota), bary)
 }
 
 /// An upper bound on α' from a point `w` of K near the ray `r` (unit): K contains the ball of
