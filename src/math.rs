@@ -34,6 +34,7 @@ impl Pose {
     /// A pose from a position and a quaternion `[w, x, y, z]` (any non-zero length).
     ///
     /// Fails with [`Error::InvalidPose`] on a non-finite component or a zero quaternion.
+    #[inline]
     pub fn new(position: [Real; 3], quaternion: [Real; 4]) -> Result<Pose, Error> {
         // The common case in one test: a finite sum of the position (a NaN or infinity makes it
         // NaN or infinite) and a normal squared norm of the quaternion (which needs every
@@ -141,6 +142,7 @@ pub fn quaternion_from_mrp(p: [Real; 3]) -> [Real; 4] {
 }
 
 /// Rotation matrix of the normalised quaternion `q / |q|` (`q` non-zero, `[w, x, y, z]`).
+#[inline]
 pub fn rotation_from_quaternion(q: [Real; 4]) -> Mat3 {
     let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
     let s = 2.0 / n2;

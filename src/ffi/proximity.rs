@@ -153,6 +153,7 @@ pub(crate) unsafe fn check_inputs<'a>(
 ///
 /// # Safety
 /// `pose1`, `pose2` must be valid; `options` NULL or valid.
+#[inline]
 pub(crate) unsafe fn read_inputs<'a>(
     shapes: (&'a Shape, &'a Shape),
     pose1: *const dcol_pose,
