@@ -11,7 +11,7 @@
 //! offset, so no precision is lost at tiny or huge offsets).
 
 use super::context::{Options, Proximity};
-use super::cores::Cores;
+use super::cores::{Core, Cores};
 use super::derivatives::rotation_axes;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
@@ -447,6 +447,82 @@ fn two_ellipsoids(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> 
     certified(pair, ray, iota, tol, &c.normal, c.a, c.b)
 }
 
+/// An ellipsoid and a polytope (a box among them), either order, as a sphere and a polytope:
+/// α* does not change when one linear map is applied to the whole scene (both shapes scale
+/// about their origins, and the map commutes with that), and `T = U Rᵀ/s` (`P = UᵀU`) maps the
+/// ellipsoid onto the unit ball. The polytope seen through T has the support map
+/// `T·supp(Tᵀm)`, which is its own support map turned by the (not orthogonal) matrix `T R`, so
+/// the padded cast runs on a point padded by 1 against it, along the ray `T r`. Its answer
+/// comes back through T (the normal by `Tᵀ`, the points by `T⁻¹`) and is certified on the
+/// shapes themselves. `None` for other pairs, or when that does not certify.
+fn ellipsoid_and_polytope(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+    stop: Option<Stop>,
+) -> Option<Solved> {
+    let polytope = |posed: &Posed<'_, Shape>| posed.shape.kind() == ShapeKind::Polytope;
+    let (ell, poly, first) = if polytope(&pair.two) {
+        (&pair.one, &pair.two, true)
+    } else if polytope(&pair.one) {
+        (&pair.two, &pair.one, false)
+    } else {
+        return None;
+    };
+    let u = ell.shape.ellipsoid_cholesky()?;
+    let t = u * ell.rot.transpose() / ell.inv_scale;
+    let t_inv = t.try_inverse()?;
+    let turn = t * poly.rot;
+    let point = Core::Segment(0.0);
+    let identity = crate::math::Mat3::identity();
+    let ball = Posed {
+        shape: &point,
+        rot: &identity,
+        inv_scale: 1.0,
+    };
+    let seen = Posed {
+        shape: &Core::Whole(poly.shape),
+        rot: &turn,
+        inv_scale: poly.inv_scale,
+    };
+    let cores = if first {
+        Pair {
+            one: ball,
+            two: seen,
+        }
+    } else {
+        Pair {
+            one: seen,
+            two: ball,
+        }
+    };
+    let tr = t * ray;
+    let len = tr.norm();
+    // α' for the ray `r` is `len` times α' for the unit ray `Tr/len`.
+    let stop = stop.map(|s| Stop {
+        value: s.value / len,
+        ..s
+    });
+    let hit = match padded_cast(&cores, &(tr / len), 1.0, tol, stop) {
+        PaddedEnd::Hit(h) => h,
+        PaddedEnd::Decided(below, alpha) => return Some(Err((below, alpha * len))),
+        PaddedEnd::Failed => return None,
+    };
+    // The ball's witness moves out by its radius along the normal (from shape 1 to shape 2).
+    let (a, b) = if first {
+        (hit.a + hit.normal, hit.b)
+    } else {
+        (hit.a, hit.b - hit.normal)
+    };
+    let n = (t.transpose() * hit.normal).try_normalize(0.0)?;
+    let ans = certified(pair, ray, iota, tol, &n, t_inv * a, t_inv * b)?;
+    Some(Ok(Some(Answer {
+        solver: Solver::RayCast,
+        ..ans
+    })))
+}
+
 fn solve(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
@@ -464,6 +540,9 @@ fn solve(
         .or_else(|| two_ellipsoids(pair, ray, iota, tol))
     {
         return Ok(Some(ans));
+    }
+    if let Some(solved) = ellipsoid_and_polytope(pair, ray, iota, tol, stop) {
+        return solved;
     }
     // Spheres, capsules and padded polygons against polytopes and each other: GJK on the
     // cores, exact on polyhedral features.

@@ -108,6 +108,12 @@ impl Ellipsoid {
         self.principal().map(|_| &self.p_inv)
     }
 
+    /// `U` with `P = UᵀU` (upper triangular: `b ↦ Ub` maps the ellipsoid onto the unit
+    /// ball), when the ellipsoid is well conditioned (as [`Ellipsoid::principal`]).
+    pub(crate) fn cholesky(&self) -> Option<&Mat3> {
+        self.principal().map(|_| &self.u)
+    }
+
     /// The (symmetrised) matrix `P`.
     pub fn matrix(&self) -> &Mat3 {
         &self.p

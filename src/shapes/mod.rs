@@ -311,6 +311,14 @@ impl Shape {
         }
     }
 
+    /// An ellipsoid's `U` with `P = UᵀU`, when it is well conditioned (semi-axes within 1e4).
+    pub(crate) fn ellipsoid_cholesky(&self) -> Option<&crate::math::Mat3> {
+        match &self.geometry {
+            Geometry::Ellipsoid(e) => e.cholesky(),
+            _ => None,
+        }
+    }
+
     /// A polytope's facets: outward unit normals and offsets (`n_i·u ≤ o_i`, body frame).
     pub(crate) fn facets(&self) -> Option<(&[Vec3], &[Real])> {
         match &self.geometry {
