@@ -2,8 +2,9 @@
 //! (`crate::shapes::SupportMap`): `direct` (Newton's method on the support function itself,
 //! tried first on every pair with a curved shape), `raycast` (the certified ray cast of α* on
 //! the Minkowski difference), `polish` (Newton on the contact features the cast identified,
-//! certified again)
-//! `closed_form` (sphere and capsule pairs) and `gjk` (the exact distance of separated shapes,
+//! certified again), `closed_form` (sphere and capsule pairs), `segment_solid` (a capsule
+//! against a box, cylinder or cone), `ellipsoid_point` (a sphere and an ellipsoid),
+//! `ellipsoid_pair` (two ellipsoids) and `gjk` (the exact distance of separated shapes,
 //! certified, with its own Newton polish). The interior-point method (`ipm/`, below) knows
 //! shapes only through the rows of a cone program. None of them knows queries or the C ABI.
 //!
