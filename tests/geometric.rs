@@ -308,3 +308,65 @@ fn sphere_against_a_padded_polygon_in_closed_form() {
         }
     }
 }
+
+/// A cylinder standing on a box (its cap on the box's top face: flat against flat) and a cone
+/// lying with its rim on it, both orders: the facet's bound answers in closed form, with the
+/// analytic α* (the gap along the face's normal over the heights). A cone tipped on its apex
+/// over the box's edge is not a facet contact: the general path answers, and both agree with
+/// the interior-point solver.
+#[test]
+fn a_cylinder_or_cone_on_a_box_face_in_closed_form() {
+    use dcol::{Pose, Shape};
+    let opts = Options::default();
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..Options::default()
+    };
+    let table = Shape::cuboid(1.0, 1.0, 0.25).unwrap();
+    let origin = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+    // Body x up: the quaternion turning x onto z.
+    let s = 0.5f64.sqrt();
+    let up = [s, 0.0, -s, 0.0];
+    // A can of radius 0.3 and height 1 whose cap is 0.75 above the top face, off centre: the
+    // gap 1.5 between the origins along z is covered by α(0.25 + 0.5), α = 2.
+    let can = Shape::cylinder(0.3, 1.0).unwrap();
+    let on_top = Pose::new([0.2, -0.3, 1.5], up).unwrap();
+    // A cone (height 0.8, half angle 30°: base radius 0.8 tan 30°, base plane 0.2 from its
+    // origin, toward body +x) with its axis horizontal, its rim lowest: the rim's lowest point
+    // is r = 0.8 tan 30° below the origin; origin 1.25 above the table's: α(0.25 + r) = 1.25.
+    let cone = Shape::cone(0.8, std::f64::consts::FRAC_PI_6).unwrap();
+    let lying = Pose::new([0.1, 0.2, 1.25], [1.0, 0.0, 0.0, 0.0]).unwrap();
+    let r = 0.8 * std::f64::consts::FRAC_PI_6.tan();
+    for (shape, pose, want) in [(&can, on_top, 2.0), (&cone, lying, 1.25 / (0.25 + r))] {
+        for flip in [false, true] {
+            let (p, q) = if flip {
+                (
+                    proximity(shape, &pose, &table, &origin, &opts).unwrap(),
+                    proximity(shape, &pose, &table, &origin, &ipm).unwrap(),
+                )
+            } else {
+                (
+                    proximity(&table, &origin, shape, &pose, &opts).unwrap(),
+                    proximity(&table, &origin, shape, &pose, &ipm).unwrap(),
+                )
+            };
+            assert!(
+                (p.alpha - want).abs() < 1e-12 * want,
+                "{} vs {want}",
+                p.alpha
+            );
+            assert!(
+                (q.alpha - want).abs() < 1e-8 * want,
+                "{} vs {want}",
+                q.alpha
+            );
+            assert_eq!(p.solver, Solver::ClosedForm, "{p:?}");
+        }
+    }
+    // Apex down over the table's corner region, tilted: the apex (0.6 from the origin along
+    // body −x) touches nothing flat of the cone, so the facet bound need not be exact.
+    let tipped = Pose::new([0.95, 0.9, 1.0], [0.92, 0.2, 0.3, 0.1]).unwrap();
+    let p = proximity(&table, &origin, &cone, &tipped, &opts).unwrap();
+    let q = proximity(&table, &origin, &cone, &tipped, &ipm).unwrap();
+    assert!((p.alpha - q.alpha).abs() < 1e-9 * q.alpha, "{p:?} vs {q:?}");
+}

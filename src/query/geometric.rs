@@ -36,6 +36,8 @@ const HANDOVER: Real = 1e-3;
 const CAST_RESCUE: u32 = 200;
 /// The narrowest relative bracket asked of the geometric solvers (a few roundings of the bounds).
 const TOL_FLOOR: Real = 1e-14;
+/// How far outside the polytope (in its gauge) `facet_first`'s point may fall to rounding.
+const FACET_SLACK: Real = 1e-12;
 /// The certified bracket is closed to this fraction of the requested tolerance. The
 /// interior-point solver's tolerance bounds its duality measure, and its polish lands about
 /// three orders of magnitude below it; a bracket is the error bound itself, so it is closed as
@@ -523,6 +525,76 @@ fn ellipsoid_and_polytope(
     })))
 }
 
+/// A polytope (a box among them) against a cylinder or cone, either order, when the contact
+/// is on one of the polytope's facets: every facet's normal n gives the lower bound
+/// `n·r/h_K(n)`, `h_K(n)` its offset plus one support call of the other shape, and if the
+/// optimum is at a facet's normal it is the best of them. Then the other shape's support point
+/// there and the point of the polytope that puts their difference on the ray touch, and the
+/// bracket closes, exactly when that point lies in the polytope (one gauge). `None` for other
+/// pairs or when the contact is not on a facet.
+#[inline(never)]
+fn facet_first(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
+    let curved = |posed: &Posed<'_, Shape>| {
+        matches!(posed.shape.kind(), ShapeKind::Cylinder | ShapeKind::Cone)
+    };
+    let polytope = |posed: &Posed<'_, Shape>| posed.shape.kind() == ShapeKind::Polytope;
+    let side = if polytope(&pair.one) && curved(&pair.two) {
+        0
+    } else if polytope(&pair.two) && curved(&pair.one) {
+        1
+    } else {
+        return None;
+    };
+    let (posed, sign) = pair.side(side);
+    let (other, other_sign) = pair.side(1 - side);
+    let (normals, offsets) = posed.shape.facets()?;
+    // The other shape's support function from its meridian section: at a unit world normal m
+    // with axial part mₓ = a·m and radial part √(1 − mₓ²), the best of the section's vertices
+    // (three products and a square root where a support point costs two turns).
+    let (section, count) = other.shape.revolution_section()?;
+    // In the polytope's frame, once: the ray and the other shape's axis (its support function
+    // at a unit normal m is the best of the section's vertices at the axial part a·m and the
+    // radial part √(1 − (a·m)²): two dot products and a square root a facet).
+    let ray_body = posed.rot.tr_mul(ray) * sign;
+    let axis_body = posed.rot.tr_mul(&other.rot.column(0).into_owned()) * (sign * other_sign);
+    let value = |mx: Real| {
+        let mp = (1.0 - mx * mx).max(0.0).sqrt();
+        section[..count]
+            .iter()
+            .fold(Real::NEG_INFINITY, |h, v| h.max(v.0 * mx + v.1 * mp))
+            * other.inv_scale
+    };
+    // The best bound: its value and the facet.
+    let mut best = (0.0, 0);
+    for (k, (normal, offset)) in normals.iter().zip(offsets).enumerate() {
+        let nr = normal.dot(&ray_body);
+        if !(nr > 0.0) {
+            continue;
+        }
+        let lo = nr / (offset * posed.inv_scale + value(normal.dot(&axis_body)));
+        if lo > best.0 {
+            best = (lo, k);
+        }
+    }
+    let (lo, k) = best;
+    if !(lo > 0.0 && lo.is_finite()) {
+        return None;
+    }
+    // K's normal (from shape 1 to shape 2), world.
+    let n = posed.rot * normals[k] * sign;
+    let p = other.support(&(n * other_sign)).0;
+    let target = ray / lo;
+    let own = if side == 0 { target + p } else { p - target };
+    let g = posed.shape_gauge(&own);
+    if !(g <= 1.0 + FACET_SLACK) {
+        return None;
+    }
+    // Rounding can leave the point a hair outside the facet: pulled in, it lies in the shape.
+    let own = if g > 1.0 { own / g } else { own };
+    let (a, b) = if side == 0 { (own, p) } else { (p, own) };
+    certified(pair, ray, iota, tol, &n, a, b)
+}
+
 fn solve(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
@@ -561,6 +633,9 @@ fn solve(
             PaddedEnd::Decided(below, alpha) => return Err((below, alpha)),
             PaddedEnd::Failed => {}
         }
+    }
+    if let Some(ans) = facet_first(pair, ray, iota, tol) {
+        return Ok(Some(ans));
     }
     // Two polytopes: the cast ends exactly, in a facet of K, within a few refinements; curved
     // pairs hand over to the polish once the bracket is narrow enough to identify the pieces.
