@@ -1,9 +1,9 @@
-//! Proximity on support maps: closed forms where the pair has one; else, on pairs with a curved
-//! shape, Newton's method on the support function from the ray's direction
-//! (`crate::solver::direct`); else a ray cast (MPR) that identifies the contact features and
-//! Newton's method on them (the tie solve of `direct`, else the polish's KKT Newton). Each is
-//! certified;
-//! `Outcome::Fallback` sends the query to the interior-point solver.
+//! Proximity on support maps: closed forms where the pair has one, and the pair-specific
+//! answers of `super::shortcuts`; else, on pairs with a curved shape, Newton's method on the
+//! support function from the ray's direction (`crate::solver::direct`); else a ray cast (MPR)
+//! that identifies the contact features and Newton's method on them (the tie solve of
+//! `direct`, else the polish's KKT Newton). Each is certified; `Outcome::Fallback` sends the
+//! query to the interior-point solver.
 //!
 //! The frame is the interior-point path's: origin at `r₁`, lengths divided by `ℓ = max(ρ₁, ρ₂)`;
 //! the ray is the unit vector `r = (r₂ − r₁)/‖r₂ − r₁‖`, and α* = α'·‖r₂ − r₁‖/ℓ with α' the
@@ -11,18 +11,19 @@
 //! offset, so no precision is lost at tiny or huge offsets).
 
 use super::context::{Options, Proximity};
-use super::cores::{Core, Cores};
+use super::cores::Cores;
 use super::derivatives::rotation_axes;
+use super::shortcuts::{
+    capsule_and_solid, ellipsoid_and_polytope, facet_first, sphere_and_ellipsoid, two_ellipsoids,
+    Answer, Solved,
+};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
-use crate::solver::ellipsoid_pair::contact;
-use crate::solver::ellipsoid_point::sphere_alpha;
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
-use crate::solver::polish::{polish, Polished};
+use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
-use crate::solver::segment_solid::{rounded_facet_alpha, segment_solid_alpha};
 use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
@@ -36,8 +37,6 @@ const HANDOVER: Real = 1e-3;
 const CAST_RESCUE: u32 = 200;
 /// The narrowest relative bracket asked of the geometric solvers (a few roundings of the bounds).
 const TOL_FLOOR: Real = 1e-14;
-/// How far outside the polytope (in its gauge) `facet_first`'s point may fall to rounding.
-const FACET_SLACK: Real = 1e-12;
 /// The certified bracket is closed to this fraction of the requested tolerance. The
 /// interior-point solver's tolerance bounds its duality measure, and its polish lands about
 /// three orders of magnitude below it; a bracket is the error bound itself, so it is closed as
@@ -53,17 +52,6 @@ pub(crate) enum Outcome {
     Answer(Proximity, Vec3),
     /// The geometric solvers could not certify an answer: run the interior-point solver.
     Fallback,
-}
-
-/// The geometric answer in the normalised frame.
-struct Answer {
-    alpha: Real,
-    /// The optimal normal, scaled so that `n·r = 1`.
-    normal: Vec3,
-    /// Points of shape 1 and 2, relative to their origins (normalised units).
-    a: Vec3,
-    b: Vec3,
-    solver: Solver,
 }
 
 /// Proximity by the geometric solvers, stopping early once α* is proven above `threshold.0`
@@ -264,29 +252,12 @@ pub(crate) fn jacobian(
     j.iter().flatten().all(|v| v.is_finite()).then_some(j)
 }
 
-/// The answer (`Ok(None)`: fall back), or `Err((below, bound))` when the bracket decided the
-/// threshold first.
-type Solved = Result<Option<Answer>, (bool, Real)>;
-
 /// `Err((below, bound))` when the cast's bracket decided the threshold: the bracket's end on
 /// that side.
 fn decided(c: &Cast) -> Result<(), (bool, Real)> {
     match c.end {
         CastEnd::Decided(below) => Err((below, if below { c.alpha_hi } else { c.alpha_lo })),
         _ => Ok(()),
-    }
-}
-
-impl Answer {
-    /// A Newton answer (the direct solve, the tie solve or the polish), certified.
-    fn polished(p: Polished) -> Self {
-        Answer {
-            alpha: p.alpha_lo,
-            normal: p.normal,
-            a: p.a,
-            b: p.b,
-            solver: Solver::Polish,
-        }
     }
 }
 
@@ -356,243 +327,6 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
         b: two.axis * hit.t - hit.normal * two.radius,
         solver: Solver::ClosedForm,
     })
-}
-
-/// A capsule and a centred box, a cylinder or a cone: Newton's method on 1/α with the
-/// segment's closest points (`crate::solver::segment_solid`); a capsule and a polytope
-/// touching on a facet: the facets' slabs. Certified as a polish answer is (the
-/// support functions at the normal below, the touching points' difference above).
-fn capsule_and_solid(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
-    let hit = segment_solid_alpha(pair, ray).or_else(|| rounded_facet_alpha(pair, ray))?;
-    certified(pair, ray, iota, tol, &hit.normal, hit.a, hit.b)
-}
-
-/// A candidate α\* found outside the solvers, certified as a polish answer is: the unit normal
-/// `n` from shape 1 to shape 2 gives the lower bound `n·r / h_K(n)` (one support call), the
-/// touching points `a ∈ K₁`, `b ∈ K₂` the upper bound from `a − b ∈ K`; the answer when the
-/// bracket closes to `tol` (relative).
-fn certified(
-    pair: &Pair<'_, Shape>,
-    ray: &Vec3,
-    iota: Real,
-    tol: Real,
-    n: &Vec3,
-    a: Vec3,
-    b: Vec3,
-) -> Option<Answer> {
-    let nr = n.dot(ray);
-    if !(nr > 0.0) {
-        return None;
-    }
-    let lo = nr / pair.support(n).w.dot(n);
-    let hi = upper_from_point(&(a - b), ray, iota);
-    (lo.is_finite() && hi - lo <= tol * lo).then_some(Answer {
-        alpha: lo,
-        normal: n / nr,
-        a,
-        b,
-        solver: Solver::ClosedForm,
-    })
-}
-
-/// A sphere and an ellipsoid, either order: the secular equation of the sphere's centre on the
-/// ray (`crate::solver::ellipsoid_point::sphere_alpha`), certified as a polish answer is.
-fn sphere_and_ellipsoid(
-    pair: &Pair<'_, Shape>,
-    ray: &Vec3,
-    iota: Real,
-    tol: Real,
-) -> Option<Answer> {
-    let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
-        Some((0.0, radius)) => Some(radius),
-        _ => None,
-    };
-    // The ellipsoid, the sphere's radius, the ray from the ellipsoid to the sphere, and whether
-    // the ellipsoid is shape 1.
-    let (solid, rho, dir, first) = match (ball(&pair.one), ball(&pair.two)) {
-        (None, Some(rho)) => (&pair.one, rho, *ray, true),
-        (Some(rho), None) => (&pair.two, rho, -ray, false),
-        _ => return None,
-    };
-    let (axes, semi) = solid.shape.ellipsoid_principal()?;
-    let s = solid.inv_scale;
-    let c = axes.tr_mul(&solid.rot.tr_mul(&dir)) / s;
-    let (beta, x) = sphere_alpha(&c, semi, rho)?;
-    let gap = c * beta - x;
-    let len = gap.norm();
-    if !(len > 0.0) {
-        return None;
-    }
-    // From the ellipsoid to the sphere, world axes; the touching points, normalised.
-    let m = solid.rot * (axes * (gap / len));
-    let on_solid = solid.rot * (axes * x) * s;
-    let on_sphere = -m * (rho * s);
-    let (n, a, b) = if first {
-        (m, on_solid, on_sphere)
-    } else {
-        (-m, on_sphere, on_solid)
-    };
-    certified(pair, ray, iota, tol, &n, a, b)
-}
-
-/// Two ellipsoids: the Perram–Wertheim contact function
-/// (`crate::solver::ellipsoid_pair::contact`), certified as a polish answer is.
-fn two_ellipsoids(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
-    // Σᵢ = Rᵢ P⁻¹ Rᵢᵀ in the normalised lengths (a length scaled by s scales Σ by s²).
-    let sigma = |posed: &Posed<'_, Shape>| {
-        let inv = posed.shape.ellipsoid_inverse()?;
-        let s = posed.inv_scale;
-        Some(posed.rot * inv * posed.rot.transpose() * (s * s))
-    };
-    let (s1, s2) = (sigma(&pair.one)?, sigma(&pair.two)?);
-    let c = contact(&s1, &s2, ray)?;
-    certified(pair, ray, iota, tol, &c.normal, c.a, c.b)
-}
-
-/// An ellipsoid and a polytope (a box among them), either order, as a sphere and a polytope:
-/// α* does not change when one linear map is applied to the whole scene (both shapes scale
-/// about their origins, and the map commutes with that), and `T = U Rᵀ/s` (`P = UᵀU`) maps the
-/// ellipsoid onto the unit ball. The polytope seen through T has the support map
-/// `T·supp(Tᵀm)`, which is its own support map turned by the (not orthogonal) matrix `T R`, so
-/// the padded cast runs on a point padded by 1 against it, along the ray `T r`. Its answer
-/// comes back through T (the normal by `Tᵀ`, the points by `T⁻¹`) and is certified on the
-/// shapes themselves. `None` for other pairs, or when that does not certify.
-fn ellipsoid_and_polytope(
-    pair: &Pair<'_, Shape>,
-    ray: &Vec3,
-    iota: Real,
-    tol: Real,
-    stop: Option<Stop>,
-) -> Option<Solved> {
-    let polytope = |posed: &Posed<'_, Shape>| posed.shape.kind() == ShapeKind::Polytope;
-    let (ell, poly, first) = if polytope(&pair.two) {
-        (&pair.one, &pair.two, true)
-    } else if polytope(&pair.one) {
-        (&pair.two, &pair.one, false)
-    } else {
-        return None;
-    };
-    let u = ell.shape.ellipsoid_cholesky()?;
-    let t = u * ell.rot.transpose() / ell.inv_scale;
-    let t_inv = t.try_inverse()?;
-    let turn = t * poly.rot;
-    let point = Core::Segment(0.0);
-    let identity = crate::math::Mat3::identity();
-    let ball = Posed {
-        shape: &point,
-        rot: &identity,
-        inv_scale: 1.0,
-    };
-    let seen = Posed {
-        shape: &Core::Whole(poly.shape),
-        rot: &turn,
-        inv_scale: poly.inv_scale,
-    };
-    let cores = if first {
-        Pair {
-            one: ball,
-            two: seen,
-        }
-    } else {
-        Pair {
-            one: seen,
-            two: ball,
-        }
-    };
-    let tr = t * ray;
-    let len = tr.norm();
-    // α' for the ray `r` is `len` times α' for the unit ray `Tr/len`.
-    let stop = stop.map(|s| Stop {
-        value: s.value / len,
-        ..s
-    });
-    let hit = match padded_cast(&cores, &(tr / len), 1.0, tol, stop) {
-        PaddedEnd::Hit(h) => h,
-        PaddedEnd::Decided(below, alpha) => return Some(Err((below, alpha * len))),
-        PaddedEnd::Failed => return None,
-    };
-    // The ball's witness moves out by its radius along the normal (from shape 1 to shape 2).
-    let (a, b) = if first {
-        (hit.a + hit.normal, hit.b)
-    } else {
-        (hit.a, hit.b - hit.normal)
-    };
-    let n = (t.transpose() * hit.normal).try_normalize(0.0)?;
-    let ans = certified(pair, ray, iota, tol, &n, t_inv * a, t_inv * b)?;
-    Some(Ok(Some(Answer {
-        solver: Solver::RayCast,
-        ..ans
-    })))
-}
-
-/// A polytope (a box among them) against a cylinder or cone, either order, when the contact
-/// is on one of the polytope's facets: every facet's normal n gives the lower bound
-/// `n·r/h_K(n)`, `h_K(n)` its offset plus one support call of the other shape, and if the
-/// optimum is at a facet's normal it is the best of them. Then the other shape's support point
-/// there and the point of the polytope that puts their difference on the ray touch, and the
-/// bracket closes, exactly when that point lies in the polytope (one gauge). `None` for other
-/// pairs or when the contact is not on a facet.
-#[inline(never)]
-fn facet_first(pair: &Pair<'_, Shape>, ray: &Vec3, iota: Real, tol: Real) -> Option<Answer> {
-    let curved = |posed: &Posed<'_, Shape>| {
-        matches!(posed.shape.kind(), ShapeKind::Cylinder | ShapeKind::Cone)
-    };
-    let polytope = |posed: &Posed<'_, Shape>| posed.shape.kind() == ShapeKind::Polytope;
-    let side = if polytope(&pair.one) && curved(&pair.two) {
-        0
-    } else if polytope(&pair.two) && curved(&pair.one) {
-        1
-    } else {
-        return None;
-    };
-    let (posed, sign) = pair.side(side);
-    let (other, other_sign) = pair.side(1 - side);
-    let (normals, offsets) = posed.shape.facets()?;
-    // The other shape's support function from its meridian section: at a unit world normal m
-    // with axial part mₓ = a·m and radial part √(1 − mₓ²), the best of the section's vertices
-    // (three products and a square root where a support point costs two turns).
-    let (section, count) = other.shape.revolution_section()?;
-    // In the polytope's frame, once: the ray and the other shape's axis (its support function
-    // at a unit normal m is the best of the section's vertices at the axial part a·m and the
-    // radial part √(1 − (a·m)²): two dot products and a square root a facet).
-    let ray_body = posed.rot.tr_mul(ray) * sign;
-    let axis_body = posed.rot.tr_mul(&other.rot.column(0).into_owned()) * (sign * other_sign);
-    let value = |mx: Real| {
-        let mp = (1.0 - mx * mx).max(0.0).sqrt();
-        section[..count]
-            .iter()
-            .fold(Real::NEG_INFINITY, |h, v| h.max(v.0 * mx + v.1 * mp))
-            * other.inv_scale
-    };
-    // The best bound: its value and the facet.
-    let mut best = (0.0, 0);
-    for (k, (normal, offset)) in normals.iter().zip(offsets).enumerate() {
-        let nr = normal.dot(&ray_body);
-        if !(nr > 0.0) {
-            continue;
-        }
-        let lo = nr / (offset * posed.inv_scale + value(normal.dot(&axis_body)));
-        if lo > best.0 {
-            best = (lo, k);
-        }
-    }
-    let (lo, k) = best;
-    if !(lo > 0.0 && lo.is_finite()) {
-        return None;
-    }
-    // K's normal (from shape 1 to shape 2), world.
-    let n = posed.rot * normals[k] * sign;
-    let p = other.support(&(n * other_sign)).0;
-    let target = ray / lo;
-    let own = if side == 0 { target + p } else { p - target };
-    let g = posed.shape_gauge(&own);
-    if !(g <= 1.0 + FACET_SLACK) {
-        return None;
-    }
-    // Rounding can leave the point a hair outside the facet: pulled in, it lies in the shape.
-    let own = if g > 1.0 { own / g } else { own };
-    let (a, b) = if side == 0 { (own, p) } else { (p, own) };
-    certified(pair, ray, iota, tol, &n, a, b)
 }
 
 fn solve(

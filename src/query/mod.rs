@@ -13,6 +13,7 @@ mod geometric;
 mod halfspace;
 mod proximity;
 mod separated;
+mod shortcuts;
 mod signed;
 
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
