@@ -370,3 +370,54 @@ fn a_cylinder_or_cone_on_a_box_face_in_closed_form() {
     let q = proximity(&table, &origin, &cone, &tipped, &ipm).unwrap();
     assert!((p.alpha - q.alpha).abs() < 1e-9 * q.alpha, "{p:?} vs {q:?}");
 }
+
+/// Caps as the contact face: a can standing on another can (cap on cap), a tilted box's corner
+/// on a can's top and an ellipsoid resting on a cone's base, both orders: closed form, with
+/// the interior-point solver's α* (and, for the stacked cans, the analytic one).
+#[test]
+fn caps_as_the_contact_face_in_closed_form() {
+    use dcol::{Pose, Shape};
+    let opts = Options::default();
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..Options::default()
+    };
+    let s = 0.5f64.sqrt();
+    let up = [s, 0.0, -s, 0.0]; // body x onto world z
+    let can = Shape::cylinder(0.3, 1.0).unwrap();
+    let low = Pose::new([0.0, 0.0, 0.0], up).unwrap();
+    // Origins 2.5 apart along z, half-heights 0.5 each: α = 2.5.
+    let high = Pose::new([0.1, 0.05, 2.5], up).unwrap();
+    let corner = Shape::cuboid(0.2, 0.2, 0.2).unwrap();
+    let tilted = Pose::new([0.05, -0.02, 1.2], [0.9, 0.3, 0.25, 0.1]).unwrap();
+    let cone = Shape::cone(0.8, 0.5).unwrap();
+    let base_up = Pose::new([0.0, 0.0, 0.0], up).unwrap();
+    let egg = Shape::ellipsoid([[4.0, 0.0, 0.0], [0.0, 9.0, 0.0], [0.0, 0.0, 16.0]]).unwrap();
+    let resting = Pose::new([0.05, 0.1, 0.9], [0.95, 0.1, -0.2, 0.2]).unwrap();
+    let cases = [
+        (&can, low, &can, high, Some(2.5)),
+        (&can, low, &corner, tilted, None),
+        (&cone, base_up, &egg, resting, None),
+    ];
+    for (s1, p1, s2, p2, exact) in cases {
+        for flip in [false, true] {
+            let (a, pa, b, pb) = if flip {
+                (s2, p2, s1, p1)
+            } else {
+                (s1, p1, s2, p2)
+            };
+            let p = proximity(a, &pa, b, &pb, &opts).unwrap();
+            let q = proximity(a, &pa, b, &pb, &ipm).unwrap();
+            assert!(q.status.is_converged(), "{q:?}");
+            assert!((p.alpha - q.alpha).abs() < 1e-8 * q.alpha, "{p:?} vs {q:?}");
+            if let Some(want) = exact {
+                assert!(
+                    (p.alpha - want).abs() < 1e-12 * want,
+                    "{} vs {want}",
+                    p.alpha
+                );
+            }
+            assert_eq!(p.solver, Solver::ClosedForm, "{p:?}");
+        }
+    }
+}

@@ -14,7 +14,7 @@ use super::context::{Options, Proximity};
 use super::cores::Cores;
 use super::derivatives::rotation_axes;
 use super::shortcuts::{
-    capsule_and_solid, ellipsoid_and_polytope, facet_first, sphere_and_ellipsoid, two_ellipsoids,
+    capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
     Answer, Solved,
 };
 use crate::math::{Pose, Real, Vec3};
@@ -368,7 +368,7 @@ fn solve(
             PaddedEnd::Failed => {}
         }
     }
-    if let Some(ans) = facet_first(pair, ray, iota, tol) {
+    if let Some(ans) = flat_first(pair, ray, iota, tol) {
         return Ok(Some(ans));
     }
     // Two polytopes: the cast ends exactly, in a facet of K, within a few refinements; curved

@@ -17,7 +17,7 @@ use crate::solver::raycast::{upper_from_point, Pair, Posed, Stop};
 use crate::solver::segment_solid::{rounded_facet_alpha, segment_solid_alpha};
 use crate::solver::Solver;
 
-/// How far outside the polytope (in its gauge) `facet_first`'s point may fall to rounding.
+/// How far outside its shape (in its gauge) `flat_first`'s point may fall to rounding.
 const FACET_SLACK: Real = 1e-12;
 
 /// The geometric answer in the normalised frame.
@@ -225,77 +225,151 @@ pub(super) fn ellipsoid_and_polytope(
     })))
 }
 
-/// A polytope (a box among them) against a cylinder or cone, either order, when the contact
-/// is on one of the polytope's facets: every facet's normal n gives the lower bound
-/// `n·r/h_K(n)`, `h_K(n)` its offset plus one support call of the other shape, and if the
-/// optimum is at a facet's normal it is the best of them. Then the other shape's support point
-/// there and the point of the polytope that puts their difference on the ray touch, and the
-/// bracket closes, exactly when that point lies in the polytope (one gauge). `None` for other
-/// pairs or when the contact is not on a facet.
-#[inline(never)]
-pub(super) fn facet_first(
+/// A flat face of one shape as the contact: a polytope's facet against a cylinder or cone, or
+/// a cylinder's cap or a cone's base against a polytope, cylinder, cone or ellipsoid. Every
+/// such face's outward normal n gives the lower bound `n·r/h_K(n)`, `h_K(n)` the face's offset
+/// plus the other shape's support function (from its meridian section when it is a cylinder
+/// or cone, else one support call), and if the optimum is at a face's normal it is the best of
+/// them. Then the other shape's support point there and the point of the face's shape that puts
+/// their difference on the ray touch, and the bracket closes, exactly when that point lies in
+/// the shape (one gauge). `None` for other pairs or when the contact is not on a face.
+pub(super) fn flat_first(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
     iota: Real,
     tol: Real,
 ) -> Option<Answer> {
-    let curved = |posed: &Posed<'_, Shape>| {
-        matches!(posed.shape.kind(), ShapeKind::Cylinder | ShapeKind::Cone)
-    };
-    let polytope = |posed: &Posed<'_, Shape>| posed.shape.kind() == ShapeKind::Polytope;
-    let side = if polytope(&pair.one) && curved(&pair.two) {
-        0
-    } else if polytope(&pair.two) && curved(&pair.one) {
-        1
-    } else {
+    use ShapeKind::*;
+    let kinds = [pair.one.shape.kind(), pair.two.shape.kind()];
+    let revolution = |k: ShapeKind| matches!(k, Cylinder | Cone);
+    let against = |k: ShapeKind| matches!(k, Polytope | Cylinder | Cone | Ellipsoid);
+    if !((revolution(kinds[0]) && against(kinds[1])) || (revolution(kinds[1]) && against(kinds[0])))
+    {
         return None;
-    };
-    let (posed, sign) = pair.side(side);
-    let (other, other_sign) = pair.side(1 - side);
-    let (normals, offsets) = posed.shape.facets()?;
-    // The other shape's support function from its meridian section: at a unit world normal m
-    // with axial part mₓ = a·m and radial part √(1 − mₓ²), the best of the section's vertices
-    // (three products and a square root where a support point costs two turns).
-    let (section, count) = other.shape.revolution_section()?;
-    // In the polytope's frame, once: the ray and the other shape's axis (its support function
-    // at a unit normal m is the best of the section's vertices at the axial part a·m and the
-    // radial part √(1 − (a·m)²): two dot products and a square root a facet).
-    let ray_body = posed.rot.tr_mul(ray) * sign;
-    let axis_body = posed.rot.tr_mul(&other.rot.column(0).into_owned()) * (sign * other_sign);
-    let value = |mx: Real| {
-        let mp = (1.0 - mx * mx).max(0.0).sqrt();
-        section[..count]
-            .iter()
-            .fold(Real::NEG_INFINITY, |h, v| h.max(v.0 * mx + v.1 * mp))
-            * other.inv_scale
-    };
-    // The best bound: its value and the facet.
-    let mut best = (0.0, 0);
-    for (k, (normal, offset)) in normals.iter().zip(offsets).enumerate() {
-        let nr = normal.dot(&ray_body);
-        if !(nr > 0.0) {
-            continue;
-        }
-        let lo = nr / (offset * posed.inv_scale + value(normal.dot(&axis_body)));
-        if lo > best.0 {
-            best = (lo, k);
+    }
+    // Each shape's best bound: its value and K's normal (from shape 1 to shape 2, world).
+    let mut best = [(0.0, Vec3::zeros()); 2];
+    for side in 0..2 {
+        let (posed, sign) = pair.side(side);
+        let (other, other_sign) = pair.side(1 - side);
+        match kinds[side] {
+            Polytope if revolution(kinds[1 - side]) => {
+                let (normals, offsets) = posed.shape.facets()?;
+                let (section, count) = other.shape.revolution_section()?;
+                // In the polytope's frame, once: the ray and the other shape's axis (its
+                // support function at a unit normal m is the best of the section's vertices at
+                // the axial part a·m and the radial part √(1 − (a·m)²): two dot products and a
+                // square root a facet).
+                let ray_body = posed.rot.tr_mul(ray) * sign;
+                let axis_body =
+                    posed.rot.tr_mul(&other.rot.column(0).into_owned()) * (sign * other_sign);
+                let value = |mx: Real| {
+                    let mp = (1.0 - mx * mx).max(0.0).sqrt();
+                    section[..count]
+                        .iter()
+                        .fold(Real::NEG_INFINITY, |h, v| h.max(v.0 * mx + v.1 * mp))
+                        * other.inv_scale
+                };
+                for (normal, offset) in normals.iter().zip(offsets) {
+                    let nr = normal.dot(&ray_body);
+                    if !(nr > 0.0) {
+                        continue;
+                    }
+                    let lo = nr / (offset * posed.inv_scale + value(normal.dot(&axis_body)));
+                    if lo > best[side].0 {
+                        best[side] = (lo, posed.rot * normal * sign);
+                    }
+                }
+            }
+            Cylinder | Cone => {
+                // The caps: the section's edges across the axis, at axial coordinate a (normal
+                // sign(a)·x, offset |a|).
+                let (section, count) = posed.shape.revolution_section()?;
+                for k in 0..count {
+                    let (v, w) = (section[k], section[(k + 1) % count]);
+                    if v.0 != w.0 || v.1 != -w.1 || v.1 == 0.0 {
+                        continue;
+                    }
+                    let n = posed.rot.column(0) * (v.0.signum() * sign);
+                    let nr = n.dot(ray);
+                    if !(nr > 0.0) {
+                        continue;
+                    }
+                    let seen = n * other_sign;
+                    let h = v.0.abs() * posed.inv_scale + other.support(&seen).0.dot(&seen);
+                    let lo = nr / h;
+                    if lo > best[side].0 {
+                        best[side] = (lo, n);
+                    }
+                }
+            }
+            _ => {}
         }
     }
-    let (lo, k) = best;
+    // The better bound first; the other too when they tie (face against face, where either
+    // face's own support point may miss the other face).
+    let first = usize::from(best[1].0 > best[0].0);
+    let tie = best[1 - first].0 >= best[first].0 * (1.0 - 1e-12);
+    [first, 1 - first]
+        .into_iter()
+        .take(if tie { 2 } else { 1 })
+        .find_map(|side| {
+            let (lo, n) = best[side];
+            on_face(
+                pair,
+                ray,
+                iota,
+                tol,
+                side,
+                lo,
+                &n,
+                revolution(kinds[1 - side]),
+            )
+        })
+}
+
+/// `flat_first`'s candidate: shape `side`'s face with K's normal `n` and bound `lo`, certified
+/// when the point of that shape that puts its difference with the other's support point on the
+/// ray lies in the shape. `revolution`: the other shape is a cylinder or cone (its cap's centre
+/// is tried when its rim point misses).
+#[allow(clippy::too_many_arguments)]
+fn on_face(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+    side: usize,
+    lo: Real,
+    n: &Vec3,
+    revolution: bool,
+) -> Option<Answer> {
     if !(lo > 0.0 && lo.is_finite()) {
         return None;
     }
-    // K's normal (from shape 1 to shape 2), world.
-    let n = posed.rot * normals[k] * sign;
-    let p = other.support(&(n * other_sign)).0;
+    let (posed, _) = pair.side(side);
+    let (other, other_sign) = pair.side(1 - side);
+    let seen = n * other_sign;
     let target = ray / lo;
-    let own = if side == 0 { target + p } else { p - target };
-    let g = posed.shape_gauge(&own);
+    let own_at = |p: &Vec3| if side == 0 { target + p } else { p - target };
+    let mut p = other.support(&seen).0;
+    let mut own = own_at(&p);
+    let mut g = posed.shape_gauge(&own);
+    // Face against face (a can on a can, a cone's base on a cap): the other's support point is
+    // one of its face's rim points, which need not face the first face; its face's centre is
+    // tried too.
+    if !(g <= 1.0 + FACET_SLACK) && revolution {
+        let axis = other.rot.column(0).into_owned();
+        if axis.dot(&seen).abs() >= 1.0 - 1e-12 {
+            p = axis * axis.dot(&p);
+            own = own_at(&p);
+            g = posed.shape_gauge(&own);
+        }
+    }
     if !(g <= 1.0 + FACET_SLACK) {
         return None;
     }
-    // Rounding can leave the point a hair outside the facet: pulled in, it lies in the shape.
+    // Rounding can leave the point a hair outside the face: pulled in, it lies in the shape.
     let own = if g > 1.0 { own / g } else { own };
     let (a, b) = if side == 0 { (own, p) } else { (p, own) };
-    certified(pair, ray, iota, tol, &n, a, b)
+    certified(pair, ray, iota, tol, n, a, b)
 }
