@@ -8,11 +8,12 @@
 //!   upper bound; the dual objective corrected by the dual residual is a lower bound.
 
 use super::context::{Options, Want};
+use super::geometric::{self, Outcome};
 use super::proximity::query_until;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Pose, Real};
-use crate::shapes::Shape;
-use crate::solver::SolveStatus;
+use crate::shapes::{Shape, ShapeKind};
+use crate::solver::{Method, SolveStatus};
 
 /// What decided a threshold question.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -91,6 +92,35 @@ pub fn alpha_below(
             iterations: 0,
             status: SolveStatus::Converged,
         });
+    }
+    // The geometric path's decision straight, as the full query would take it (without its
+    // derivatives' room, zeroed and copied: about a tenth of a closed form's time); the
+    // coincident origins, half-spaces and every fallback go through the full query.
+    let bounded = shape1.kind() != ShapeKind::Halfspace && shape2.kind() != ShapeKind::Halfspace;
+    if options.method == Method::Auto && bounded {
+        let dist = robust_norm(&(pose2.position() - pose1.position()));
+        if dist > 0.0 && dist.is_finite() {
+            let stop = Some((threshold, true));
+            match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, stop) {
+                Outcome::Decided { below, .. } => {
+                    return Ok(Decision {
+                        below,
+                        decided_by: DecidedBy::EarlyExit,
+                        iterations: 0,
+                        status: SolveStatus::Converged,
+                    })
+                }
+                Outcome::Answer(prox, _) => {
+                    return Ok(Decision {
+                        below: prox.alpha < threshold,
+                        decided_by: DecidedBy::FullSolve,
+                        iterations: prox.iterations,
+                        status: prox.status,
+                    })
+                }
+                Outcome::Fallback => {}
+            }
+        }
     }
     let f = query_until(
         shape1,
