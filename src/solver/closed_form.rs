@@ -128,43 +128,49 @@ pub(crate) fn rounded_segments(
         }
     };
     let (g, p, q) = (a1.dot(&a2), d.dot(&a1), d.dot(&a2));
-    // Vertices c = s a₁ − t a₂ (one point when both lengths are zero, two for a segment):
-    // d·c = s p − t q, ‖c‖² = s² + t² − 2 s t g.
-    let s_ends: &[Real] = if h1 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
-    let t_ends: &[Real] = if h2 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
-    for &si in s_ends {
-        for &ti in t_ends {
-            let (s, t) = (si * h1, ti * h2);
-            let c2 = s * s + t * t - 2.0 * s * t * g;
-            consider(vertex_root(d2, s * p - t * q, c2, rho), s, t);
-        }
-    }
-    // Edges: the vertex root with d and c projected off the edge's direction e, valid when
-    // the closest point τ of the line α(c + τe) to d lies on the edge. With s fixed at an end
-    // (c = s a₁, e = −a₂): ‖d⊥‖² = d² − q², d⊥·c⊥ = s(p − g q), ‖c⊥‖² = s²(1 − g²),
-    // τ = t = −q/α + s g. With t fixed (c = −t a₂, e = a₁): ‖d⊥‖² = d² − p²,
-    // d⊥·c⊥ = t(g p − q), ‖c⊥‖² = t²(1 − g²), τ = s = p/α + t g.
-    let sin2 = 1.0 - g * g;
-    if h2 > 0.0 {
+    if h1 > 0.0 && h2 > 0.0 {
+        two_segments(d2, (g, p, q), (h1, h2), rho, &mut consider);
+    } else {
+        // A sphere against a segment: every root (their square roots are independent: 80 ns
+        // against 92 for the edge-capsule form, whose vertex waits on its edge's root).
+        // Vertices c = s a₁ − t a₂ (one point when both lengths are zero, two for a segment):
+        // d·c = s p − t q, ‖c‖² = s² + t² − 2 s t g.
+        let s_ends: &[Real] = if h1 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
+        let t_ends: &[Real] = if h2 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
         for &si in s_ends {
-            let s = si * h1;
-            let alpha = vertex_root(d2 - q * q, s * (p - g * q), s * s * sin2, rho);
-            if alpha.is_finite() {
-                let t = -q / alpha + s * g;
-                if t.abs() <= h2 {
-                    consider(alpha, s, t);
+            for &ti in t_ends {
+                let (s, t) = (si * h1, ti * h2);
+                let c2 = s * s + t * t - 2.0 * s * t * g;
+                consider(vertex_root(d2, s * p - t * q, c2, rho), s, t);
+            }
+        }
+        // Edges: the vertex root with d and c projected off the edge's direction e, valid when
+        // the closest point τ of the line α(c + τe) to d lies on the edge. With s fixed at an end
+        // (c = s a₁, e = −a₂): ‖d⊥‖² = d² − q², d⊥·c⊥ = s(p − g q), ‖c⊥‖² = s²(1 − g²),
+        // τ = t = −q/α + s g. With t fixed (c = −t a₂, e = a₁): ‖d⊥‖² = d² − p²,
+        // d⊥·c⊥ = t(g p − q), ‖c⊥‖² = t²(1 − g²), τ = s = p/α + t g.
+        let sin2 = 1.0 - g * g;
+        if h2 > 0.0 {
+            for &si in s_ends {
+                let s = si * h1;
+                let alpha = vertex_root(d2 - q * q, s * (p - g * q), s * s * sin2, rho);
+                if alpha.is_finite() {
+                    let t = -q / alpha + s * g;
+                    if t.abs() <= h2 {
+                        consider(alpha, s, t);
+                    }
                 }
             }
         }
-    }
-    if h1 > 0.0 {
-        for &ti in t_ends {
-            let t = ti * h2;
-            let alpha = vertex_root(d2 - p * p, t * (g * p - q), t * t * sin2, rho);
-            if alpha.is_finite() {
-                let s = p / alpha + t * g;
-                if s.abs() <= h1 {
-                    consider(alpha, s, t);
+        if h1 > 0.0 {
+            for &ti in t_ends {
+                let t = ti * h2;
+                let alpha = vertex_root(d2 - p * p, t * (g * p - q), t * t * sin2, rho);
+                if alpha.is_finite() {
+                    let s = p / alpha + t * g;
+                    if s.abs() <= h1 {
+                        consider(alpha, s, t);
+                    }
                 }
             }
         }
@@ -174,6 +180,60 @@ pub(crate) fn rounded_segments(
         return None;
     }
     hit(d, alpha, a1 * s - a2 * t, s, t)
+}
+
+/// [`rounded_segments`]' vertices and edges for two segments (the face missed): each edge with
+/// its end balls (a capsule about the edge; K is the union of the face's slab and the four).
+/// The vertex root with d and c projected off the edge's direction e is the entry into the
+/// edge's infinite cylinder, where its foot τ lies on the edge; else the ray enters the capsule
+/// through the end ball on τ's side or not at all (the balls lie in the cylinder), and where it
+/// never enters the cylinder from afar (it runs parallel to the edge) both end balls decide.
+/// With s fixed at an end (c = s a₁, e = −a₂): ‖d⊥‖² = d² − q², d⊥·c⊥ = s(p − g q),
+/// ‖c⊥‖² = s²(1 − g²), τ = t = −q/α + s g. With t fixed (c = −t a₂, e = a₁): ‖d⊥‖² = d² − p²,
+/// d⊥·c⊥ = t(g p − q), ‖c⊥‖² = t²(1 − g²), τ = s = p/α + t g. A vertex c = s a₁ − t a₂ has
+/// d·c = s p − t q, ‖c‖² = s² + t² − 2 s t g. Half the square roots of all eight features'
+/// roots when the feet fall on the edges: capsule–capsule 106 → 96 ns.
+#[inline(always)]
+fn two_segments(
+    d2: Real,
+    (g, p, q): (Real, Real, Real),
+    (h1, h2): (Real, Real),
+    rho: Real,
+    consider: &mut impl FnMut(Real, Real, Real),
+) {
+    let vertex =
+        |s: Real, t: Real| vertex_root(d2, s * p - t * q, s * s + t * t - 2.0 * s * t * g, rho);
+    let sin2 = 1.0 - g * g;
+    for s in [h1, -h1] {
+        let alpha = vertex_root(d2 - q * q, s * (p - g * q), s * s * sin2, rho);
+        if alpha.is_finite() {
+            let t = -q / alpha + s * g;
+            if t.abs() <= h2 {
+                consider(alpha, s, t);
+            } else {
+                let t = h2.copysign(t);
+                consider(vertex(s, t), s, t);
+            }
+        } else {
+            consider(vertex(s, h2), s, h2);
+            consider(vertex(s, -h2), s, -h2);
+        }
+    }
+    for t in [h2, -h2] {
+        let alpha = vertex_root(d2 - p * p, t * (g * p - q), t * t * sin2, rho);
+        if alpha.is_finite() {
+            let s = p / alpha + t * g;
+            if s.abs() <= h1 {
+                consider(alpha, s, t);
+            } else {
+                let s = h1.copysign(s);
+                consider(vertex(s, t), s, t);
+            }
+        } else {
+            consider(vertex(h1, t), h1, t);
+            consider(vertex(-h1, t), -h1, t);
+        }
+    }
 }
 
 /// The answer at `α` with the point `p = s a₁ − t a₂` of P: the exit point `d/α` of K is
