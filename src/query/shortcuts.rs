@@ -18,7 +18,7 @@ use crate::solver::segment_solid::{rounded_facet_alpha, segment_solid_alpha};
 use crate::solver::Solver;
 
 /// How far outside its shape (in its gauge) `flat_first`'s point may fall to rounding.
-const FACET_SLACK: Real = 1e-12;
+const FACE_SLACK: Real = 1e-12;
 
 /// The geometric answer in the normalised frame.
 pub(super) struct Answer {
@@ -66,7 +66,7 @@ pub(super) fn capsule_and_solid(
 /// `n` from shape 1 to shape 2 gives the lower bound `n·r / h_K(n)` (one support call), the
 /// touching points `a ∈ K₁`, `b ∈ K₂` the upper bound from `a − b ∈ K`; the answer when the
 /// bracket closes to `tol` (relative).
-pub(super) fn certified(
+fn certified(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
     iota: Real,
@@ -357,7 +357,7 @@ fn on_face(
     // Face against face (a can on a can, a cone's base on a cap): the other's support point is
     // one of its face's rim points, which need not face the first face; its face's centre is
     // tried too.
-    if !(g <= 1.0 + FACET_SLACK) && revolution {
+    if !(g <= 1.0 + FACE_SLACK) && revolution {
         let axis = other.rot.column(0).into_owned();
         if axis.dot(&seen).abs() >= 1.0 - 1e-12 {
             p = axis * axis.dot(&p);
@@ -365,7 +365,7 @@ fn on_face(
             g = posed.shape_gauge(&own);
         }
     }
-    if !(g <= 1.0 + FACET_SLACK) {
+    if !(g <= 1.0 + FACE_SLACK) {
         return None;
     }
     // Rounding can leave the point a hair outside the face: pulled in, it lies in the shape.
