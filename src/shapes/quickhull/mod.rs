@@ -50,24 +50,37 @@ impl Lists {
         &self.items[self.first[k] as usize..self.first[k + 1] as usize]
     }
 
-    /// Lists from `(list, item)` pairs, each list's items sorted and deduplicated.
-    pub(crate) fn from_pairs(count: usize, pairs: &mut [(u32, u32)]) -> Lists {
-        pairs.sort_unstable();
-        let mut first = Vec::with_capacity(count + 1);
-        let mut items = Vec::with_capacity(pairs.len());
-        let mut at = 0;
-        for k in 0..count as u32 {
-            first.push(items.len() as u32);
-            let mut last = None;
-            while at < pairs.len() && pairs[at].0 == k {
-                if last != Some(pairs[at].1) {
-                    items.push(pairs[at].1);
-                    last = Some(pairs[at].1);
+    /// Lists from `(list, item)` pairs, each list's items sorted and deduplicated (a counting
+    /// sort by list, then each short list sorted).
+    pub(crate) fn from_pairs(count: usize, pairs: &[(u32, u32)]) -> Lists {
+        let mut first = vec![0u32; count + 1];
+        for &(k, _) in pairs {
+            first[k as usize + 1] += 1;
+        }
+        for k in 0..count {
+            first[k + 1] += first[k];
+        }
+        let mut at = first.clone();
+        let mut items = vec![0u32; pairs.len()];
+        for &(k, v) in pairs {
+            items[at[k as usize] as usize] = v;
+            at[k as usize] += 1;
+        }
+        // Sort and deduplicate each list, moving it down over the duplicates removed before.
+        let mut write = 0usize;
+        for k in 0..count {
+            let (a, b) = (first[k] as usize, first[k + 1] as usize);
+            items[a..b].sort_unstable();
+            first[k] = write as u32;
+            for r in a..b {
+                if r == a || items[r] != items[r - 1] {
+                    items[write] = items[r];
+                    write += 1;
                 }
-                at += 1;
             }
         }
-        first.push(items.len() as u32);
+        first[count] = write as u32;
+        items.truncate(write);
         Lists { first, items }
     }
 }
@@ -334,11 +347,12 @@ pub(crate) fn hull(pts: &[Vec3]) -> Result<Mesh, HullError> {
         .filter(|p| !simplex.contains(p))
         .collect();
     b.assign(&rest, &[0, 1, 2, 3]);
-    let mut work: Vec<u32> = (0..4)
+    // Faces in the order they were made (the oldest, largest first: balanced splits).
+    let mut work: std::collections::VecDeque<u32> = (0..4)
         .filter(|&f| !b.faces[f as usize].outside.is_empty())
         .collect();
     let (mut visible, mut edges) = (Vec::new(), Vec::new());
-    while let Some(f) = work.pop() {
+    while let Some(f) = work.pop_front() {
         let face = &b.faces[f as usize];
         if !face.alive || face.outside.is_empty() {
             continue;
