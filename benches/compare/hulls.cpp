@@ -5,12 +5,12 @@
 // 2n - 4 triangular facets: none are coplanar) make one dcol hull (dcol_shape_new_convex_hull)
 // and one Coal convex (coal::ConvexBase::convexHull: qhull, triangles kept, so that Coal builds
 // its vertex neighbour graph and climbs it for the support). Both are queried at the same 200
-// poses (random attitudes, the second body 1.1 to 1.6 from the first in a random direction:
-// about half separated), against a sphere of radius 0.3 and against the hull itself:
+// poses (random attitudes, the second body 0.5 to 1.6 from the first in a random direction,
+// the sphere 0.35 to 0.95: about half separated), against a sphere of radius 0.3 and against the hull itself:
 // dcol_proximity and dcol_distance against coal::distance (default request: GJK tolerance 1e-6,
 // EPA on overlaps). Each pose's calls run back to back, DCOL_BENCH_REPEAT (default 15) rounds;
 // medians in ns over all calls, and over the separated poses alone (where Coal runs GJK only).
-// Build times are medians of 5 builds. DCOL_BENCH_SMOKE=1: two sizes, 5 poses.
+// Build times are medians of 5 builds; the last row's hull is that of 10 000 points. DCOL_BENCH_SMOKE=1: two sizes, 5 poses.
 #include <dcol.h>
 
 #ifdef DCOL_BENCH_HAVE_COAL
@@ -84,7 +84,7 @@ int main() {
   const int reps = std::getenv("DCOL_BENCH_REPEAT") ? std::atoi(std::getenv("DCOL_BENCH_REPEAT")) : 15;
   const int poses = smoke ? 5 : 200;
   std::vector<int> sizes = smoke ? std::vector<int>{12, 2000}
-                                 : std::vector<int>{12, 50, 100, 256, 1000, 2000, 5000};
+                                 : std::vector<int>{12, 50, 100, 256, 1000, 2000, 5000, 19996};
   Rng rng{0x5EED0000C0A1ull};
   dcol_shape *sphere = nullptr;
   if (dcol_shape_new_sphere(0.3, &sphere) != DCOL_OK) die("sphere");
@@ -148,8 +148,8 @@ int main() {
       }
       double d[3];
       rng.unit(d);
-      const double len = 1.1 + 0.25 * (rng.next() + 1);
-      const double lens = 0.6 + 0.15 * (rng.next() + 1);
+      const double len = 1.05 + 0.55 * rng.next();
+      const double lens = 0.65 + 0.3 * rng.next();
       for (int j = 0; j < 3; ++j) {
         c.p1.position[j] = 0;
         c.p2.position[j] = len * d[j];

@@ -165,11 +165,18 @@ pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullE
     // Corners: vertices on three facets or more (the others lie inside a facet or a straight
     // edge). A loop left with fewer than three keeps all its vertices.
     let np = pts.len();
-    let on: Vec<(u32, u32)> = (0..nt)
-        .flat_map(|t| tris[t].v.map(|v| (v, group[t])))
-        .collect();
-    let facets_of = Lists::from_pairs(np, &on);
-    let mut corner: Vec<bool> = (0..np).map(|v| facets_of.get(v).len() >= 3).collect();
+    // Up to three distinct facets seen at each vertex (and whether it is on the hull at all).
+    let mut seen = vec![[u32::MAX; 3]; np];
+    for (t, tri) in tris.iter().enumerate() {
+        for &v in &tri.v {
+            let s = &mut seen[v as usize];
+            if let Some(slot) = s.iter().position(|&g| g == u32::MAX || g == group[t]) {
+                s[slot] = group[t];
+            }
+        }
+    }
+    let on_hull = |v: usize| seen[v][0] != u32::MAX;
+    let mut corner: Vec<bool> = (0..np).map(|v| seen[v][2] != u32::MAX).collect();
     for g in 0..count {
         let l = loops.get(g);
         if l.iter().filter(|&&v| corner[v as usize]).count() < 3 {
@@ -182,7 +189,7 @@ pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullE
     let mut vertices = Vec::new();
     let mut source = Vec::new();
     for (v, &is) in corner.iter().enumerate() {
-        if is && !facets_of.get(v).is_empty() {
+        if is && on_hull(v) {
             vindex[v] = vertices.len() as u32;
             vertices.push(pts[v]);
             source.push(v as u32);
