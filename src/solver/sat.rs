@@ -39,19 +39,32 @@ pub(crate) struct Placed<'a> {
 }
 
 impl Placed<'_> {
-    /// `h(n) = max n·x` over the polytope (world).
-    #[inline]
-    fn h(&self, n: &Vec3) -> Real {
-        let m = self.rot.tr_mul(n);
-        let body = match self.poly.half_extents() {
-            Some(h) => h.x * m.x.abs() + h.y * m.y.abs() + h.z * m.z.abs(),
-            None => self.poly.support_value(&m),
-        };
-        body + n.dot(&self.pos)
-    }
-
     fn world(&self, v: &Vec3) -> Vec3 {
         self.pos + self.rot * v
+    }
+}
+
+/// A polytope's body support function: a centred box's in closed form.
+#[derive(Clone, Copy)]
+enum Body<'a> {
+    Box(Vec3),
+    Poly(&'a Polytope),
+}
+
+impl<'a> Body<'a> {
+    fn of(p: &'a Polytope) -> Body<'a> {
+        match p.half_extents() {
+            Some(h) => Body::Box(h),
+            None => Body::Poly(p),
+        }
+    }
+
+    #[inline]
+    fn h(&self, m: &Vec3) -> Real {
+        match self {
+            Body::Box(h) => h.x * m.x.abs() + h.y * m.y.abs() + h.z * m.z.abs(),
+            Body::Poly(p) => p.support_value(m),
+        }
     }
 }
 
@@ -78,52 +91,52 @@ enum Axis {
 /// that rounding hides): the caller takes the general path. `scale` is the shapes' size.
 pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Result<Overlap, ()>> {
     let (da, db) = (a.poly.edge_directions()?, b.poly.edge_directions()?);
-    // World support functions: the positions are in them, so that f(n) = h₁(n) + h₂(−n)
-    // (= h_K₁(n) + h_K₂(−n) − n·d).
-    let f = |n: &Vec3| a.h(n) + b.h(&-n);
+    // In shape 1's body frame: shape 2 turned by C = R₁ᵀR₂ at t = R₁ᵀ(r₂ − r₁), and
+    // f(n) = h₁(n) + h₂(−Cᵀn) − n·t with the body support functions.
+    let c = a.rot.tr_mul(b.rot);
+    let t = a.rot.tr_mul(&(b.pos - a.pos));
+    let (ha, hb) = (Body::of(a.poly), Body::of(b.poly));
     let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
-    let (na, _) = a.poly.facets();
-    for (i, nb) in na.iter().enumerate() {
-        let n = a.rot * nb;
-        let v = f(&n);
-        if v < 0.0 {
-            return Some(Err(()));
-        }
+    let mut keep = |v: Real, n: Vec3, axis: Axis| {
         if v < best.0 {
-            best = (v, n, Axis::Face1(i));
+            best = (v, n, axis);
+        }
+        v < 0.0
+    };
+    let (na, oa) = a.poly.facets();
+    for (i, (n, o)) in na.iter().zip(oa).enumerate() {
+        if keep(o + hb.h(&-c.tr_mul(n)) - n.dot(&t), *n, Axis::Face1(i)) {
+            return Some(Err(()));
         }
     }
-    let (nb, _) = b.poly.facets();
-    for (j, m) in nb.iter().enumerate() {
-        let n = -(b.rot * m);
-        let v = f(&n);
-        if v < 0.0 {
+    let (nb, ob) = b.poly.facets();
+    for (j, (m, o)) in nb.iter().zip(ob).enumerate() {
+        let n = -(c * m);
+        if keep(ha.h(&n) + o - n.dot(&t), n, Axis::Face2(j)) {
             return Some(Err(()));
-        }
-        if v < best.0 {
-            best = (v, n, Axis::Face2(j));
         }
     }
     for ea in da {
-        let ea = a.rot * ea;
         for eb in db {
-            let c = ea.cross(&(b.rot * eb));
-            let len = c.norm();
+            let n = ea.cross(&(c * eb));
+            let len = n.norm();
             if !(len > PARALLEL) {
                 continue;
             }
-            let c = c / len;
-            for n in [c, -c] {
-                let v = f(&n);
-                if v < 0.0 {
-                    return Some(Err(()));
-                }
-                if v < best.0 {
-                    best = (v, n, Axis::Edges(len));
-                }
+            let n = n / len;
+            let m = c.tr_mul(&n);
+            let nt = n.dot(&t);
+            // Both signs: f(n) and f(−n).
+            let (hap, han) = (ha.h(&n), ha.h(&-n));
+            let (hbp, hbn) = (hb.h(&m), hb.h(&-m));
+            if keep(hap + hbn - nt, n, Axis::Edges(len))
+                || keep(han + hbp + nt, -n, Axis::Edges(len))
+            {
+                return Some(Err(()));
             }
         }
     }
+    let best = (best.0, a.rot * best.1, best.2);
     let (depth, n, axis) = best;
     if !depth.is_finite() {
         return None;
