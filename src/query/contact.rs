@@ -21,6 +21,7 @@ use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, SupportMap};
 use crate::solver::SolveStatus;
+use arrayvec::ArrayVec;
 use nalgebra::Vector2;
 
 /// The most contacts a manifold holds.
@@ -145,9 +146,7 @@ pub fn contact_manifold(
     // The deepest point is the signed distance's witness pair: when the clipped features miss
     // it (a capsule or padded polygon tilted against a face, whose surface line is not where
     // it is deepest), it is added, so that the manifold's largest depth is always −sd.
-    let deepest = pts.depth[..pts.n]
-        .iter()
-        .fold(Real::NEG_INFINITY, |m, d| m.max(*d));
+    let deepest = pts.depth.iter().fold(Real::NEG_INFINITY, |m, d| m.max(*d));
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
@@ -164,26 +163,26 @@ pub fn contact_manifold(
     Ok(out)
 }
 
-/// Candidate contacts.
+/// Candidate contacts (no zeroed buffers: a query fills only what it uses).
 struct Points {
-    pos: [Vec3; BUF],
-    depth: [Real; BUF],
-    n: usize,
+    pos: ArrayVec<Vec3, BUF>,
+    depth: ArrayVec<Real, BUF>,
 }
 
 impl Points {
     fn new() -> Self {
         Points {
-            pos: [Vec3::zeros(); BUF],
-            depth: [0.0; BUF],
-            n: 0,
+            pos: ArrayVec::new(),
+            depth: ArrayVec::new(),
         }
     }
+    fn len(&self) -> usize {
+        self.pos.len()
+    }
     fn push(&mut self, pos: Vec3, depth: Real) {
-        if self.n < BUF {
-            self.pos[self.n] = pos;
-            self.depth[self.n] = depth;
-            self.n += 1;
+        if !self.pos.is_full() {
+            self.pos.push(pos);
+            self.depth.push(depth);
         }
     }
     fn push_witness(&mut self, sd: &SignedDistance) {
@@ -194,35 +193,34 @@ impl Points {
 /// A feature in world coordinates: 1 point, a segment (2) or a convex face polygon (≥ 3, in
 /// order) with its outward unit normal.
 struct Feature {
-    pts: [Vec3; MAX_FACE],
-    k: usize,
+    pts: ArrayVec<Vec3, MAX_FACE>,
     face: Vec3,
 }
 
 impl Feature {
     fn empty() -> Self {
         Feature {
-            pts: [Vec3::zeros(); MAX_FACE],
-            k: 0,
+            pts: ArrayVec::new(),
             face: Vec3::zeros(),
         }
     }
+    fn k(&self) -> usize {
+        self.pts.len()
+    }
     fn push(&mut self, p: Vec3) {
-        if self.k < MAX_FACE {
-            self.pts[self.k] = p;
-            self.k += 1;
-        }
+        let _ = self.pts.try_push(p);
     }
 }
 
 /// The feature of `shape` at `pose` facing the world direction `dir` (unit); `window` is how
 /// far below the support value a piece's support point may lie to count.
-fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
+fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real, f: &mut Feature) {
     let rot = pose.rotation();
     let r = pose.position();
     let m = rot.transpose() * dir;
     let world = |b: &Vec3| r + rot * b;
-    let mut f = Feature::empty();
+    f.pts.clear();
+    f.face = Vec3::zeros();
     // Flat faces.
     if let Some((verts, pad)) = shape.flat_vertices() {
         let cos_min = if pad > 0.0 { COS_CURVED } else { COS_FACET };
@@ -231,11 +229,14 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
             // when there are more than the feature holds); other polytopes' are the vertices
             // on the facet's plane.
             let planar = shape.kind() == crate::shapes::ShapeKind::Polygon;
+            // A facet's corner loop is in order already (counter-clockwise seen from outside).
+            let mut ordered = false;
             if let Some(corners) = shape.facet_corners(&nrm).filter(|_| !planar) {
                 let step = corners.len().div_ceil(MAX_FACE).max(1);
                 for &k in corners.iter().step_by(step) {
                     f.push(world(&(verts[k as usize] + nrm * pad)));
                 }
+                ordered = true;
             } else {
                 let top = verts
                     .iter()
@@ -249,29 +250,35 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
                 }
             }
             f.face = rot * nrm;
-            if f.k >= 3 {
-                order(&mut f);
-                return f;
+            if f.k() >= 3 {
+                if !ordered {
+                    order(f);
+                }
+                return;
             }
-            f.k = 0;
+            f.pts.clear();
         }
     } else if let Some((centre, radius)) = shape.disc(&m, COS_CURVED) {
-        // A regular polygon with a vertex at the rim's support point.
+        // A regular polygon with a vertex at the rim's support point, each vertex the last
+        // turned by 2π/DISC_POINTS.
         let myz = m.y.hypot(m.z);
-        let phase = if myz > 0.0 { m.z.atan2(m.y) } else { 0.0 };
-        for i in 0..DISC_POINTS {
-            let t = phase + std::f64::consts::TAU * i as Real / DISC_POINTS as Real;
-            f.push(world(
-                &(centre + Vec3::new(0.0, radius * t.cos(), radius * t.sin())),
-            ));
+        let (mut c, mut s) = if myz > 0.0 {
+            (m.y / myz, m.z / myz)
+        } else {
+            (1.0, 0.0)
+        };
+        let (sn, cs) = (std::f64::consts::TAU / DISC_POINTS as Real).sin_cos();
+        for _ in 0..DISC_POINTS {
+            f.push(world(&(centre + Vec3::new(0.0, radius * c, radius * s))));
+            (c, s) = (c * cs - s * sn, s * cs + c * sn);
         }
         f.face = rot * Vec3::new(centre.x.signum(), 0.0, 0.0);
-        return f;
+        return;
     }
     if shape.flat_vertices().is_some_and(|(_, pad)| pad == 0.0) {
         // A polytope without a facet facing m: its corner.
         f.push(world(&shape.support(&m).0));
-        return f;
+        return;
     }
     // Pieces: the support point, and the piece point farthest from it within the window.
     let (s, _) = shape.support(&m);
@@ -304,7 +311,6 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
             None => f.push(world(&p)),
         }
     }
-    f
 }
 
 /// The radius of the balls a capsule or padded polygon is made of.
@@ -320,7 +326,7 @@ fn ball_radius(shape: &Shape) -> Option<Real> {
 
 /// Orders a face's points counter-clockwise about its normal.
 fn order(f: &mut Feature) {
-    let k = f.k;
+    let k = f.k();
     let c = f.pts[..k].iter().sum::<Vec3>() / k as Real;
     let (u, v) = basis(&f.face);
     let mut key = [0.0; MAX_FACE];
@@ -359,7 +365,7 @@ fn cross2(a: &V2, b: &V2) -> Real {
 /// plane, or onto a segment's line.
 fn lift(f: &Feature, q: &V2, u: &Vec3, v: &Vec3, n: &Vec3) -> Vec3 {
     let x = u * q.x + v * q.y;
-    match f.k {
+    match f.k() {
         1 => f.pts[0],
         2 => {
             let (p0, p1) = (f.pts[0], f.pts[1]);
@@ -394,17 +400,17 @@ fn build(
 ) {
     let n = sd.normal;
     let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
-    let f1 = feature(shape1, pose1, &n, window);
-    let f2 = feature(shape2, pose2, &(-n), window);
-    if f1.k == 1 || f2.k == 1 {
+    let (mut f1, mut f2) = (Feature::empty(), Feature::empty());
+    feature(shape1, pose1, &n, window, &mut f1);
+    feature(shape2, pose2, &(-n), window, &mut f2);
+    if f1.k() == 1 || f2.k() == 1 {
         return;
     }
     let (u, v) = basis(&n);
     let proj = |p: &Vec3| V2::new(p.dot(&u), p.dot(&v));
-    let mut q = [V2::zeros(); BUF];
-    let nq;
-    if f1.k == 2 && f2.k == 2 {
-        nq = segments(
+    let mut q: ArrayVec<V2, BUF> = ArrayVec::new();
+    if f1.k() == 2 && f2.k() == 2 {
+        segments(
             &[proj(&f1.pts[0]), proj(&f1.pts[1])],
             &[proj(&f2.pts[0]), proj(&f2.pts[1])],
             SEP_TOL * ell,
@@ -413,7 +419,7 @@ fn build(
     } else {
         // The reference face: a face better aligned with n (a face beats a segment).
         let score = |f: &Feature, s: Real| {
-            if f.k >= 3 {
+            if f.k() >= 3 {
                 (f.face.dot(&n) * s).abs()
             } else {
                 -1.0
@@ -424,21 +430,15 @@ fn build(
         } else {
             (&f2, &f1)
         };
-        let mut r2 = [V2::zeros(); MAX_FACE];
-        for (o, p) in r2.iter_mut().zip(&reference.pts[..reference.k]) {
-            *o = proj(p);
-        }
-        let mut i2 = [V2::zeros(); BUF];
-        for (o, p) in i2.iter_mut().zip(&incident.pts[..incident.k]) {
-            *o = proj(p);
-        }
-        nq = if incident.k == 2 {
-            clip_segment(&r2[..reference.k], &[i2[0], i2[1]], &mut q)
+        let r2: ArrayVec<V2, MAX_FACE> = reference.pts.iter().map(proj).collect();
+        let i2: ArrayVec<V2, BUF> = incident.pts.iter().map(proj).collect();
+        if incident.k() == 2 {
+            clip_segment(&r2, &[i2[0], i2[1]], &mut q)
         } else {
-            clip_polygon(&r2[..reference.k], &mut i2, incident.k, &mut q)
-        };
+            clip_polygon(&r2, i2, &mut q)
+        }
     }
-    for qi in &q[..nq] {
+    for qi in &q {
         let a = lift(&f1, qi, &u, &v, &n);
         let b = lift(&f2, qi, &u, &v, &n);
         let depth = (a - b).dot(&n);
@@ -460,9 +460,10 @@ fn on_halfspace(
 ) {
     let n = pair.normal;
     let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
-    let f = feature(pair.other, pair.pose_b, &(-n), window);
+    let mut f = Feature::empty();
+    feature(pair.other, pair.pose_b, &(-n), window, &mut f);
     let plane = n.dot(pair.pose_h.position()) + pair.depth;
-    for q in &f.pts[..f.k] {
+    for q in &f.pts[..f.k()] {
         let depth = plane - n.dot(q);
         if -depth <= margin + SEP_TOL * ell {
             // Midway between the point and its projection onto the plane.
@@ -485,43 +486,39 @@ fn orientation(poly: &[V2]) -> Real {
     }
 }
 
-/// Sutherland–Hodgman: clips the polygon `inc[..k]` against the convex polygon `reference`;
-/// writes the result to `out` and returns its length.
-fn clip_polygon(reference: &[V2], inc: &mut [V2; BUF], k: usize, out: &mut [V2; BUF]) -> usize {
+/// Sutherland–Hodgman: clips the polygon `inc` against the convex polygon `reference`, into
+/// `out`.
+fn clip_polygon(reference: &[V2], mut inc: ArrayVec<V2, BUF>, out: &mut ArrayVec<V2, BUF>) {
     let s = orientation(reference);
-    let mut len = k;
-    let mut tmp = [V2::zeros(); BUF];
+    let mut tmp: ArrayVec<V2, BUF> = ArrayVec::new();
     for e in 0..reference.len() {
         let a = reference[e];
         let d = reference[(e + 1) % reference.len()] - a;
         let side = |p: &V2| s * cross2(&d, &(p - a));
-        let mut m = 0;
+        tmp.clear();
+        let len = inc.len();
         for i in 0..len {
             let p = inc[i];
             let c = inc[(i + 1) % len];
             let (sp, sc) = (side(&p), side(&c));
-            if sp >= 0.0 && m < BUF {
-                tmp[m] = p;
-                m += 1;
+            if sp >= 0.0 {
+                let _ = tmp.try_push(p);
             }
-            if (sp >= 0.0) != (sc >= 0.0) && m < BUF {
+            if (sp >= 0.0) != (sc >= 0.0) {
                 let t = sp / (sp - sc);
-                tmp[m] = p + (c - p) * t;
-                m += 1;
+                let _ = tmp.try_push(p + (c - p) * t);
             }
         }
-        inc[..m].copy_from_slice(&tmp[..m]);
-        len = m;
-        if len == 0 {
+        std::mem::swap(&mut inc, &mut tmp);
+        if inc.is_empty() {
             break;
         }
     }
-    out[..len].copy_from_slice(&inc[..len]);
-    len
+    out.extend(inc);
 }
 
-/// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`.
-fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut [V2; BUF]) -> usize {
+/// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`, into `out`.
+fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut ArrayVec<V2, BUF>) {
     let s = orientation(reference);
     let (p, d) = (seg[0], seg[1] - seg[0]);
     let (mut lo, mut hi) = (0.0, 1.0);
@@ -533,7 +530,7 @@ fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut [V2; BUF]) -> usize {
         let f1 = s * cross2(&ed, &d);
         if f1 == 0.0 {
             if f0 < 0.0 {
-                return 0;
+                return;
             }
         } else {
             let t = -f0 / f1;
@@ -545,57 +542,54 @@ fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut [V2; BUF]) -> usize {
         }
     }
     if lo > hi {
-        return 0;
+        return;
     }
-    out[0] = p + d * lo;
+    out.push(p + d * lo);
     if hi > lo {
-        out[1] = p + d * hi;
-        2
-    } else {
-        1
+        out.push(p + d * hi);
     }
 }
 
-/// Two segments in the plane: their overlap if parallel, else their crossing point.
-fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut [V2; BUF]) -> usize {
+/// Two segments in the plane: their overlap if parallel, else their crossing point, into
+/// `out`.
+fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut ArrayVec<V2, BUF>) {
     let (da, db) = (a[1] - a[0], b[1] - b[0]);
     let (la, lb) = (da.norm(), db.norm());
     if !(la > 0.0 && lb > 0.0) {
-        return 0;
+        return;
     }
     let c = cross2(&da, &db);
     if c.abs() <= 1e-6 * la * lb {
         // Parallel: unless the lines coincide (to rounding) the normal does not join them and
         // the witness point answers; else the overlap of b with a, as parameters along a.
         if cross2(&da, &(b[0] - a[0])).abs() > tol * la {
-            return 0;
+            return;
         }
         let ta = |p: &V2| (p - a[0]).dot(&da) / (la * la);
         let (t0, t1) = (ta(&b[0]), ta(&b[1]));
         let lo = t0.min(t1).max(0.0);
         let hi = t0.max(t1).min(1.0);
         if lo > hi {
-            return 0;
+            return;
         }
-        out[0] = a[0] + da * lo;
-        out[1] = a[0] + da * hi;
-        return if hi > lo { 2 } else { 1 };
+        out.push(a[0] + da * lo);
+        if hi > lo {
+            out.push(a[0] + da * hi);
+        }
+        return;
     }
     let w = b[0] - a[0];
     let s = cross2(&w, &db) / c;
     let t = cross2(&w, &da) / c;
     if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
-        out[0] = a[0] + da * s;
-        1
-    } else {
-        0
+        out.push(a[0] + da * s);
     }
 }
 
 /// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
 /// largest triangle with those two, then each time the one farthest from those chosen.
 fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize {
-    let n = pts.n;
+    let n = pts.len();
     if n <= cap {
         for (i, c) in chosen.iter_mut().enumerate().take(n) {
             *c = i;

@@ -96,6 +96,25 @@ pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Res
     let c = a.rot.tr_mul(b.rot);
     let t = a.rot.tr_mul(&(b.pos - a.pos));
     let (ha, hb) = (Body::of(a.poly), Body::of(b.poly));
+    if let (Body::Box(ea), Body::Box(eb)) = (ha, hb) {
+        let (v, n, axis) = match two_boxes(&ea, &eb, &c, &t) {
+            Ok(best) => best,
+            Err(()) => return Some(Err(())),
+        };
+        // The facets' indices in the boxes' own lists.
+        let axis = match axis {
+            Axis::Face1(k) => {
+                let want = Vec3::ith(k % 3, if k < 3 { 1.0 } else { -1.0 });
+                Axis::Face1(a.poly.facets().0.iter().position(|m| *m == want)?)
+            }
+            Axis::Face2(k) => {
+                let want = Vec3::ith(k % 3, if k < 3 { 1.0 } else { -1.0 });
+                Axis::Face2(b.poly.facets().0.iter().position(|m| *m == want)?)
+            }
+            e => e,
+        };
+        return witnesses(a, b, v, a.rot * n, axis, scale);
+    }
     let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
     let mut keep = |v: Real, n: Vec3, axis: Axis| {
         if v < best.0 {
@@ -136,7 +155,77 @@ pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Res
             }
         }
     }
-    let best = (best.0, a.rot * best.1, best.2);
+    witnesses(a, b, best.0, a.rot * best.1, best.2, scale)
+}
+
+/// Two centred boxes of half extents `ea`, `eb` in shape 1's frame, shape 2 turned by `c` at
+/// `t`: the least `f` over the 15 axes (the 3 + 3 face axes, signed towards shape 2, and the 9
+/// edge cross products), its unit normal (shape 1's frame) and axis (`Face1(k)`/`Face2(k)`:
+/// the body normal `±e_{k mod 3}`, `k < 3` positive); `Err` when an axis separates.
+fn two_boxes(ea: &Vec3, eb: &Vec3, c: &Mat3, t: &Vec3) -> Result<(Real, Vec3, Axis), ()> {
+    let abs = c.abs();
+    let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
+    let mut keep = |v: Real, n: Vec3, axis: Axis| {
+        if v < best.0 {
+            best = (v, n, axis);
+        }
+        v < 0.0
+    };
+    for k in 0..3 {
+        let rb = eb.x * abs[(k, 0)] + eb.y * abs[(k, 1)] + eb.z * abs[(k, 2)];
+        let s = if t[k] < 0.0 { -1.0 } else { 1.0 };
+        if keep(
+            ea[k] + rb - t[k].abs(),
+            Vec3::ith(k, s),
+            Axis::Face1(k + if s < 0.0 { 3 } else { 0 }),
+        ) {
+            return Err(());
+        }
+    }
+    for j in 0..3 {
+        let col = c.column(j).into_owned();
+        let ra = ea.x * abs[(0, j)] + ea.y * abs[(1, j)] + ea.z * abs[(2, j)];
+        let tj = col.dot(t);
+        let s = if tj < 0.0 { -1.0 } else { 1.0 };
+        // Shape 2's facet facing shape 1 has the body normal −s·e_j.
+        if keep(
+            ra + eb[j] - tj.abs(),
+            col * s,
+            Axis::Face2(j + if s > 0.0 { 3 } else { 0 }),
+        ) {
+            return Err(());
+        }
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            let l = Vec3::ith(i, 1.0).cross(&c.column(j));
+            let len = l.norm();
+            if !(len > PARALLEL) {
+                continue;
+            }
+            let m = c.tr_mul(&l);
+            let ra = ea.x * l.x.abs() + ea.y * l.y.abs() + ea.z * l.z.abs();
+            let rb = eb.x * m.x.abs() + eb.y * m.y.abs() + eb.z * m.z.abs();
+            let lt = l.dot(t);
+            let s = if lt < 0.0 { -1.0 } else { 1.0 };
+            if keep((ra + rb - lt.abs()) / len, l * (s / len), Axis::Edges(len)) {
+                return Err(());
+            }
+        }
+    }
+    Ok(best)
+}
+
+/// The witness points of the winning candidate (`n` world, from shape 1 to shape 2).
+fn witnesses(
+    a: &Placed<'_>,
+    b: &Placed<'_>,
+    depth: Real,
+    n: Vec3,
+    axis: Axis,
+    scale: Real,
+) -> Option<Result<Overlap, ()>> {
+    let best = (depth, n, axis);
     let (depth, n, axis) = best;
     if !depth.is_finite() {
         return None;
