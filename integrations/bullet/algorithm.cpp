@@ -1,0 +1,278 @@
+// The collision algorithm that answers Bullet's pairs with dcol_contacts, its create function and
+// its registration: see dcol_bullet.hpp.
+#include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <LinearMath/btPoolAllocator.h>
+
+#include <cmath>
+#include <new>
+
+#include "internal.hpp"
+
+namespace dcol_bullet {
+
+using detail::Entry;
+
+namespace {
+
+const std::size_t kMaxPoints = 4;  // Bullet's persistent manifold holds four
+
+// Bullet's planes as a dcol half-space of depth 1, made on first use and kept for the process.
+const dcol_shape *plane_halfspace() {
+  struct Holder {
+    dcol_shape *s = nullptr;
+    Holder() { dcol_shape_new_halfspace(1.0, &s); }
+    ~Holder() { dcol_shape_free(s); }
+  };
+  static const Holder h;
+  return h.s;
+}
+
+void count(std::atomic<unsigned long> &c) { c.fetch_add(1, std::memory_order_relaxed); }
+
+// One side of a pair: the entry it uses and what it was looked up for.
+struct Slot {
+  std::shared_ptr<const Entry> entry;
+  const btCollisionShape *shape = nullptr;
+  unsigned epoch = 0;
+
+  // The entry for `s` as it is now: re-looked up when the shape, its parameters or the cache
+  // (forget) changed since the last call.
+  const Entry &get(const btCollisionShape *s) {
+    const unsigned ep = detail::g_epoch.load(std::memory_order_relaxed);
+    if (!entry || shape != s || epoch != ep || !(entry->key == detail::key_of(s))) {
+      entry = detail::lookup(s);
+      shape = s;
+      epoch = ep;
+    }
+    return *entry;
+  }
+};
+
+bool is_plane(const btCollisionShape *s) { return s->getShapeType() == STATIC_PLANE_PROXYTYPE; }
+
+// Bullet's own algorithm for a pair (the dispatcher's collision configuration's).
+btCollisionAlgorithm *native_algorithm(const btCollisionAlgorithmConstructionInfo &ci, const btCollisionObjectWrapper *a,
+                                       const btCollisionObjectWrapper *b) {
+  btCollisionDispatcher *d = static_cast<btCollisionDispatcher *>(ci.m_dispatcher1);
+  btCollisionAlgorithmCreateFunc *f = d->getCollisionConfiguration()->getCollisionAlgorithmCreateFunc(
+      a->getCollisionShape()->getShapeType(), b->getCollisionShape()->getShapeType());
+  btCollisionAlgorithmConstructionInfo info = ci;
+  info.m_manifold = nullptr;
+  return f ? f->CreateCollisionAlgorithm(info, a, b) : nullptr;
+}
+
+class Algorithm : public btActivatingCollisionAlgorithm {
+ public:
+  Algorithm(const btCollisionAlgorithmConstructionInfo &ci, const btCollisionObjectWrapper *b0,
+            const btCollisionObjectWrapper *b1)
+      : btActivatingCollisionAlgorithm(ci, b0, b1), m_ci(ci) {
+    m_manifold = m_dispatcher->getNewManifold(b0->getCollisionObject(), b1->getCollisionObject());
+  }
+  ~Algorithm() override {
+    drop_fallback();
+    if (m_manifold) m_dispatcher->releaseManifold(m_manifold);
+  }
+
+  void processCollision(const btCollisionObjectWrapper *a, const btCollisionObjectWrapper *b, const btDispatcherInfo &info,
+                        btManifoldResult *result) override {
+    const btCollisionShape *sa = a->getCollisionShape(), *sb = b->getCollisionShape();
+    const bool pa = is_plane(sa), pb = is_plane(sb);
+    const Entry *ea = pa ? nullptr : &m_slots[0].get(sa);
+    const Entry *eb = pb ? nullptr : &m_slots[1].get(sb);
+    if ((ea && !ea->shape) || (eb && !eb->shape) || (pa && pb)) {
+      fallback(a, b, info, result);
+      return;
+    }
+    drop_fallback();
+    count(detail::counters().calls);
+    result->setPersistentManifold(m_manifold);
+    const double margin = m_manifold->getContactBreakingThreshold();
+    dcol_contact cs[kMaxPoints];
+    std::size_t n = 0;
+    dcol_status st = DCOL_OK;
+    bool queried = false;
+    if (ea && eb) {
+      const btVector3 d = b->getWorldTransform().getOrigin() - a->getWorldTransform().getOrigin();
+      const double reach = ea->radius + eb->radius + margin;
+      // Bounding spheres apart by more than the margin: no contact (a NaN distance falls through
+      // to dcol, which rejects the pose).
+      if (!(double(d.length2()) > reach * reach)) {
+        const dcol_pose p1 = detail::world_pose(*ea, a->getWorldTransform());
+        const dcol_pose p2 = detail::world_pose(*eb, b->getWorldTransform());
+        st = dcol_contacts(ea->shape, &p1, eb->shape, &p2, margin, nullptr, cs, kMaxPoints, &n);
+        queried = true;
+      }
+    } else {
+      queried = plane_contacts(pa ? a : b, pa ? b : a, pa ? eb : ea, pa, margin, cs, &n, &st);
+    }
+    if (!queried) count(detail::counters().early_outs);
+    if (st == DCOL_ERROR_INVALID_POSE) {
+      count(detail::counters().invalid_poses);
+      m_manifold->clearManifold();
+      return;
+    }
+    if (st == DCOL_ERROR_NOT_CONVERGED) count(detail::counters().not_converged);
+    if (st != DCOL_OK && st != DCOL_ERROR_NOT_CONVERGED) {
+      count(detail::counters().errors);
+      n = 0;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const dcol_contact &c = cs[i];
+      const btVector3 normal(btScalar(c.normal[0]), btScalar(c.normal[1]), btScalar(c.normal[2]));
+      const double h = 0.5 * c.depth;
+      const btVector3 on_b(btScalar(c.position[0] - h * c.normal[0]), btScalar(c.position[1] - h * c.normal[1]),
+                           btScalar(c.position[2] - h * c.normal[2]));
+      // Bullet: normal on B towards A, point on B, distance (< 0 penetrating).
+      result->addContactPoint(-normal, on_b, btScalar(-c.depth));
+    }
+    result->refreshContactPoints();
+  }
+
+  btScalar calculateTimeOfImpact(btCollisionObject *, btCollisionObject *, const btDispatcherInfo &,
+                                 btManifoldResult *) override {
+    return btScalar(1);
+  }
+
+  void getAllContactManifolds(btManifoldArray &manifolds) override {
+    if (m_fallback) {
+      m_fallback->getAllContactManifolds(manifolds);
+    } else if (m_manifold) {
+      manifolds.push_back(m_manifold);
+    }
+  }
+
+ private:
+  // A shape against Bullet's plane n.x = c (plane object frame): the plane is the dcol half-space
+  // of depth 1 whose boundary it is, its origin under the shape's dcol origin. Returns whether
+  // dcol was asked (false: the bounding sphere is above the plane by more than the margin).
+  static bool plane_contacts(const btCollisionObjectWrapper *pw, const btCollisionObjectWrapper *sw, const Entry *e,
+                             bool plane_first, double margin, dcol_contact *cs, std::size_t *n, dcol_status *st) {
+    const btStaticPlaneShape *plane = static_cast<const btStaticPlaneShape *>(pw->getCollisionShape());
+    const btTransform &tp = pw->getWorldTransform();
+    const btVector3 nb = tp.getBasis() * plane->getPlaneNormal();
+    double nrm[3] = {nb.x(), nb.y(), nb.z()};
+    const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    if (!(len > 0)) {
+      *st = DCOL_ERROR_INVALID_POSE;
+      return true;
+    }
+    for (double &v : nrm) v /= len;
+    const btVector3 &o = tp.getOrigin();
+    const double c = plane->getPlaneConstant() / len + nrm[0] * o.x() + nrm[1] * o.y() + nrm[2] * o.z();
+    const btVector3 &so = sw->getWorldTransform().getOrigin();
+    const double above = nrm[0] * so.x() + nrm[1] * so.y() + nrm[2] * so.z() - c;
+    if (above - e->radius > margin) return false;
+    const dcol_pose ps = detail::world_pose(*e, sw->getWorldTransform());
+    const double h = nrm[0] * ps.position[0] + nrm[1] * ps.position[1] + nrm[2] * ps.position[2] - c;
+    dcol_pose box;
+    for (int k = 0; k < 3; ++k) box.position[k] = ps.position[k] - (h + 1.0) * nrm[k];
+    // The rotation taking e_z to the plane normal.
+    double w = 1.0 + nrm[2], x = -nrm[1], y = nrm[0];
+    if (w < 1e-12) {
+      w = 0;
+      x = 1;
+      y = 0;
+    }
+    const double ql = std::sqrt(w * w + x * x + y * y);
+    box.quaternion[0] = w / ql;
+    box.quaternion[1] = x / ql;
+    box.quaternion[2] = y / ql;
+    box.quaternion[3] = 0;
+    const dcol_shape *hs = plane_halfspace();
+    *st = plane_first ? dcol_contacts(hs, &box, e->shape, &ps, margin, nullptr, cs, kMaxPoints, n)
+                      : dcol_contacts(e->shape, &ps, hs, &box, margin, nullptr, cs, kMaxPoints, n);
+    return true;
+  }
+
+  void fallback(const btCollisionObjectWrapper *a, const btCollisionObjectWrapper *b, const btDispatcherInfo &info,
+                btManifoldResult *result) {
+    count(detail::counters().fallback_calls);
+    if (m_manifold->getNumContacts()) m_manifold->clearManifold();
+    if (!m_fallback) m_fallback = native_algorithm(m_ci, a, b);
+    if (m_fallback) m_fallback->processCollision(a, b, info, result);
+  }
+
+  void drop_fallback() {
+    if (!m_fallback) return;
+    m_fallback->~btCollisionAlgorithm();
+    m_dispatcher->freeCollisionAlgorithm(m_fallback);
+    m_fallback = nullptr;
+  }
+
+  btCollisionAlgorithmConstructionInfo m_ci;
+  btPersistentManifold *m_manifold = nullptr;
+  btCollisionAlgorithm *m_fallback = nullptr;
+  Slot m_slots[2];
+};
+
+// Whether dcol can take the shape of `w` now (a plane always: it is dcol's half-space).
+bool takes(const btCollisionObjectWrapper *w) {
+  const btCollisionShape *s = w->getCollisionShape();
+  return is_plane(s) || detail::lookup(s)->shape != nullptr;
+}
+
+struct CreateFunc : public btCollisionAlgorithmCreateFunc {
+  btCollisionAlgorithm *CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo &ci,
+                                                 const btCollisionObjectWrapper *b0,
+                                                 const btCollisionObjectWrapper *b1) override {
+    // A shape dcol cannot take (a zero-size box, a degenerate hull) keeps Bullet's algorithm.
+    if (!takes(b0) || !takes(b1)) return native_algorithm(ci, b0, b1);
+    btCollisionDispatcher *d = static_cast<btCollisionDispatcher *>(ci.m_dispatcher1);
+    // The dispatcher's pool hands out blocks of the configuration's largest algorithm; a bigger
+    // one is allocated apart (freeCollisionAlgorithm frees either).
+    const int size = static_cast<int>(sizeof(Algorithm));
+    const btPoolAllocator *pool = d->getCollisionConfiguration()->getCollisionAlgorithmPool();
+    void *mem = pool && size <= pool->getElementSize() ? d->allocateCollisionAlgorithm(size) : btAlignedAlloc(size, 16);
+    return new (mem) Algorithm(ci, b0, b1);
+  }
+};
+
+CreateFunc &create_func() {
+  static CreateFunc f;  // stateless: one for every dispatcher
+  return f;
+}
+
+const int kBulletTypes[] = {SPHERE_SHAPE_PROXYTYPE,   BOX_SHAPE_PROXYTYPE,  CAPSULE_SHAPE_PROXYTYPE,
+                            CYLINDER_SHAPE_PROXYTYPE, CONE_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE};
+
+void register_pair(btCollisionDispatcher *d, int t0, int t1) {
+  d->registerCollisionCreateFunc(t0, t1, &create_func());
+  d->registerCollisionCreateFunc(t1, t0, &create_func());
+}
+
+}  // namespace
+
+void register_algorithms(btCollisionDispatcher *dispatcher) {
+  if (!dispatcher) return;
+  register_pair(dispatcher, CUSTOM_CONVEX_SHAPE_TYPE, CUSTOM_CONVEX_SHAPE_TYPE);
+  register_pair(dispatcher, CUSTOM_CONVEX_SHAPE_TYPE, STATIC_PLANE_PROXYTYPE);
+  for (int t : kBulletTypes) register_pair(dispatcher, CUSTOM_CONVEX_SHAPE_TYPE, t);
+}
+
+void use_dcol(btCollisionDispatcher *dispatcher) {
+  if (!dispatcher) return;
+  register_algorithms(dispatcher);
+  for (int t0 : kBulletTypes) {
+    register_pair(dispatcher, t0, STATIC_PLANE_PROXYTYPE);
+    for (int t1 : kBulletTypes) register_pair(dispatcher, t0, t1);
+  }
+}
+
+unsigned long algorithm_calls() { return detail::counters().calls.load(std::memory_order_relaxed); }
+
+Stats stats() {
+  const detail::Counters &c = detail::counters();
+  Stats s;
+  s.calls = c.calls.load(std::memory_order_relaxed);
+  s.early_outs = c.early_outs.load(std::memory_order_relaxed);
+  s.fallback_calls = c.fallback_calls.load(std::memory_order_relaxed);
+  s.invalid_poses = c.invalid_poses.load(std::memory_order_relaxed);
+  s.not_converged = c.not_converged.load(std::memory_order_relaxed);
+  s.errors = c.errors.load(std::memory_order_relaxed);
+  s.shapes_built = c.shapes_built.load(std::memory_order_relaxed);
+  return s;
+}
+
+}  // namespace dcol_bullet

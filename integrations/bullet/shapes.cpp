@@ -1,0 +1,257 @@
+// Bullet shapes as dcol shapes, and the cache of those mappings: see dcol_bullet.hpp and
+// docs/bullet.md (the mapping table and why each shape maps as it does).
+#include <cmath>
+#include <algorithm>
+#include <cstring>
+#include <mutex>
+#include <unordered_map>
+
+#include "internal.hpp"
+
+namespace dcol_bullet {
+namespace detail {
+
+std::atomic<unsigned> g_epoch{0};
+
+Counters &counters() {
+  static Counters c;
+  return c;
+}
+
+bool Key::operator==(const Key &o) const {
+  return shape == o.shape && type == o.type && ints[0] == o.ints[0] && ints[1] == o.ints[1] && ptr == o.ptr &&
+         std::memcmp(f, o.f, sizeof f) == 0;  // bytes: a NaN size still equals itself
+}
+
+bool mapped_type(int type) {
+  switch (type) {
+    case SPHERE_SHAPE_PROXYTYPE:
+    case BOX_SHAPE_PROXYTYPE:
+    case CAPSULE_SHAPE_PROXYTYPE:
+    case CYLINDER_SHAPE_PROXYTYPE:
+    case CONE_SHAPE_PROXYTYPE:
+    case CONVEX_HULL_SHAPE_PROXYTYPE:
+    case CUSTOM_CONVEX_SHAPE_TYPE:
+      return true;
+    default:
+      return false;
+  }
+}
+
+Key key_of(const btCollisionShape *shape) {
+  Key k;
+  k.shape = shape;
+  k.type = shape->getShapeType();
+  if (!mapped_type(k.type)) return k;
+  if (k.type == CUSTOM_CONVEX_SHAPE_TYPE) {
+    const Shape *s = static_cast<const Shape *>(shape);
+    k.ptr = s->dcol();
+    k.f[0] = btScalar(s->radius());
+    return k;
+  }
+  // Every mapped Bullet type is a btConvexInternalShape: its implicit dimensions (scaling
+  // included), local scaling and margin, read without virtual calls.
+  const btConvexInternalShape *c = static_cast<const btConvexInternalShape *>(shape);
+  const btVector3 &dims = c->getImplicitShapeDimensions();
+  const btVector3 &scale = c->getLocalScalingNV();
+  for (int i = 0; i < 3; ++i) {
+    k.f[i] = dims[i];
+    k.f[3 + i] = scale[i];
+  }
+  k.f[6] = c->getMarginNV();
+  switch (k.type) {
+    case CAPSULE_SHAPE_PROXYTYPE:
+      k.ints[0] = static_cast<const btCapsuleShape *>(shape)->getUpAxis();
+      break;
+    case CYLINDER_SHAPE_PROXYTYPE:
+      k.ints[0] = static_cast<const btCylinderShape *>(shape)->getUpAxis();
+      break;
+    case CONE_SHAPE_PROXYTYPE: {
+      // setRadius/setHeight change the cone without touching its implicit dimensions.
+      const btConeShape *cone = static_cast<const btConeShape *>(shape);
+      k.ints[0] = cone->getConeUpIndex();
+      k.f[0] = cone->getRadius();
+      k.f[1] = cone->getHeight();
+      break;
+    }
+    case CONVEX_HULL_SHAPE_PROXYTYPE: {
+      const btConvexHullShape *hull = static_cast<const btConvexHullShape *>(shape);
+      k.ints[1] = hull->getNumPoints();
+      k.ptr = hull->getNumPoints() > 0 ? static_cast<const void *>(hull->getUnscaledPoints()) : nullptr;
+      break;
+    }
+    default:
+      break;
+  }
+  return k;
+}
+
+Entry::~Entry() { dcol_shape_free(owned); }
+
+namespace {
+
+const double kH = 0.70710678118654752440;  // sqrt(1/2)
+
+// The rotation taking dcol's body x axis to `sign` times Bullet's axis `axis` (w, x, y, z).
+void axis_rotation(int axis, int sign, double q[4]) {
+  static const double plus[3][4] = {{1, 0, 0, 0}, {kH, 0, 0, kH}, {kH, 0, -kH, 0}};
+  static const double minus[3][4] = {{0, 0, 0, 1}, {kH, 0, 0, -kH}, {kH, 0, kH, 0}};
+  const double(&r)[4] = sign > 0 ? plus[axis] : minus[axis];
+  for (int i = 0; i < 4; ++i) q[i] = r[i];
+}
+
+bool finite_positive(double v) { return std::isfinite(v) && v > 0; }
+
+// Fills `e` for a Bullet shape of a mapped type; leaves e.shape null when dcol cannot take it.
+void build(const btCollisionShape *shape, Entry &e) {
+  dcol_shape *s = nullptr;
+  switch (e.key.type) {
+    case CUSTOM_CONVEX_SHAPE_TYPE: {
+      const Shape *c = static_cast<const Shape *>(shape);
+      e.shape = c->dcol();
+      e.radius = c->radius();
+      return;
+    }
+    case SPHERE_SHAPE_PROXYTYPE: {
+      const double r = static_cast<const btSphereShape *>(shape)->getRadius();
+      if (finite_positive(r) && dcol_shape_new_sphere(r, &s) == DCOL_OK) e.radius = r;
+      break;
+    }
+    case BOX_SHAPE_PROXYTYPE: {
+      // The sharp box of the half extents with margin: what btBoxBoxDetector and the plane
+      // algorithm collide (GJK rounds its edges and corners by the margin).
+      const btVector3 h = static_cast<const btBoxShape *>(shape)->getHalfExtentsWithMargin();
+      if (finite_positive(h.x()) && finite_positive(h.y()) && finite_positive(h.z()) &&
+          dcol_shape_new_box(h.x(), h.y(), h.z(), &s) == DCOL_OK) {
+        e.radius = std::sqrt(double(h.x()) * h.x() + double(h.y()) * h.y() + double(h.z()) * h.z());
+      }
+      break;
+    }
+    case CAPSULE_SHAPE_PROXYTYPE: {
+      const btCapsuleShape *c = static_cast<const btCapsuleShape *>(shape);
+      const double r = c->getRadius(), hh = c->getHalfHeight();
+      if (!finite_positive(r) || !std::isfinite(hh) || hh < 0) break;
+      // A capsule of no length is its sphere.
+      const dcol_status st = hh > 0 ? dcol_shape_new_capsule(r, 2 * hh, &s) : dcol_shape_new_sphere(r, &s);
+      if (st != DCOL_OK) break;
+      e.radius = hh + r;
+      if (c->getUpAxis() != 0) {
+        e.has_offset = true;
+        axis_rotation(c->getUpAxis(), 1, e.quat);
+      }
+      break;
+    }
+    case CYLINDER_SHAPE_PROXYTYPE: {
+      // The sharp cylinder of the half extents with margin (Bullet rounds its rims by the margin).
+      const btCylinderShape *c = static_cast<const btCylinderShape *>(shape);
+      const int up = c->getUpAxis();
+      const btVector3 h = c->getHalfExtentsWithMargin();
+      const double r = h[up == 0 ? 1 : 0], hh = h[up];
+      if (!finite_positive(r) || !finite_positive(hh) || dcol_shape_new_cylinder(r, 2 * hh, &s) != DCOL_OK) break;
+      e.radius = std::sqrt(r * r + hh * hh);
+      if (up != 0) {
+        e.has_offset = true;
+        axis_rotation(up, 1, e.quat);
+      }
+      break;
+    }
+    case CONE_SHAPE_PROXYTYPE: {
+      // Bullet's cone: apex at +h/2 on the up axis, base disc of radius r at -h/2, grown by the
+      // margin. Its base and mantle are those of the cone with the same half angle whose base is
+      // m lower and whose mantle is m farther out: height H = h + m + m / sin(beta).
+      const btConeShape *c = static_cast<const btConeShape *>(shape);
+      const double r = c->getRadius(), h = c->getHeight(), m = c->getMarginNV();
+      if (!finite_positive(r) || !finite_positive(h) || !std::isfinite(m) || m < 0) break;
+      const double beta = std::atan2(r, h);
+      const double H = h + m + m * std::sqrt(r * r + h * h) / r;
+      if (dcol_shape_new_cone(H, beta, &s) != DCOL_OK) break;
+      const double centroid = -0.5 * h - m + 0.25 * H;  // on the up axis
+      const int up = c->getConeUpIndex();
+      e.has_offset = true;
+      e.pos[up] = centroid;
+      axis_rotation(up, -1, e.quat);  // dcol's apex is at -3H/4 on body x: body x is -up
+      const double rb = H * r / h;
+      e.radius = std::max(std::fabs(centroid + 0.75 * H), std::hypot(centroid - 0.25 * H, rb));
+      break;
+    }
+    default:
+      break;  // a convex hull: not yet (Bullet's own algorithm)
+  }
+  e.shape = s;
+  e.owned = s;
+}
+
+struct Cache {
+  std::mutex mutex;
+  std::unordered_map<const btCollisionShape *, std::shared_ptr<const Entry>> map;
+};
+
+Cache &cache() {
+  static Cache c;  // destroyed at exit, freeing every dcol shape it built
+  return c;
+}
+
+}  // namespace
+
+std::shared_ptr<const Entry> lookup(const btCollisionShape *shape) {
+  const Key key = key_of(shape);
+  Cache &c = cache();
+  std::lock_guard<std::mutex> lock(c.mutex);
+  std::shared_ptr<const Entry> &slot = c.map[shape];
+  if (slot && slot->key == key) return slot;
+  std::shared_ptr<Entry> e = std::make_shared<Entry>();
+  e->key = key;
+  if (mapped_type(key.type)) {
+    build(shape, *e);
+    if (e->owned) counters().shapes_built.fetch_add(1, std::memory_order_relaxed);
+  }
+  slot = e;
+  return slot;
+}
+
+dcol_pose world_pose(const Entry &e, const btTransform &t) {
+  dcol_pose p;
+  const btVector3 &o = t.getOrigin();
+  const btQuaternion q = t.getRotation();
+  const double w = q.w(), x = q.x(), y = q.y(), z = q.z();
+  if (!e.has_offset) {
+    for (int i = 0; i < 3; ++i) p.position[i] = o[i];
+    p.quaternion[0] = w;  // dcol: (w, x, y, z)
+    p.quaternion[1] = x;
+    p.quaternion[2] = y;
+    p.quaternion[3] = z;
+    return p;
+  }
+  const btMatrix3x3 &b = t.getBasis();
+  for (int i = 0; i < 3; ++i) {
+    p.position[i] = double(o[i]) + double(b[i][0]) * e.pos[0] + double(b[i][1]) * e.pos[1] + double(b[i][2]) * e.pos[2];
+  }
+  const double *r = e.quat;  // q (x) r
+  p.quaternion[0] = w * r[0] - x * r[1] - y * r[2] - z * r[3];
+  p.quaternion[1] = w * r[1] + x * r[0] + y * r[3] - z * r[2];
+  p.quaternion[2] = w * r[2] - x * r[3] + y * r[0] + z * r[1];
+  p.quaternion[3] = w * r[3] + x * r[2] - y * r[1] + z * r[0];
+  return p;
+}
+
+}  // namespace detail
+
+bool as_dcol(const btCollisionShape *shape, const btTransform &world, const dcol_shape **out, dcol_pose *pose) {
+  if (!shape || !out || !pose || !detail::mapped_type(shape->getShapeType())) return false;
+  const std::shared_ptr<const detail::Entry> e = detail::lookup(shape);
+  if (!e->shape) return false;
+  *out = e->shape;
+  *pose = detail::world_pose(*e, world);
+  return true;
+}
+
+void forget(const btCollisionShape *shape) {
+  detail::Cache &c = detail::cache();
+  {
+    std::lock_guard<std::mutex> lock(c.mutex);
+    c.map.erase(shape);
+  }
+  detail::g_epoch.fetch_add(1, std::memory_order_relaxed);
+}
+
+}  // namespace dcol_bullet
