@@ -93,6 +93,10 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     std::size_t n = 0;
     dcol_status st = DCOL_OK;
     bool queried = false;
+    // Cylinders and cones are dcol shapes grown by a ball: their contacts are those of the dcol
+    // shapes within the margin plus the pads, the depths deeper by the pads and B's points moved
+    // out by its pad (signed distances of grown convex shapes shift by the radii exactly).
+    const double pad_a = ea ? ea->pad : 0, pad_b = eb ? eb->pad : 0;
     if (ea && eb) {
       const btVector3 d = b->getWorldTransform().getOrigin() - a->getWorldTransform().getOrigin();
       const double reach = ea->radius + eb->radius + margin;
@@ -101,7 +105,7 @@ class Algorithm : public btActivatingCollisionAlgorithm {
       if (!(double(d.length2()) > reach * reach)) {
         const dcol_pose p1 = detail::world_pose(*ea, a->getWorldTransform());
         const dcol_pose p2 = detail::world_pose(*eb, b->getWorldTransform());
-        st = dcol_contacts(ea->shape, &p1, eb->shape, &p2, margin, nullptr, cs, kMaxPoints, &n);
+        st = dcol_contacts(ea->shape, &p1, eb->shape, &p2, margin + pad_a + pad_b, nullptr, cs, kMaxPoints, &n);
         queried = true;
       }
     } else {
@@ -121,11 +125,11 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     for (std::size_t i = 0; i < n; ++i) {
       const dcol_contact &c = cs[i];
       const btVector3 normal(btScalar(c.normal[0]), btScalar(c.normal[1]), btScalar(c.normal[2]));
-      const double h = 0.5 * c.depth;
+      const double h = 0.5 * c.depth + pad_b;
       const btVector3 on_b(btScalar(c.position[0] - h * c.normal[0]), btScalar(c.position[1] - h * c.normal[1]),
                            btScalar(c.position[2] - h * c.normal[2]));
       // Bullet: normal on B towards A, point on B, distance (< 0 penetrating).
-      result->addContactPoint(-normal, on_b, btScalar(-c.depth));
+      result->addContactPoint(-normal, on_b, btScalar(-(c.depth + pad_a + pad_b)));
     }
     result->refreshContactPoints();
   }
@@ -164,6 +168,7 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     const btVector3 &so = sw->getWorldTransform().getOrigin();
     const double above = nrm[0] * so.x() + nrm[1] * so.y() + nrm[2] * so.z() - c;
     if (above - e->radius > margin) return false;
+    margin += e->pad;
     const dcol_pose ps = detail::world_pose(*e, sw->getWorldTransform());
     const double h = nrm[0] * ps.position[0] + nrm[1] * ps.position[1] + nrm[2] * ps.position[2] - c;
     dcol_pose box;
@@ -218,7 +223,10 @@ struct CreateFunc : public btCollisionAlgorithmCreateFunc {
                                                  const btCollisionObjectWrapper *b0,
                                                  const btCollisionObjectWrapper *b1) override {
     // A shape dcol cannot take (a zero-size box, a degenerate hull) keeps Bullet's algorithm.
-    if (!takes(b0) || !takes(b1)) return native_algorithm(ci, b0, b1);
+    if (!takes(b0) || !takes(b1)) {
+      count(detail::counters().fallback_pairs);
+      return native_algorithm(ci, b0, b1);
+    }
     btCollisionDispatcher *d = static_cast<btCollisionDispatcher *>(ci.m_dispatcher1);
     // The dispatcher's pool hands out blocks of the configuration's largest algorithm; a bigger
     // one is allocated apart (freeCollisionAlgorithm frees either).
@@ -267,6 +275,7 @@ Stats stats() {
   Stats s;
   s.calls = c.calls.load(std::memory_order_relaxed);
   s.early_outs = c.early_outs.load(std::memory_order_relaxed);
+  s.fallback_pairs = c.fallback_pairs.load(std::memory_order_relaxed);
   s.fallback_calls = c.fallback_calls.load(std::memory_order_relaxed);
   s.invalid_poses = c.invalid_poses.load(std::memory_order_relaxed);
   s.not_converged = c.not_converged.load(std::memory_order_relaxed);

@@ -15,16 +15,18 @@
 // their convex children go through dcol too.
 //
 // Each Bullet shape maps to the dcol shape of the geometry Bullet collides, margins included
-// (docs/bullet.md has the table): a box is the dcol box of its half extents with margin; a
-// sphere and a capsule are themselves; a cylinder is the dcol cylinder of its half extents with
-// margin (Bullet rounds its rims by the margin: the dcol cylinder keeps them sharp); a cone grows
-// by its margin, and maps to the dcol cone whose base and mantle are those of the grown cone
-// (apex and rim sharp); a convex hull is the padded hull of its scaled points, radius = margin,
-// built about the points' mean when they do not surround the shape's origin. The dcol shape is
-// built once per Bullet shape and reused while the parameters that define its geometry (type,
-// dimensions, margin, local scaling, up axis, number of points) are unchanged; forget() drops it
-// (call it after editing a hull's points in place). A shape dcol cannot take (a zero-size box, a
-// degenerate hull, non-finite sizes) keeps Bullet's own algorithm for its pairs.
+// (docs/bullet.md has the table): a sphere and a capsule are themselves; a box is the sharp dcol
+// box of its half extents with margin (what Bullet's box-box and plane algorithms collide; its
+// GJK pairs round the edges by the margin); a cylinder is its core (the half extents without
+// margin) grown by the margin, and a cone (apex at +height/2 on the up axis) grown by its margin:
+// the dcol cylinder or cone of the core, with the margin added to the contacts (signed distances
+// of grown shapes shift by the radius exactly); a convex hull is the padded hull of its scaled
+// points, radius = margin, built about the points' mean when they do not surround the shape's
+// origin. The dcol shape is built once per Bullet shape and reused while the parameters that
+// define its geometry (type, dimensions, margin, local scaling, up axis, number of points) are
+// unchanged; forget() drops it (call it after editing a hull's points in place). A shape dcol
+// cannot take (a zero-size box, a degenerate hull, non-finite sizes, a margin larger than a
+// cylinder's half extents) keeps Bullet's own algorithm for its pairs.
 //
 // Contacts: dcol_contacts with margin = the persistent manifold's contact breaking threshold,
 // at most 4 points, written through btManifoldResult::addContactPoint(normalOnBInWorld,
@@ -102,7 +104,8 @@ unsigned long algorithm_calls();
 struct Stats {
   unsigned long calls;           ///< pair calls answered by dcol (= algorithm_calls())
   unsigned long early_outs;      ///< of those, decided apart by bounding spheres without a query
-  unsigned long fallback_calls;  ///< pair calls handed to Bullet's own algorithm (shape dcol cannot take)
+  unsigned long fallback_pairs;  ///< pairs given Bullet's own algorithm when created (a shape dcol cannot take)
+  unsigned long fallback_calls;  ///< calls of dcol's algorithm handed to Bullet's (a shape changed into one dcol cannot take)
   unsigned long invalid_poses;   ///< calls with a non-finite pose: no contacts
   unsigned long not_converged;   ///< dcol_contacts answered DCOL_ERROR_NOT_CONVERGED (best answer used)
   unsigned long errors;          ///< other dcol errors: no contacts
@@ -113,10 +116,14 @@ struct Stats {
 Stats stats();
 
 /// The dcol shape and world pose the algorithm uses for `shape` placed at `world` (the collision
-/// object's world transform): true and *out, *pose written; false when dcol cannot take the shape
-/// or it is a btStaticPlaneShape or not a convex shape of the list. *out belongs to the adapter's
-/// cache (valid until the shape changes or forget(shape)).
-bool as_dcol(const btCollisionShape *shape, const btTransform &world, const dcol_shape **out, dcol_pose *pose);
+/// object's world transform), and the radius of the ball Bullet's shape adds to it (a cylinder's
+/// or cone's margin, else 0: Bullet's shape is the dcol shape grown by it, so its signed distance
+/// to another is dcol's minus both paddings). Returns true and writes *out, *pose and, when not
+/// NULL, *padding; false when dcol cannot take the shape, or it is a btStaticPlaneShape or not a
+/// convex shape of the list. *out belongs to the adapter's cache (valid until the shape changes
+/// or forget(shape)).
+bool as_dcol(const btCollisionShape *shape, const btTransform &world, const dcol_shape **out, dcol_pose *pose,
+             double *padding = nullptr);
 
 /// Drops the cached dcol shape of `shape` (after editing a btConvexHullShape's points in place,
 /// or before deleting a shape when many shapes come and go). Pairs still using it keep their

@@ -26,7 +26,8 @@ Key key_of(const btCollisionShape *shape);
 
 /// A Bullet shape mapped to dcol: the dcol shape and where its body frame sits in the Bullet
 /// shape's frame (a rotation for capsules, cylinders and cones along y or z, an offset for cones
-/// and hulls built about their points' mean).
+/// and hulls built about their points' mean), and the margin Bullet grows it by (cylinders and
+/// cones: the dcol shape is Bullet's core, and the adapter adds the margin to the contacts).
 struct Entry {
   Key key;
   const dcol_shape *shape = nullptr;  // nullptr: dcol cannot take this shape
@@ -34,7 +35,8 @@ struct Entry {
   bool has_offset = false;            // false: the dcol frame is the Bullet shape's frame
   double pos[3] = {0, 0, 0};          // dcol origin in the Bullet shape frame
   double quat[4] = {1, 0, 0, 0};      // dcol frame in the Bullet shape frame (w, x, y, z)
-  double radius = 0;                  // bounding radius about the Bullet shape's origin
+  double pad = 0;                     // the Bullet shape is the dcol shape grown by this ball
+  double radius = 0;                  // bounding radius about the Bullet shape's origin (pad included)
   Entry() = default;
   Entry(const Entry &) = delete;
   Entry &operator=(const Entry &) = delete;
@@ -50,7 +52,7 @@ extern std::atomic<unsigned> g_epoch;
 
 /// Counters (Stats).
 struct Counters {
-  std::atomic<unsigned long> calls{0}, early_outs{0}, fallback_calls{0}, invalid_poses{0}, not_converged{0},
+  std::atomic<unsigned long> calls{0}, early_outs{0}, fallback_pairs{0}, fallback_calls{0}, invalid_poses{0}, not_converged{0},
       errors{0}, shapes_built{0};
 };
 Counters &counters();

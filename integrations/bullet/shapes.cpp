@@ -142,13 +142,18 @@ void build(const btCollisionShape *shape, Entry &e) {
       break;
     }
     case CYLINDER_SHAPE_PROXYTYPE: {
-      // The sharp cylinder of the half extents with margin (Bullet rounds its rims by the margin).
+      // Bullet's cylinder is its core (the half extents without margin) grown by the margin, a
+      // cylinder with rounded rims: the dcol cylinder of the core, padded by the margin.
       const btCylinderShape *c = static_cast<const btCylinderShape *>(shape);
       const int up = c->getUpAxis();
-      const btVector3 h = c->getHalfExtentsWithMargin();
-      const double r = h[up == 0 ? 1 : 0], hh = h[up];
-      if (!finite_positive(r) || !finite_positive(hh) || dcol_shape_new_cylinder(r, 2 * hh, &s) != DCOL_OK) break;
-      e.radius = std::sqrt(r * r + hh * hh);
+      const btVector3 &h = c->getHalfExtentsWithoutMargin();
+      const double r = h[up == 0 ? 1 : 0], hh = h[up], m = c->getMarginNV();
+      if (!finite_positive(r) || !finite_positive(hh) || !std::isfinite(m) || m < 0 ||
+          dcol_shape_new_cylinder(r, 2 * hh, &s) != DCOL_OK) {
+        break;
+      }
+      e.pad = m;
+      e.radius = std::sqrt(r * r + hh * hh) + m;
       if (up != 0) {
         e.has_offset = true;
         axis_rotation(up, 1, e.quat);
@@ -157,21 +162,20 @@ void build(const btCollisionShape *shape, Entry &e) {
     }
     case CONE_SHAPE_PROXYTYPE: {
       // Bullet's cone: apex at +h/2 on the up axis, base disc of radius r at -h/2, grown by the
-      // margin. Its base and mantle are those of the cone with the same half angle whose base is
-      // m lower and whose mantle is m farther out: height H = h + m + m / sin(beta).
+      // margin: the dcol cone of height h and half angle atan(r/h) (its centroid at -h/4 on the
+      // up axis, its body x along -up), padded by the margin.
       const btConeShape *c = static_cast<const btConeShape *>(shape);
       const double r = c->getRadius(), h = c->getHeight(), m = c->getMarginNV();
-      if (!finite_positive(r) || !finite_positive(h) || !std::isfinite(m) || m < 0) break;
-      const double beta = std::atan2(r, h);
-      const double H = h + m + m * std::sqrt(r * r + h * h) / r;
-      if (dcol_shape_new_cone(H, beta, &s) != DCOL_OK) break;
-      const double centroid = -0.5 * h - m + 0.25 * H;  // on the up axis
+      if (!finite_positive(r) || !finite_positive(h) || !std::isfinite(m) || m < 0 ||
+          dcol_shape_new_cone(h, std::atan2(r, h), &s) != DCOL_OK) {
+        break;
+      }
       const int up = c->getConeUpIndex();
       e.has_offset = true;
-      e.pos[up] = centroid;
+      e.pos[up] = -0.25 * h;
       axis_rotation(up, -1, e.quat);  // dcol's apex is at -3H/4 on body x: body x is -up
-      const double rb = H * r / h;
-      e.radius = std::max(std::fabs(centroid + 0.75 * H), std::hypot(centroid - 0.25 * H, rb));
+      e.pad = m;
+      e.radius = std::sqrt(0.25 * h * h + r * r) + m;
       break;
     }
     default:
@@ -236,12 +240,14 @@ dcol_pose world_pose(const Entry &e, const btTransform &t) {
 
 }  // namespace detail
 
-bool as_dcol(const btCollisionShape *shape, const btTransform &world, const dcol_shape **out, dcol_pose *pose) {
+bool as_dcol(const btCollisionShape *shape, const btTransform &world, const dcol_shape **out, dcol_pose *pose,
+             double *padding) {
   if (!shape || !out || !pose || !detail::mapped_type(shape->getShapeType())) return false;
   const std::shared_ptr<const detail::Entry> e = detail::lookup(shape);
   if (!e->shape) return false;
   *out = e->shape;
   *pose = detail::world_pose(*e, world);
+  if (padding) *padding = e->pad;
   return true;
 }
 
