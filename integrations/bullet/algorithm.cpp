@@ -122,15 +122,19 @@ class Algorithm : public btActivatingCollisionAlgorithm {
       count(detail::counters().errors);
       n = 0;
     }
+    // Bullet: normal on B towards A, point on B, distance (< 0 penetrating).
+    btVector3 normal_b[kMaxPoints], on_b[kMaxPoints];
+    btScalar dist[kMaxPoints];
     for (std::size_t i = 0; i < n; ++i) {
       const dcol_contact &c = cs[i];
-      const btVector3 normal(btScalar(c.normal[0]), btScalar(c.normal[1]), btScalar(c.normal[2]));
+      normal_b[i] = -btVector3(btScalar(c.normal[0]), btScalar(c.normal[1]), btScalar(c.normal[2]));
       const double h = 0.5 * c.depth + pad_b;
-      const btVector3 on_b(btScalar(c.position[0] - h * c.normal[0]), btScalar(c.position[1] - h * c.normal[1]),
-                           btScalar(c.position[2] - h * c.normal[2]));
-      // Bullet: normal on B towards A, point on B, distance (< 0 penetrating).
-      result->addContactPoint(-normal, on_b, btScalar(-(c.depth + pad_a + pad_b)));
+      on_b[i] = btVector3(btScalar(c.position[0] - h * c.normal[0]), btScalar(c.position[1] - h * c.normal[1]),
+                          btScalar(c.position[2] - h * c.normal[2]));
+      dist[i] = btScalar(-(c.depth + pad_a + pad_b));
     }
+    if (n >= 2) drop_stale(a, n, normal_b, on_b, dist);
+    for (std::size_t i = 0; i < n; ++i) result->addContactPoint(normal_b[i], on_b[i], dist[i]);
     result->refreshContactPoints();
   }
 
@@ -189,6 +193,31 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     *st = plane_first ? dcol_contacts(hs, &box, e->shape, &ps, margin, nullptr, cs, kMaxPoints, n)
                       : dcol_contacts(e->shape, &ps, hs, &box, margin, nullptr, cs, kMaxPoints, n);
     return true;
+  }
+
+  // Several points are a whole contact feature (a face, an edge): the manifold's points that none
+  // of them continues (matched as btPersistentManifold::getCacheEntry matches, on body 0's local
+  // point within the contact breaking threshold) are stale and removed, so that the manifold is
+  // dcol's answer, its matched points keeping their impulses for warm starting. (Left in, they
+  // crowd out the new points when a body moves more than the threshold per step.)
+  void drop_stale(const btCollisionObjectWrapper *a, std::size_t n, const btVector3 *normal_b, const btVector3 *on_b,
+                  const btScalar *dist) {
+    const int old = m_manifold->getNumContacts();
+    if (old == 0) return;
+    const bool a_is_body0 = m_manifold->getBody0() == a->getCollisionObject();
+    const btScalar limit = m_manifold->getContactBreakingThreshold() * m_manifold->getContactBreakingThreshold();
+    // Body 0's local points of the new contacts (A's surface points when A is body 0, else B's).
+    btVector3 local0[kMaxPoints];
+    const btTransform &t0 = m_manifold->getBody0()->getWorldTransform();
+    for (std::size_t i = 0; i < n; ++i) {
+      local0[i] = t0.invXform(a_is_body0 ? on_b[i] + normal_b[i] * dist[i] : on_b[i]);
+    }
+    for (int k = old - 1; k >= 0; --k) {
+      const btVector3 &p = m_manifold->getContactPoint(k).m_localPointA;
+      bool continued = false;
+      for (std::size_t i = 0; i < n && !continued; ++i) continued = (p - local0[i]).length2() < limit;
+      if (!continued) m_manifold->removeContactPoint(k);
+    }
   }
 
   void fallback(const btCollisionObjectWrapper *a, const btCollisionObjectWrapper *b, const btDispatcherInfo &info,
