@@ -98,11 +98,9 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     // out by its pad (signed distances of grown convex shapes shift by the radii exactly).
     const double pad_a = ea ? ea->pad : 0, pad_b = eb ? eb->pad : 0;
     if (ea && eb) {
-      const btVector3 d = b->getWorldTransform().getOrigin() - a->getWorldTransform().getOrigin();
-      const double reach = ea->radius + eb->radius + margin;
-      // Bounding spheres apart by more than the margin: no contact (a NaN distance falls through
-      // to dcol, which rejects the pose).
-      if (!(double(d.length2()) > reach * reach)) {
+      // Apart by more than the margin along the line between the origins, or at least their
+      // bounding spheres: no contact (a NaN distance falls through to dcol, which rejects it).
+      if (!apart(*ea, a->getWorldTransform(), *eb, b->getWorldTransform(), margin)) {
         const dcol_pose p1 = detail::world_pose(*ea, a->getWorldTransform());
         const dcol_pose p2 = detail::world_pose(*eb, b->getWorldTransform());
         st = dcol_contacts(ea->shape, &p1, eb->shape, &p2, margin + pad_a + pad_b, nullptr, cs, kMaxPoints, &n);
@@ -112,6 +110,7 @@ class Algorithm : public btActivatingCollisionAlgorithm {
       queried = plane_contacts(pa ? a : b, pa ? b : a, pa ? eb : ea, pa, margin, cs, &n, &st);
     }
     if (!queried) count(detail::counters().early_outs);
+    if (queried && st == DCOL_OK && n == 0) count(detail::counters().apart);
     if (st == DCOL_ERROR_INVALID_POSE) {
       count(detail::counters().invalid_poses);
       m_manifold->clearManifold();
@@ -134,7 +133,15 @@ class Algorithm : public btActivatingCollisionAlgorithm {
       dist[i] = btScalar(-(c.depth + pad_a + pad_b));
     }
     if (n >= 2) drop_stale(a, n, normal_b, on_b, dist);
-    for (std::size_t i = 0; i < n; ++i) result->addContactPoint(normal_b[i], on_b[i], dist[i]);
+    // Shallowest first: Bullet merges a point into a cached one closer than the breaking
+    // threshold, the later one replacing it, so the deepest is added last and always kept.
+    std::size_t order[kMaxPoints];
+    for (std::size_t i = 0; i < n; ++i) {  // insertion sort, by distance descending
+      std::size_t j = i;
+      for (; j > 0 && dist[order[j - 1]] < dist[i]; --j) order[j] = order[j - 1];
+      order[j] = i;
+    }
+    for (std::size_t k = 0; k < n; ++k) result->addContactPoint(normal_b[order[k]], on_b[order[k]], dist[order[k]]);
     result->refreshContactPoints();
   }
 
@@ -152,6 +159,25 @@ class Algorithm : public btActivatingCollisionAlgorithm {
   }
 
  private:
+  // Whether the two shapes are farther apart than `margin`: their bounding spheres, then their
+  // extents along the line between their origins (support functions: a separating plane).
+  static bool apart(const Entry &ea, const btTransform &ta, const Entry &eb, const btTransform &tb, double margin) {
+    const btVector3 &oa = ta.getOrigin(), &ob = tb.getOrigin();
+    double d[3] = {double(ob.x()) - oa.x(), double(ob.y()) - oa.y(), double(ob.z()) - oa.z()};
+    const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const double slack = 1e-6 * (ea.radius + eb.radius);  // float poses, double geometry
+    if (dist - ea.radius - eb.radius > margin + slack) return true;
+    if (!(dist > 0) || !std::isfinite(slack)) return false;
+    for (double &v : d) v /= dist;
+    double ua[3], ub[3];  // d in A's frame, -d in B's
+    const btMatrix3x3 &ra = ta.getBasis(), &rb = tb.getBasis();
+    for (int i = 0; i < 3; ++i) {
+      ua[i] = ra[0][i] * d[0] + ra[1][i] * d[1] + ra[2][i] * d[2];
+      ub[i] = -(rb[0][i] * d[0] + rb[1][i] * d[1] + rb[2][i] * d[2]);
+    }
+    return dist - detail::support(ea, ua) - detail::support(eb, ub) > margin + slack;
+  }
+
   // A shape against Bullet's plane n.x = c (plane object frame): the plane is the dcol half-space
   // of depth 1 whose boundary it is, its origin under the shape's dcol origin. Returns whether
   // dcol was asked (false: the bounding sphere is above the plane by more than the margin).
@@ -171,7 +197,11 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     const double c = plane->getPlaneConstant() / len + nrm[0] * o.x() + nrm[1] * o.y() + nrm[2] * o.z();
     const btVector3 &so = sw->getWorldTransform().getOrigin();
     const double above = nrm[0] * so.x() + nrm[1] * so.y() + nrm[2] * so.z() - c;
-    if (above - e->radius > margin) return false;
+    // The shape's lowest point (its support at -n) above the plane by more than the margin.
+    const btMatrix3x3 &r = sw->getWorldTransform().getBasis();
+    double down[3];
+    for (int i = 0; i < 3; ++i) down[i] = -(r[0][i] * nrm[0] + r[1][i] * nrm[1] + r[2][i] * nrm[2]);
+    if (above - detail::support(*e, down) > margin + 1e-6 * e->radius) return false;
     margin += e->pad;
     const dcol_pose ps = detail::world_pose(*e, sw->getWorldTransform());
     const double h = nrm[0] * ps.position[0] + nrm[1] * ps.position[1] + nrm[2] * ps.position[2] - c;
@@ -304,6 +334,7 @@ Stats stats() {
   Stats s;
   s.calls = c.calls.load(std::memory_order_relaxed);
   s.early_outs = c.early_outs.load(std::memory_order_relaxed);
+  s.apart = c.apart.load(std::memory_order_relaxed);
   s.fallback_pairs = c.fallback_pairs.load(std::memory_order_relaxed);
   s.fallback_calls = c.fallback_calls.load(std::memory_order_relaxed);
   s.invalid_poses = c.invalid_poses.load(std::memory_order_relaxed);

@@ -35,6 +35,12 @@ struct Entry {
   bool has_offset = false;            // false: the dcol frame is the Bullet shape's frame
   double pos[3] = {0, 0, 0};          // dcol origin in the Bullet shape frame
   double quat[4] = {1, 0, 0, 0};      // dcol frame in the Bullet shape frame (w, x, y, z)
+  // The Bullet shape's geometry in its own frame, for the support function (support()): kind is
+  // its type; dims: sphere (R), box (hx, hy, hz), capsule (half length, R), cylinder and cone
+  // (half length or height, R, pad); axis: a capsule's, cylinder's or cone's up axis.
+  int kind = -1;
+  int axis = 0;
+  double dims[3] = {0, 0, 0};
   double pad = 0;                     // the Bullet shape is the dcol shape grown by this ball
   double radius = 0;                  // bounding radius about the Bullet shape's origin (pad included)
   Entry() = default;
@@ -52,10 +58,15 @@ extern std::atomic<unsigned> g_epoch;
 
 /// Counters (Stats).
 struct Counters {
-  std::atomic<unsigned long> calls{0}, early_outs{0}, fallback_pairs{0}, fallback_calls{0}, invalid_poses{0}, not_converged{0},
+  std::atomic<unsigned long> calls{0}, early_outs{0}, apart{0}, fallback_pairs{0}, fallback_calls{0}, invalid_poses{0}, not_converged{0},
       errors{0}, shapes_built{0};
 };
 Counters &counters();
+
+/// The support value max { u . x } of the entry's Bullet shape (padding included) over its points x
+/// in its own frame, for a unit direction u of that frame (a bound from above for shapes it does
+/// not know: the bounding radius).
+double support(const Entry &e, const double u[3]);
 
 /// World pose of an entry's dcol frame for a Bullet shape at `t`.
 dcol_pose world_pose(const Entry &e, const btTransform &t);

@@ -114,7 +114,10 @@ void build(const btCollisionShape *shape, Entry &e) {
     }
     case SPHERE_SHAPE_PROXYTYPE: {
       const double r = static_cast<const btSphereShape *>(shape)->getRadius();
-      if (finite_positive(r) && dcol_shape_new_sphere(r, &s) == DCOL_OK) e.radius = r;
+      if (finite_positive(r) && dcol_shape_new_sphere(r, &s) == DCOL_OK) {
+        e.radius = r;
+        e.dims[0] = r;
+      }
       break;
     }
     case BOX_SHAPE_PROXYTYPE: {
@@ -124,6 +127,7 @@ void build(const btCollisionShape *shape, Entry &e) {
       if (finite_positive(h.x()) && finite_positive(h.y()) && finite_positive(h.z()) &&
           dcol_shape_new_box(h.x(), h.y(), h.z(), &s) == DCOL_OK) {
         e.radius = std::sqrt(double(h.x()) * h.x() + double(h.y()) * h.y() + double(h.z()) * h.z());
+        for (int i = 0; i < 3; ++i) e.dims[i] = h[i];
       }
       break;
     }
@@ -135,6 +139,9 @@ void build(const btCollisionShape *shape, Entry &e) {
       const dcol_status st = hh > 0 ? dcol_shape_new_capsule(r, 2 * hh, &s) : dcol_shape_new_sphere(r, &s);
       if (st != DCOL_OK) break;
       e.radius = hh + r;
+      e.axis = c->getUpAxis();
+      e.dims[0] = hh;
+      e.dims[1] = r;
       if (c->getUpAxis() != 0) {
         e.has_offset = true;
         axis_rotation(c->getUpAxis(), 1, e.quat);
@@ -154,6 +161,9 @@ void build(const btCollisionShape *shape, Entry &e) {
       }
       e.pad = m;
       e.radius = std::sqrt(r * r + hh * hh) + m;
+      e.axis = up;
+      e.dims[0] = hh;
+      e.dims[1] = r;
       if (up != 0) {
         e.has_offset = true;
         axis_rotation(up, 1, e.quat);
@@ -176,6 +186,9 @@ void build(const btCollisionShape *shape, Entry &e) {
       axis_rotation(up, -1, e.quat);  // dcol's apex is at -3H/4 on body x: body x is -up
       e.pad = m;
       e.radius = std::sqrt(0.25 * h * h + r * r) + m;
+      e.axis = up;
+      e.dims[0] = 0.5 * h;
+      e.dims[1] = r;
       break;
     }
     default:
@@ -183,6 +196,7 @@ void build(const btCollisionShape *shape, Entry &e) {
   }
   e.shape = s;
   e.owned = s;
+  if (s) e.kind = e.key.type;
 }
 
 struct Cache {
@@ -211,6 +225,28 @@ std::shared_ptr<const Entry> lookup(const btCollisionShape *shape) {
   }
   slot = e;
   return slot;
+}
+
+double support(const Entry &e, const double u[3]) {
+  switch (e.kind) {
+    case SPHERE_SHAPE_PROXYTYPE:
+      return e.dims[0];
+    case BOX_SHAPE_PROXYTYPE:
+      return e.dims[0] * std::fabs(u[0]) + e.dims[1] * std::fabs(u[1]) + e.dims[2] * std::fabs(u[2]);
+    case CAPSULE_SHAPE_PROXYTYPE:
+      return e.dims[0] * std::fabs(u[e.axis]) + e.dims[1];
+    case CYLINDER_SHAPE_PROXYTYPE: {
+      const double a = u[e.axis];
+      return e.dims[0] * std::fabs(a) + e.dims[1] * std::sqrt(std::max(0.0, 1 - a * a)) + e.pad;
+    }
+    case CONE_SHAPE_PROXYTYPE: {
+      // The apex at +h/2 on the up axis, the base rim at -h/2.
+      const double a = u[e.axis];
+      return std::max(e.dims[0] * a, -e.dims[0] * a + e.dims[1] * std::sqrt(std::max(0.0, 1 - a * a))) + e.pad;
+    }
+    default:
+      return e.radius;
+  }
 }
 
 dcol_pose world_pose(const Entry &e, const btTransform &t) {

@@ -17,7 +17,7 @@ struct Point {
 
 /// Runs `dispatcher`'s contact algorithm for (A, B) once and returns the manifold's points.
 inline std::vector<Point> collide(btCollisionDispatcher &dispatcher, btCollisionShape *sa, const btTransform &ta,
-                                  btCollisionShape *sb, const btTransform &tb) {
+                                  btCollisionShape *sb, const btTransform &tb, double *threshold = nullptr) {
   btCollisionObject oa, ob;
   oa.setCollisionShape(sa);
   oa.setWorldTransform(ta);
@@ -35,6 +35,7 @@ inline std::vector<Point> collide(btCollisionDispatcher &dispatcher, btCollision
   alg->getAllContactManifolds(manifolds);
   for (int m = 0; m < manifolds.size(); ++m) {
     const btPersistentManifold *pm = manifolds[m];
+    if (threshold) *threshold = pm->getContactBreakingThreshold();
     // Bullet's normal is on body 1 pointing towards body 0.
     const double sign = pm->getBody0() == &oa ? -1.0 : 1.0;
     for (int i = 0; i < pm->getNumContacts(); ++i) {
