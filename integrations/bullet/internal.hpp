@@ -37,10 +37,13 @@ struct Entry {
   double quat[4] = {1, 0, 0, 0};      // dcol frame in the Bullet shape frame (w, x, y, z)
   // The Bullet shape's geometry in its own frame, for the support function (support()): kind is
   // its type; dims: sphere (R), box (hx, hy, hz), capsule (half length, R), cylinder and cone
-  // (half length or height, R, pad); axis: a capsule's, cylinder's or cone's up axis.
+  // (half length or height, R, pad), hull (the half extents of the box around its points, whose
+  // centre is `centre`, and `margin`); axis: a capsule's, cylinder's or cone's up axis.
   int kind = -1;
   int axis = 0;
   double dims[3] = {0, 0, 0};
+  double centre[3] = {0, 0, 0};
+  double margin = 0;
   double pad = 0;                     // the Bullet shape is the dcol shape grown by this ball
   double radius = 0;                  // bounding radius about the Bullet shape's origin (pad included)
   Entry() = default;

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <mutex>
 #include <unordered_map>
+#include <vector>
 
 #include "internal.hpp"
 
@@ -191,8 +192,56 @@ void build(const btCollisionShape *shape, Entry &e) {
       e.dims[1] = r;
       break;
     }
+    case CONVEX_HULL_SHAPE_PROXYTYPE: {
+      // Bullet's hull is its scaled points' hull grown by the margin: dcol's hull padded by it,
+      // built about the points' mean (strictly inside a full-dimensional hull) when the points do
+      // not surround the shape's origin.
+      const btConvexHullShape *h = static_cast<const btConvexHullShape *>(shape);
+      const int n = h->getNumPoints();
+      const double m = h->getMarginNV();
+      if (n < 4 || !std::isfinite(m) || m < 0) break;
+      std::vector<double> pts(3 * static_cast<std::size_t>(n));
+      for (int i = 0; i < n; ++i) {
+        const btVector3 p = h->getScaledPoint(i);
+        for (int k = 0; k < 3; ++k) pts[3 * i + k] = p[k];
+      }
+      dcol_status st = dcol_shape_new_convex_hull(pts.data(), pts.size() / 3, m, &s);
+      double mean[3] = {0, 0, 0};
+      if (st == DCOL_ERROR_INVALID_SHAPE) {
+        for (int i = 0; i < n; ++i)
+          for (int k = 0; k < 3; ++k) mean[k] += pts[3 * i + k] / n;
+        for (int i = 0; i < n; ++i)
+          for (int k = 0; k < 3; ++k) pts[3 * i + k] -= mean[k];
+        st = dcol_shape_new_convex_hull(pts.data(), pts.size() / 3, m, &s);
+        if (st == DCOL_OK) {
+          e.has_offset = true;
+          for (int k = 0; k < 3; ++k) e.pos[k] = mean[k];
+        }
+      }
+      if (st != DCOL_OK) break;
+      // The support function bounds the hull by the box around its points (Bullet's frame).
+      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, far = 0;
+      for (int i = 0; i < n; ++i) {
+        double r2 = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double v = pts[3 * i + k] + mean[k];
+          lo[k] = std::min(lo[k], v);
+          hi[k] = std::max(hi[k], v);
+          r2 += v * v;
+        }
+        far = std::max(far, r2);
+      }
+      for (int k = 0; k < 3; ++k) {
+        e.dims[k] = 0.5 * (hi[k] - lo[k]);
+        e.centre[k] = 0.5 * (hi[k] + lo[k]);
+      }
+      e.pad = 0;
+      e.margin = m;
+      e.radius = std::sqrt(far) + m;
+      break;
+    }
     default:
-      break;  // a convex hull: not yet (Bullet's own algorithm)
+      break;
   }
   e.shape = s;
   e.owned = s;
@@ -244,6 +293,9 @@ double support(const Entry &e, const double u[3]) {
       const double a = u[e.axis];
       return std::max(e.dims[0] * a, -e.dims[0] * a + e.dims[1] * std::sqrt(std::max(0.0, 1 - a * a))) + e.pad;
     }
+    case CONVEX_HULL_SHAPE_PROXYTYPE:  // the box around its points, grown by the margin
+      return e.centre[0] * u[0] + e.centre[1] * u[1] + e.centre[2] * u[2] + e.dims[0] * std::fabs(u[0]) +
+             e.dims[1] * std::fabs(u[1]) + e.dims[2] * std::fabs(u[2]) + e.margin;
     default:
       return e.radius;
   }

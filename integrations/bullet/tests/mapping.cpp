@@ -58,6 +58,18 @@ struct Rng {
   }
 };
 
+// A hull of n points on an ellipsoid of semi-axes a, b, c around `centre` (Bullet keeps every
+// point; most are corners of the hull).
+btConvexHullShape *random_hull(Rng &rng, int n, double a, double b, double c, const btVector3 &centre) {
+  btConvexHullShape *h = new btConvexHullShape();
+  for (int i = 0; i < n; ++i) {
+    const btVector3 d = rng.direction();
+    h->addPoint(centre + btVector3(btScalar(a * d.x()), btScalar(b * d.y()), btScalar(c * d.z())), false);
+  }
+  h->recalcLocalAabb();
+  return h;
+}
+
 // The support value of the dcol shape (grown by `pad`) in world direction d: from its signed
 // distance to the half-space {x : d.x >= c} (a closed form in dcol), c beyond the shape.
 double dcol_support(const dcol_shape *s, const dcol_pose &p, double pad, const btVector3 &dir) {
@@ -139,6 +151,17 @@ std::vector<Named> support_shapes() {
   btConeShape *ks = new btConeShape(0.2f, 0.5f);
   ks->setLocalScaling(btVector3(1.5f, 2.0f, 1.5f));
   add("cone Y scaled", ks);
+  Rng rng{3};
+  add("hull 30 points", random_hull(rng, 30, 0.3, 0.2, 0.15, btVector3(0.02f, -0.01f, 0.03f)));
+  btConvexHullShape *h1 = random_hull(rng, 200, 0.3, 0.3, 0.3, btVector3(0, 0, 0));
+  h1->setMargin(0.01f);
+  add("hull 200 points", h1);
+  btConvexHullShape *h2 = random_hull(rng, 12, 0.2, 0.1, 0.25, btVector3(1.0f, 0.8f, -0.6f));
+  add("hull off its origin", h2);
+  btConvexHullShape *h3 = random_hull(rng, 40, 0.2, 0.2, 0.2, btVector3(0, 0, 0));
+  h3->setLocalScaling(btVector3(1, 2, 0.5f));
+  h3->setMargin(0);
+  add("hull scaled, margin 0", h3);
   return v;
 }
 
@@ -201,6 +224,17 @@ int pairs() {
   kinds.push_back({"cone", std::unique_ptr<btCollisionShape>(cone), 0.25 + m, -0.25 - m});
   kinds.push_back({"ellipsoid", std::unique_ptr<btCollisionShape>(new dcol_bullet::Shape(ell.s, 0.3, btVector3(0.2f, 0.25f, 0.3f))),
                    0.3, -0.3});
+  btConvexHullShape *octa = new btConvexHullShape();
+  for (int k = 0; k < 3; ++k) {
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+      btVector3 p(0, 0, 0);
+      p[k] = btScalar(0.25 * sgn);
+      octa->addPoint(p, false);
+    }
+  }
+  octa->recalcLocalAabb();
+  const double om = octa->getMargin();
+  kinds.push_back({"hull", std::unique_ptr<btCollisionShape>(octa), 0.25 + om, -0.25 - om});
   btStaticPlaneShape plane(btVector3(0, 0, 1), 0);
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher(&config);
@@ -276,6 +310,11 @@ int native() {
   btCylinderShapeX lying_cylinder(btVector3(0.3f, 0.2f, 0.2f));
   btConeShapeZ cone(0.2f, 0.4f);
   const double cm = cone.getMargin();
+  btConvexHullShape cube;  // the corners of a 0.2 m cube, grown by a margin of 0.01
+  for (int i = 0; i < 8; ++i) {
+    cube.addPoint(btVector3(i & 1 ? 0.1f : -0.1f, i & 2 ? 0.1f : -0.1f, i & 4 ? 0.1f : -0.1f), i == 7);
+  }
+  cube.setMargin(0.01f);
   const btQuaternion tilt(btVector3(1, 0, 0), 0.02f);
   const double d = 0.01;
   const NativeCase cases[] = {
@@ -289,6 +328,8 @@ int native() {
       {"cylinder on plane", &plane, &standing_cylinder, at(0, 0, 0), at(0.1, 0.2, 0.3 - d), d},
       {"lying cylinder on box", &ground, &lying_cylinder, at(0, 0, -0.5), at(0.1, 0.2, 0.2 - d), d},
       {"cone on plane", &plane, &cone, at(0, 0, 0), at(0.1, 0.2, 0.2 + cm - d), d},
+      {"hull on box", &ground, &cube, at(0, 0, -0.5), at(0.1, 0.2, 0.11 - d), d},
+      {"hull on plane", &plane, &cube, at(0, 0, 0), at(0.1, 0.2, 0.11 - d), d},
   };
   for (const NativeCase &c : cases) {
     double dist[2] = {NAN, NAN}, nz[2] = {NAN, NAN};
@@ -405,7 +446,14 @@ int fallback() {
   dcol_pose p;
   check(!dcol_bullet::as_dcol(&flat, id, &s, &p), "a flat box is not mapped");
   check(!dcol_bullet::as_dcol(&thin, id, &s, &p), "a cylinder thinner than its margin is not mapped");
-  const Case cases[] = {{"flat box", &flat}, {"cylinder thinner than its margin", &thin}};
+  btConvexHullShape square;  // four points in a plane: no volume
+  square.addPoint(btVector3(-1, -1, 0), false);
+  square.addPoint(btVector3(1, -1, 0), false);
+  square.addPoint(btVector3(1, 1, 0), false);
+  square.addPoint(btVector3(-1, 1, 0), true);
+  square.setMargin(0);
+  check(!dcol_bullet::as_dcol(&square, id, &s, &p), "a flat hull is not mapped");
+  const Case cases[] = {{"flat box", &flat}, {"cylinder thinner than its margin", &thin}, {"flat hull", &square}};
   for (const Case &c : cases) {
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher(&config);
@@ -416,7 +464,7 @@ int fallback() {
     world.setGravity(btVector3(0, 0, btScalar(-engine_scenes::kG)));
     btSphereShape ball(0.2f);
     btRigidBody ground(0, nullptr, c.floor);
-    const double top = c.floor == &flat ? 0.0 : 0.02;  // the thin cylinder: its half height with margin
+    const double top = c.floor == &thin ? 0.02 : 0.0;  // the thin cylinder: its half height with margin
     btVector3 inertia;
     ball.calculateLocalInertia(1, inertia);
     btDefaultMotionState state(at(0.3, 0.1, top + 0.3));
@@ -512,6 +560,9 @@ int near_pairs() {
   add("capsule", new btCapsuleShapeZ(0.06f, 0.3f));
   add("cylinder", new btCylinderShape(btVector3(0.1f, 0.2f, 0.1f)));
   add("cone", new btConeShapeX(0.12f, 0.3f));
+  Rng hulls{5};
+  add("hull", random_hull(hulls, 20, 0.15, 0.1, 0.12, btVector3(0, 0, 0)));
+  add("offset hull", random_hull(hulls, 60, 0.1, 0.15, 0.1, btVector3(0.3f, 0, 0)));
   btStaticPlaneShape plane(btVector3(0, 0, 1), 0);
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher(&config);

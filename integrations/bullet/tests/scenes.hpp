@@ -111,7 +111,8 @@ inline std::vector<btRigidBody *> build_pyramid(World &w) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The pile: 49 mixed bodies (sizes 0.1 to 0.3 m) dropped from a 7 x 7 grid of pitch 0.2 m, 0.25 m
+// The pile: 49 mixed bodies (spheres, boxes, capsules, cylinders, cones, hulls of 12 to 200
+// points; sizes 0.1 to 0.3 m) dropped from a 7 x 7 grid of pitch 0.2 m, 0.25 m
 // above the floor, into a bin (a btStaticPlaneShape floor and four static box walls, inner
 // 1.4 m x 1.4 m, 0.8 m high): they land on and against each other. (Dropped in two or three
 // layers, the heap kept avalanching after 5 s with either narrow phase: docs/bullet.md.)
@@ -156,7 +157,7 @@ inline Pile build_pile(World &w, unsigned seed, int count = kGrid * kGrid) {
   for (int i = 0; i < count; ++i) {
     const double s = 0.05 + 0.03 * unif();  // size scale
     btCollisionShape *shape = nullptr;
-    switch (i % 5) {
+    switch (i % 6) {
       case 0:
         shape = new btSphereShape(btScalar(s * 1.3));
         break;
@@ -178,12 +179,34 @@ inline Pile build_pile(World &w, unsigned seed, int count = kGrid * kGrid) {
                             : new btCylinderShapeZ(btVector3(r, r, h));
         break;
       }
-      default: {
+      case 4: {
         const btScalar r = btScalar(1.2 * s), h = btScalar(2.4 * s);
         const int axis = int(unif() * 3);
         shape = axis == 0 ? static_cast<btCollisionShape *>(new btConeShapeX(r, h))
                 : axis == 1 ? static_cast<btCollisionShape *>(new btConeShape(r, h))
                             : new btConeShapeZ(r, h);
+        break;
+      }
+      default: {
+        // A hull of 12 to 200 points on an ellipsoid, with a margin of 4 mm (Bullet's default,
+        // 4 cm, would grow these 0.1 m bodies by almost half).
+        static const int kPoints[] = {12, 24, 50, 100, 200, 16, 36, 150};
+        btConvexHullShape *hull = new btConvexHullShape();
+        const int n = kPoints[(i / 6) % 8];
+        for (int k = 0; k < n; ++k) {
+          double d[3];
+          double len = 0;
+          do {
+            for (double &v : d) v = 2 * unif() - 1;
+            len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+          } while (len < 0.1 || len > 1);
+          hull->addPoint(btVector3(btScalar(1.4 * s * d[0] / len), btScalar(1.1 * s * d[1] / len),
+                                   btScalar(0.9 * s * d[2] / len)),
+                         false);
+        }
+        hull->recalcLocalAabb();
+        hull->setMargin(0.004f);
+        shape = hull;
         break;
       }
     }
