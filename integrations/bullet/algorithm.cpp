@@ -6,6 +6,7 @@
 #include <LinearMath/btPoolAllocator.h>
 
 #include <cmath>
+#include <cstring>
 #include <new>
 
 #include "internal.hpp"
@@ -97,7 +98,18 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     // shapes within the margin plus the pads, the depths deeper by the pads and B's points moved
     // out by its pad (signed distances of grown convex shapes shift by the radii exactly).
     const double pad_a = ea ? ea->pad : 0, pad_b = eb ? eb->pad : 0;
-    if (ea && eb) {
+    const btTransform &ta = a->getWorldTransform(), &tb = b->getWorldTransform();
+    const bool same = m_last.valid && m_last.ea == ea && m_last.eb == eb && m_last.margin == margin &&
+                      std::memcmp(&m_last.ta, &ta, sizeof ta) == 0 && std::memcmp(&m_last.tb, &tb, sizeof tb) == 0;
+    if (same) {
+      // The same shapes at bit-identical poses: dcol's answer would be the same (it keeps no
+      // state), so the last one is used again.
+      count(detail::counters().reused);
+      n = m_last.n;
+      st = m_last.st;
+      queried = m_last.queried;
+      for (std::size_t i = 0; i < n; ++i) cs[i] = m_last.cs[i];
+    } else if (ea && eb) {
       // Apart by more than the margin along the line between the origins, or at least their
       // bounding spheres: no contact (a NaN distance falls through to dcol, which rejects it).
       if (!apart(*ea, a->getWorldTransform(), *eb, b->getWorldTransform(), margin)) {
@@ -109,8 +121,18 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     } else {
       queried = plane_contacts(pa ? a : b, pa ? b : a, pa ? eb : ea, pa, margin, cs, &n, &st);
     }
-    if (!queried) count(detail::counters().early_outs);
-    if (queried && st == DCOL_OK && n == 0) count(detail::counters().apart);
+    m_last.valid = true;
+    m_last.ea = ea;
+    m_last.eb = eb;
+    m_last.margin = margin;
+    m_last.ta = ta;
+    m_last.tb = tb;
+    m_last.n = n;
+    m_last.st = st;
+    m_last.queried = queried;
+    for (std::size_t i = 0; i < n; ++i) m_last.cs[i] = cs[i];
+    if (!same && !queried) count(detail::counters().early_outs);
+    if (!same && queried && st == DCOL_OK && n == 0) count(detail::counters().apart);
     if (st == DCOL_ERROR_INVALID_POSE) {
       count(detail::counters().invalid_poses);
       m_manifold->clearManifold();
@@ -265,6 +287,18 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     m_fallback = nullptr;
   }
 
+  // The last call's inputs and dcol's answer.
+  struct Last {
+    bool valid = false;
+    bool queried = false;
+    const Entry *ea = nullptr, *eb = nullptr;
+    double margin = 0;
+    btTransform ta, tb;
+    std::size_t n = 0;
+    dcol_status st = DCOL_OK;
+    dcol_contact cs[kMaxPoints];
+  };
+  Last m_last;
   btCollisionAlgorithmConstructionInfo m_ci;
   btPersistentManifold *m_manifold = nullptr;
   btCollisionAlgorithm *m_fallback = nullptr;
@@ -335,6 +369,7 @@ Stats stats() {
   s.calls = c.calls.load(std::memory_order_relaxed);
   s.early_outs = c.early_outs.load(std::memory_order_relaxed);
   s.apart = c.apart.load(std::memory_order_relaxed);
+  s.reused = c.reused.load(std::memory_order_relaxed);
   s.fallback_pairs = c.fallback_pairs.load(std::memory_order_relaxed);
   s.fallback_calls = c.fallback_calls.load(std::memory_order_relaxed);
   s.invalid_poses = c.invalid_poses.load(std::memory_order_relaxed);

@@ -105,6 +105,7 @@ struct Stats {
   unsigned long calls;           ///< pair calls answered by dcol (= algorithm_calls())
   unsigned long early_outs;      ///< of those, decided apart without a query (bounding spheres, or the support functions along the line between the origins or the plane normal)
   unsigned long apart;           ///< of those, queried and found farther apart than the margin
+  unsigned long reused;          ///< of those, the same shapes at bit-identical poses as the pair's last call: its answer reused
   unsigned long fallback_pairs;  ///< pairs given Bullet's own algorithm when created (a shape dcol cannot take)
   unsigned long fallback_calls;  ///< calls of dcol's algorithm handed to Bullet's (a shape changed into one dcol cannot take)
   unsigned long invalid_poses;   ///< calls with a non-finite pose: no contacts

@@ -61,7 +61,7 @@ extern std::atomic<unsigned> g_epoch;
 
 /// Counters (Stats).
 struct Counters {
-  std::atomic<unsigned long> calls{0}, early_outs{0}, apart{0}, fallback_pairs{0}, fallback_calls{0}, invalid_poses{0}, not_converged{0},
+  std::atomic<unsigned long> calls{0}, early_outs{0}, apart{0}, reused{0}, fallback_pairs{0}, fallback_calls{0}, invalid_poses{0}, not_converged{0},
       errors{0}, shapes_built{0};
 };
 Counters &counters();

@@ -14,6 +14,7 @@
 //   bullet_mapping fallback   shapes dcol cannot take (a flat box, a cylinder thinner than its
 //                             margin) keep Bullet's algorithm: a sphere rests on them
 //   bullet_mapping nan        a non-finite pose: no contacts, counted, no crash
+//   bullet_mapping reuse      a body at rest: the pair's last answer reused, the same manifold
 //   bullet_mapping near       4 000 random pairs of every type near contact: contacts exactly when
 //                             the signed distance of the mapped shapes is within the breaking
 //                             threshold (the early-outs drop none), deepest = signed distance
@@ -430,6 +431,49 @@ int cache() {
   return 0;
 }
 
+// A body at rest (no gravity, no velocity) on a box: every step after the first has the same
+// shapes at bit-identical poses, so the pair's last answer is reused, with the same manifold.
+int reuse() {
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher(&config);
+  dcol_bullet::use_dcol(&dispatcher);
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
+  world.setGravity(btVector3(0, 0, 0));
+  btBoxShape slab(btVector3(1, 1, 0.1f)), cube(btVector3(0.1f, 0.1f, 0.1f));
+  btRigidBody ground(0, nullptr, &slab);
+  btVector3 inertia;
+  cube.calculateLocalInertia(1, inertia);
+  btDefaultMotionState state(at(0.3, 0.1, 0.2 + 0.001));  // 1 mm above: speculative points, no impulse
+  btRigidBody body(1, &state, &cube, inertia);
+  body.setActivationState(DISABLE_DEACTIVATION);
+  world.addRigidBody(&ground);
+  world.addRigidBody(&body);
+  const dcol_bullet::Stats s0 = dcol_bullet::stats();
+  std::vector<double> deepest;
+  for (int k = 0; k < 10; ++k) {
+    world.stepSimulation(btScalar(1.0 / 240), 1, btScalar(1.0 / 240));
+    btPersistentManifold *m = dispatcher.getNumManifolds() ? dispatcher.getManifoldByIndexInternal(0) : nullptr;
+    double d = NAN;
+    for (int i = 0; m && i < m->getNumContacts(); ++i) {
+      const double di = m->getContactPoint(i).getDistance();
+      d = std::isnan(d) ? di : std::min(d, di);
+    }
+    deepest.push_back(d);
+  }
+  const dcol_bullet::Stats s1 = dcol_bullet::stats();
+  bool same = true;
+  for (double d : deepest) same = same && d == deepest[0];
+  std::printf("reuse: 10 steps at rest, %lu dcol calls, %lu answers reused, manifold distance %.6f every step: %s\n",
+              s1.calls - s0.calls, s1.reused - s0.reused, deepest[0], same ? "yes" : "no");
+  check(s1.calls - s0.calls == 10 && s1.reused - s0.reused == 9, "the nine calls after the first reuse its answer");
+  check(same && std::fabs(deepest[0] - 0.001) < 1e-6, "the same manifold, 1 mm apart");
+  world.removeRigidBody(&body);
+  world.removeRigidBody(&ground);
+  return 0;
+}
+
 // ---------------------------------------------------------------------------------------------
 
 int fallback() {
@@ -644,8 +688,9 @@ int main(int argc, char **argv) {
   if (what == "fallback") rc = fallback();
   if (what == "nan") rc = nan_pose();
   if (what == "near") rc = near_pairs();
+  if (what == "reuse") rc = reuse();
   if (rc == 2) {
-    std::printf("usage: %s support | pairs | native | cache | fallback | nan | near\n", argv[0]);
+    std::printf("usage: %s support | pairs | native | cache | fallback | nan | near | reuse\n", argv[0]);
     return 2;
   }
   std::printf("%s\n", engine_scenes::failures() ? "FAILED" : "ok");

@@ -38,9 +38,10 @@ const char *label(bool dcol) { return dcol ? "dcol" : "native"; }
 
 void report_calls(bool dcol, const dcol_bullet::Stats &s0) {
   const dcol_bullet::Stats s = dcol_bullet::stats();
-  std::printf("  dcol: %lu pair calls (%lu decided apart by bounding spheres, %lu queried and apart), %lu fallback "
-              "pairs, %lu fallback calls, %lu not converged, %lu errors, %lu shapes built\n",
-              s.calls - s0.calls, s.early_outs - s0.early_outs, s.apart - s0.apart, s.fallback_pairs - s0.fallback_pairs,
+  std::printf("  dcol: %lu pair calls (%lu decided apart without a query, %lu queried and apart, %lu answers reused), "
+              "%lu fallback pairs, %lu fallback calls, %lu not converged, %lu errors, %lu shapes built\n",
+              s.calls - s0.calls, s.early_outs - s0.early_outs, s.apart - s0.apart, s.reused - s0.reused,
+              s.fallback_pairs - s0.fallback_pairs,
               s.fallback_calls - s0.fallback_calls, s.not_converged - s0.not_converged, s.errors - s0.errors,
               s.shapes_built - s0.shapes_built);
   if (dcol) {
