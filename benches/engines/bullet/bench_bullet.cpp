@@ -169,7 +169,7 @@ int main(int argc, char **argv) {
       std::printf("FAILED: dcol did not answer every pair of the %s\n", scene);
       ++failures;
     }
-    std::printf("|   | (dcol: %lu calls, %lu decided by bounding spheres, %lu not converged, %lu errors) | | | | | |\n",
+    std::printf("|   | (dcol: %lu calls, %lu decided apart without a query, %lu not converged, %lu errors) | | | | | |\n",
                 s1.calls - s0.calls, s1.early_outs - s0.early_outs, s1.not_converged - s0.not_converged,
                 s1.errors - s0.errors);
     // Per pair type.
