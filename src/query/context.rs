@@ -150,6 +150,23 @@ pub(crate) struct Full {
     pub decided: Option<bool>,
 }
 
+/// Where a shape-gradient query writes `∂(α*, d*, sd)/∂θᵢ` for each shape's parameters
+/// (`None`: not wanted; otherwise at least `parameter_count` entries).
+pub(crate) struct ShapeSink<'s> {
+    pub d: [Option<&'s mut [Real]>; 2],
+}
+
+impl ShapeSink<'_> {
+    /// Zeros in every buffer (`shapes` give their lengths).
+    pub fn zero(&mut self, shapes: [&Shape; 2]) {
+        for (d, s) in self.d.iter_mut().zip(shapes) {
+            if let Some(d) = d.as_deref_mut() {
+                d[..s.parameter_count()].fill(0.0);
+            }
+        }
+    }
+}
+
 /// The inputs of one proximity solve, in solver coordinates.
 #[derive(Clone, Copy)]
 pub(crate) struct Context<'q> {

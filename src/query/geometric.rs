@@ -10,7 +10,7 @@
 //! gauge of the normalised Minkowski difference at `r` (α* is homogeneous of degree one in the
 //! offset, so no precision is lost at tiny or huge offsets).
 
-use super::context::{Options, Proximity};
+use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
 use super::derivatives::rotation_axes;
 use super::shortcuts::{
@@ -153,6 +153,38 @@ pub(crate) fn gradient(
         }
     }
     g
+}
+
+/// `factor · ∂hᵢ(mᵢ)/∂θᵢ` into each wanted buffer of `sink`, for the support functions at the
+/// world normal `n` (shape 1 at `m₁ = R₁ᵀn`, shape 2 at `m₂ = −R₂ᵀn`) and the support points
+/// `contacts` (world): the envelope theorem's shape derivatives (`docs/maths.md` §4). With
+/// `n = ñ = n*/h_K(n*)` and `factor = −α*` they are `∂α*/∂θᵢ` (α* = n·d/h_K(n) at its
+/// maximiser); with the unit normal of a distance or signed distance and `factor = −1`, its
+/// `∂d/∂θᵢ`. False when a shape's derivative is not unique there (one element of the
+/// generalised gradient was written).
+pub(crate) fn support_gradients(
+    n: &Vec3,
+    contacts: [&Vec3; 2],
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+    factor: Real,
+    sink: &mut ShapeSink<'_>,
+) -> bool {
+    let mut unique = true;
+    for i in 0..2 {
+        let Some(out) = sink.d[i].as_deref_mut() else {
+            continue;
+        };
+        let rot = poses[i].rotation();
+        let sign = if i == 0 { 1.0 } else { -1.0 };
+        let m = rot.tr_mul(n) * sign;
+        let x = rot.tr_mul(&(contacts[i] - poses[i].position()));
+        unique &= shapes[i].support_gradient(&m, &x, out);
+        for v in out[..shapes[i].parameter_count()].iter_mut() {
+            *v *= factor;
+        }
+    }
+    unique
 }
 
 /// The geometric answer in the solvers' normalised frame (lengths over ℓ, the unit ray), and

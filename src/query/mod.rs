@@ -13,6 +13,7 @@ mod geometric;
 mod halfspace;
 mod proximity;
 mod separated;
+mod shape_gradient;
 mod shortcuts;
 mod signed;
 
@@ -26,4 +27,5 @@ pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub(crate) use halfspace::check as check_halfspace_pair;
 pub use proximity::proximity;
 pub(crate) use proximity::query_until;
+pub use shape_gradient::{distance_shape_gradient, shape_gradient, signed_distance_shape_gradient};
 pub use signed::{signed_distance, signed_distance_gradient};
