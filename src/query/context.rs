@@ -154,9 +154,17 @@ pub(crate) struct Full {
 /// (`None`: not wanted; otherwise at least `parameter_count` entries).
 pub(crate) struct ShapeSink<'s> {
     pub d: [Option<&'s mut [Real]>; 2],
+    /// Whether the buffers were written (a query that fails writes nothing; one that ends
+    /// without derivatives leaves them for the caller to zero).
+    pub written: bool,
 }
 
-impl ShapeSink<'_> {
+impl<'s> ShapeSink<'s> {
+    /// The buffers, not written yet.
+    pub fn new(d: [Option<&'s mut [Real]>; 2]) -> Self {
+        ShapeSink { d, written: false }
+    }
+
     /// Zeros in every buffer (`shapes` give their lengths).
     pub fn zero(&mut self, shapes: [&Shape; 2]) {
         for (d, s) in self.d.iter_mut().zip(shapes) {
@@ -164,6 +172,7 @@ impl ShapeSink<'_> {
                 d[..s.parameter_count()].fill(0.0);
             }
         }
+        self.written = true;
     }
 }
 

@@ -184,6 +184,7 @@ pub(crate) fn support_gradients(
             *v *= factor;
         }
     }
+    sink.written = true;
     unique
 }
 

@@ -118,7 +118,10 @@ impl Task for ProximityTask<'_, '_, '_> {
                 ctx, &problem, &outcome, &refined, self.want, central, &mut full,
             );
         }
-        if let Some(sink) = self.shape {
+        // Only with a representable answer (else the query fails or reports a numerical failure,
+        // and the buffers are left alone).
+        let representable = full.gradient.iter().all(|v| v.is_finite());
+        if let Some(sink) = self.shape.filter(|_| representable) {
             let unique =
                 derivatives::shape_gradient(ctx, &problem, &outcome, &refined, self.central, sink);
             // Not differentiable in a shape's parameters even where the pose derivatives are

@@ -89,9 +89,7 @@ pub fn shape_gradient(
 ) -> Result<Proximity, Error> {
     let shapes = [shape1, shape2];
     check_buffers(shapes, [&d_shape1, &d_shape2])?;
-    let mut sink = ShapeSink {
-        d: [d_shape1, d_shape2],
-    };
+    let mut sink = ShapeSink::new([d_shape1, d_shape2]);
     let full = query_full(
         shape1,
         pose1,
@@ -103,6 +101,14 @@ pub fn shape_gradient(
         Some(&mut sink),
     )?;
     let mut prox = full.prox;
+    if !sink.written {
+        // No derivatives came with the answer (it is not representable): zeros, as the pose
+        // gradient gives, and the status says so.
+        sink.zero(shapes);
+        if prox.status.is_converged() {
+            prox.status = SolveStatus::NumericalFailure;
+        }
+    }
     if !finite_or_zero(shapes, &mut sink) {
         prox.status = SolveStatus::NumericalFailure;
     }
@@ -127,9 +133,7 @@ pub fn distance_shape_gradient(
     let shapes = [shape1, shape2];
     check_buffers(shapes, [&d_shape1, &d_shape2])?;
     let mut d = distance(shape1, pose1, shape2, pose2, options)?;
-    let mut sink = ShapeSink {
-        d: [d_shape1, d_shape2],
-    };
+    let mut sink = ShapeSink::new([d_shape1, d_shape2]);
     sink.zero(shapes);
     if d.distance > 0.0 && d.normal.norm() > 0.0 {
         support_gradients(
@@ -162,9 +166,7 @@ pub fn signed_distance_shape_gradient(
     let shapes = [shape1, shape2];
     check_buffers(shapes, [&d_shape1, &d_shape2])?;
     let mut sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
-    let mut sink = ShapeSink {
-        d: [d_shape1, d_shape2],
-    };
+    let mut sink = ShapeSink::new([d_shape1, d_shape2]);
     sink.zero(shapes);
     if sd.normal.norm() > 0.0 {
         support_gradients(

@@ -249,11 +249,13 @@ impl ConvexHull {
     /// `inv_scale·w̃_A n_f`, `w̃_A = (α (B×C) + y'×(B − C))·N/‖N‖²` (`y' = y/inv_scale`): `α`
     /// times the barycentric weight of `y'/α`, linear in the point. A facet of more corners
     /// takes the triangle of its fan that holds `at` (the solution's core point, body frame);
-    /// false when such a facet, or a corner given twice, carries weight.
+    /// false when such a facet, or a corner given twice, carries weight. `central`: the points
+    /// are those of the central path's adjoint, not `−λ` times the solution point.
     pub(crate) fn row_gradient(
         &self,
         inv_scale: Real,
         at: &Vec3,
+        central: bool,
         p: impl Fn(usize) -> RowPoint,
         out: &mut [Real],
     ) -> bool {
@@ -267,6 +269,18 @@ impl ConvexHull {
         let corners = self.corners();
         let biggest = (0..normals.len()).fold(0.0, |b: Real, f| b.max(p(4 + f).a.abs()));
         let mut unique = true;
+        // Unpadded, the radius's derivative (growing it from 0) is that of a cone whose
+        // multiplier balances the facets': `−inv_scale·‖Σ_f p_f.α n_f‖` at the optimum (where
+        // every `p_f` is `−λ_f` times the solution point). The central path has none: padding a
+        // hull adds a cone to the program, whose barrier moves the central point by O(μ) at once.
+        if !padded && !central {
+            let v: Vec3 = normals
+                .iter()
+                .enumerate()
+                .map(|(f, n)| n * p(4 + f).a)
+                .sum();
+            out[3 * n] -= inv_scale * v.norm();
+        }
         for (f, nf) in normals.iter().enumerate() {
             let q = p(4 + f);
             let y = if padded { q.w } else { q.u };

@@ -166,13 +166,15 @@ impl Shape {
     /// Adds `Σ_j ∂s_j/∂θ` over the shape's rows (as `ConicShape::rows` writes them with
     /// `inv_scale`), row `j` evaluated at `p(j)` (the cone's components 0..4, orthant row `k` as
     /// `4 + k`), to `out[..parameter_count]`. `at` is the solution point in the same
-    /// coordinates (a hull picks the triangle of a facet of many corners by it). False when the
+    /// coordinates (a hull picks the triangle of a facet of many corners by it); `central` says
+    /// that the points are the central path's (`−λ_j` times `at` otherwise). False when the
     /// derivative is not unique (a hull's facet of more than three corners, or a corner given
     /// twice, carries weight).
     pub(crate) fn row_gradient(
         &self,
         inv_scale: Real,
         at: &RowPoint,
+        central: bool,
         p: impl Fn(usize) -> RowPoint,
         out: &mut [Real],
     ) -> bool {
@@ -201,7 +203,7 @@ impl Shape {
                 } else {
                     inv_scale
                 };
-                return h.row_gradient(inv_scale, &(y / scale), p, out);
+                return h.row_gradient(inv_scale, &(y / scale), central, p, out);
             }
         }
         true

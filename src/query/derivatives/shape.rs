@@ -80,7 +80,7 @@ pub(crate) fn shape_gradient<const N: usize>(
                 continue;
             };
             let at = point_of(i, z, true);
-            unique &= shapes[i].row_gradient(inv, &at, |j| scaled(&at, -lam(i, j)), out);
+            unique &= shapes[i].row_gradient(inv, &at, false, |j| scaled(&at, -lam(i, j)), out);
             for v in out[..shapes[i].parameter_count()].iter_mut() {
                 *v *= factor;
             }
@@ -134,7 +134,7 @@ pub(crate) fn shape_gradient<const N: usize>(
             };
             sum(&scaled(&dir, lam), &scaled(&at, omega))
         };
-        unique &= shapes[i].row_gradient(inv, &at, point, out);
+        unique &= shapes[i].row_gradient(inv, &at, true, point, out);
         for v in out[..count].iter_mut() {
             *v *= factor;
         }
