@@ -157,12 +157,35 @@ pub(crate) struct ShapeSink<'s> {
     /// Whether the buffers were written (a query that fails writes nothing; one that ends
     /// without derivatives leaves them for the caller to zero).
     pub written: bool,
+    /// False when a derivative came out not finite (its buffer then holds zeros).
+    pub finite: bool,
 }
 
 impl<'s> ShapeSink<'s> {
     /// The buffers, not written yet.
     pub fn new(d: [Option<&'s mut [Real]>; 2]) -> Self {
-        ShapeSink { d, written: false }
+        ShapeSink {
+            d,
+            written: false,
+            finite: true,
+        }
+    }
+
+    /// Multiplies the first `count` entries of buffer `i` by `factor`; zeros in their place
+    /// (and `finite` false) when any comes out not finite.
+    pub fn scale(&mut self, i: usize, count: usize, factor: Real) {
+        if let Some(d) = self.d[i].as_deref_mut() {
+            let d = &mut d[..count];
+            let mut finite = true;
+            for v in d.iter_mut() {
+                *v *= factor;
+                finite &= v.is_finite();
+            }
+            if !finite {
+                d.fill(0.0);
+                self.finite = false;
+            }
+        }
     }
 
     /// Zeros in every buffer (`shapes` give their lengths).

@@ -178,11 +178,14 @@ pub(crate) fn support_gradients(
         let rot = poses[i].rotation();
         let sign = if i == 0 { 1.0 } else { -1.0 };
         let m = rot.tr_mul(n) * sign;
-        let x = rot.tr_mul(&(contacts[i] - poses[i].position()));
+        // Only faceted kinds and the cone tell their features apart by the support point.
+        let x = if shapes[i].support_point_matters() {
+            rot.tr_mul(&(contacts[i] - poses[i].position()))
+        } else {
+            Vec3::zeros()
+        };
         unique &= shapes[i].support_gradient(&m, &x, out);
-        for v in out[..shapes[i].parameter_count()].iter_mut() {
-            *v *= factor;
-        }
+        sink.scale(i, shapes[i].parameter_count(), factor);
     }
     sink.written = true;
     unique

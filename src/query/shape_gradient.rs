@@ -22,9 +22,9 @@ use crate::solver::SolveStatus;
 
 /// Checks that each wanted buffer holds its shape's parameters.
 fn check_buffers(shapes: [&Shape; 2], d: [&Option<&mut [Real]>; 2]) -> Result<(), Error> {
-    for (i, (s, d)) in shapes.iter().zip(d).enumerate() {
-        if let Some(d) = d {
-            if d.len() < s.parameter_count() {
+    for i in 0..2 {
+        if let Some(d) = d[i] {
+            if d.len() < shapes[i].parameter_count() {
                 return Err(Error::InvalidOptions(ErrorDetail::new(
                     if i == 0 { "d_shape1" } else { "d_shape2" },
                     d.len() as Real,
@@ -34,18 +34,6 @@ fn check_buffers(shapes: [&Shape; 2], d: [&Option<&mut [Real]>; 2]) -> Result<()
         }
     }
     Ok(())
-}
-
-/// Whether every entry written is finite; if not, zeros in their place.
-fn finite_or_zero(shapes: [&Shape; 2], sink: &mut ShapeSink<'_>) -> bool {
-    let finite = sink.d.iter().zip(shapes).all(|(d, s)| {
-        d.as_deref()
-            .is_none_or(|d| d[..s.parameter_count()].iter().all(|v| v.is_finite()))
-    });
-    if !finite {
-        sink.zero(shapes);
-    }
-    finite
 }
 
 /// α*, x* and the contact points, and `∂α*/∂θᵢ` with respect to each shape's parameters
@@ -109,7 +97,7 @@ pub fn shape_gradient(
             prox.status = SolveStatus::NumericalFailure;
         }
     }
-    if !finite_or_zero(shapes, &mut sink) {
+    if !sink.finite {
         prox.status = SolveStatus::NumericalFailure;
     }
     Ok(prox)
@@ -145,7 +133,7 @@ pub fn distance_shape_gradient(
             &mut sink,
         );
     }
-    if !finite_or_zero(shapes, &mut sink) {
+    if !sink.finite {
         d.status = SolveStatus::NumericalFailure;
     }
     Ok(d)
@@ -178,7 +166,7 @@ pub fn signed_distance_shape_gradient(
             &mut sink,
         );
     }
-    if !finite_or_zero(shapes, &mut sink) {
+    if !sink.finite {
         sd.status = SolveStatus::NumericalFailure;
     }
     Ok(sd)

@@ -153,12 +153,12 @@ impl ConvexHull {
         out[3 * n] = self.radius;
     }
 
-    /// `∂h(m)/∂(points, R)` at the support point `x` (body frame) into `out` (zeroed by the
-    /// caller): `‖m‖` for the radius, and `w_k m` for the point behind each corner `k` of the
+    /// `∂h(m)/∂(points, R)` at the support point `x` (body frame) into `out` (overwritten): `‖m‖` for the radius, and `w_k m` for the point behind each corner `k` of the
     /// core point's feature. False where that is not unique (a facet of more than three
     /// corners, or a corner given twice among the points).
     pub(crate) fn support_gradient(&self, m: &Vec3, x: &Vec3, out: &mut [Real]) -> bool {
         let mn = m.norm();
+        out[..3 * self.points.len()].fill(0.0);
         out[3 * self.points.len()] = mn;
         let core = if self.radius > 0.0 && mn > 0.0 {
             x - m * (self.radius / mn)

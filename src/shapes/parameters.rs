@@ -141,8 +141,6 @@ impl Shape {
     /// written (a corner where more than three facets meet, a hull's facet of more than three
     /// corners, a hull corner given twice).
     pub(crate) fn support_gradient(&self, m: &Vec3, x: &Vec3, out: &mut [Real]) -> bool {
-        let out = &mut out[..self.parameter_count()];
-        out.fill(0.0);
         if self.cuboid.is_some() {
             for k in 0..3 {
                 out[k] = m[k].abs();
@@ -161,6 +159,20 @@ impl Shape {
             Geometry::Hull(h) => return h.support_gradient(m, x, out),
         }
         true
+    }
+
+    /// Whether [`Shape::support_gradient`] needs the support point (not only the direction):
+    /// for the kinds whose support point at a direction may be a whole feature.
+    #[inline]
+    pub(crate) fn support_point_matters(&self) -> bool {
+        self.cuboid.is_none()
+            && matches!(
+                self.geometry,
+                Geometry::Polytope(_)
+                    | Geometry::Cone(_)
+                    | Geometry::Polygon(_)
+                    | Geometry::Hull(_)
+            )
     }
 
     /// Adds `Σ_j ∂s_j/∂θ` over the shape's rows (as `ConicShape::rows` writes them with

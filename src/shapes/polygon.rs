@@ -2,8 +2,7 @@
 //! the slack `y ∈ R²`: the cone `[αR; u − (y, 0)]` and the rows `α d_i − c_i·y ≥ 0`.
 
 use super::support::{
-    argmax_dot, ball_normal, multipliers, nearest_normal, PieceEval, Round, SupportMap,
-    MAX_ACTIVE_ROWS,
+    argmax_dot, ball_normal, multipliers, nearest_normal, Active, PieceEval, Round, SupportMap,
 };
 use super::{check_halfspaces, positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::{Error, ErrorDetail};
@@ -136,14 +135,14 @@ impl Polygon {
         out[3 * m] = self.radius;
     }
 
-    /// `∂h(m)/∂(C, d, R)` at the support point `x` (body frame) into `out` (zeroed by the
-    /// caller). `h(m) = max { m_xy·y : C y ≤ d } + R‖m‖`: `∂h/∂R = ‖m‖`, and the plane
+    /// `∂h(m)/∂(C, d, R)` at the support point `x` (body frame) into `out` (overwritten). `h(m) = max { m_xy·y : C y ≤ d } + R‖m‖`: `∂h/∂R = ‖m‖`, and the plane
     /// polygon's linear program gives `∂h/∂d_i = λ_i`, `∂h/∂C_ij = −λ_i y_j` with `y` the core
     /// point `x − R m/‖m‖` and `λ` the multipliers of the edges active there (none on the flat
     /// top or bottom, where `m_xy = 0`). False where they are not unique.
     pub(crate) fn support_gradient(&self, m: &Vec3, x: &Vec3, out: &mut [Real]) -> bool {
         let count = self.c.len();
         let mn = m.norm();
+        out[..3 * count].fill(0.0);
         out[3 * count] = mn;
         let mxy = Vec3::new(m.x, m.y, 0.0);
         if !(mxy.norm() > 1e-12 * mn) {
@@ -151,52 +150,39 @@ impl Polygon {
         }
         let mut core = x - m * (self.radius / mn);
         core.z = 0.0;
-        let (mut ids, mut rows, mut n, mut all) = self.active_edges(&core);
+        let mut act = Active::new();
+        self.active_edges(&core, &mut act);
         let mut exact = true;
-        if n == 0 {
+        if act.n == 0 {
             // Not on the polygon's boundary (it cannot be, to rounding): the support corner's.
             core = self.vertices[argmax_dot(&self.vertices, &mxy).0];
-            (ids, rows, n, all) = self.active_edges(&core);
+            self.active_edges(&core, &mut act);
             exact = false;
         }
-        let (lam, unique) = multipliers(&rows[..n], &mxy, 2);
-        for k in 0..n {
-            let i = ids[k];
-            out[2 * count + i] = lam[k];
-            out[2 * i] = -lam[k] * core.x;
-            out[2 * i + 1] = -lam[k] * core.y;
+        let (lam, unique) = multipliers(&act.rows[..act.n], &mxy, 2);
+        for k in 0..act.n {
+            let i = act.ids[k];
+            let l = lam[k] / Vec3::new(self.c[i][0], self.c[i][1], 0.0).norm();
+            out[2 * count + i] = l;
+            out[2 * i] = -l * core.x;
+            out[2 * i + 1] = -l * core.y;
         }
-        exact && unique && all
+        exact && unique && act.all
     }
 
-    /// The edges active at the plane point `y` (indices and normals `(c_i, 0)`), at most
-    /// [`MAX_ACTIVE_ROWS`], and whether all of them fitted.
-    fn active_edges(
-        &self,
-        y: &Vec3,
-    ) -> (
-        [usize; MAX_ACTIVE_ROWS],
-        [Vec3; MAX_ACTIVE_ROWS],
-        usize,
-        bool,
-    ) {
-        let mut ids = [0; MAX_ACTIVE_ROWS];
-        let mut rows = [Vec3::zeros(); MAX_ACTIVE_ROWS];
-        let (mut n, mut all) = (0, true);
+    /// The edges active at the plane point `y` (indices and unit normals `(c_i, 0)/‖c_i‖`) into
+    /// `act` (emptied).
+    fn active_edges(&self, y: &Vec3, act: &mut Active) {
+        act.n = 0;
+        act.all = true;
         let yn = y.norm();
         for (i, (c, d)) in self.c.iter().zip(&self.d).enumerate() {
             let a = Vec3::new(c[0], c[1], 0.0);
-            if d - a.dot(y) <= 1e-8 * (d.abs() + a.norm() * yn) {
-                if n == MAX_ACTIVE_ROWS {
-                    all = false;
-                    break;
-                }
-                ids[n] = i;
-                rows[n] = a;
-                n += 1;
+            let k = a.norm();
+            if d / k - a.dot(y) / k <= 1e-8 * (d / k + yn) {
+                act.push(i, a / k);
             }
         }
-        (ids, rows, n, all)
     }
 
     /// The rows' derivatives at `p` (`shapes/parameters.rs`): the cone's `αR·inv_scale`, and

@@ -203,7 +203,39 @@ pub(crate) fn nearest_normal(normals: &[Vec3], m: &Vec3, cos_min: Real) -> Optio
 
 /// At most this many active rows enter [`multipliers`] (more meet at one corner only in
 /// contrived polytopes; the rest are left out, and the answer is marked not unique).
-pub(crate) const MAX_ACTIVE_ROWS: usize = 12;
+pub(crate) const MAX_ACTIVE_ROWS: usize = 8;
+
+/// The rows active at a support point: their indices and unit normals, and whether all of
+/// them fitted.
+pub(crate) struct Active {
+    pub ids: [usize; MAX_ACTIVE_ROWS],
+    pub rows: [Vec3; MAX_ACTIVE_ROWS],
+    pub n: usize,
+    pub all: bool,
+}
+
+impl Active {
+    pub(crate) fn new() -> Self {
+        Active {
+            ids: [0; MAX_ACTIVE_ROWS],
+            rows: [Vec3::zeros(); MAX_ACTIVE_ROWS],
+            n: 0,
+            all: true,
+        }
+    }
+
+    /// Adds row `i` with unit normal `row` (or notes that it did not fit).
+    #[inline]
+    pub(crate) fn push(&mut self, i: usize, row: Vec3) {
+        if self.n == MAX_ACTIVE_ROWS {
+            self.all = false;
+        } else {
+            self.ids[self.n] = i;
+            self.rows[self.n] = row;
+            self.n += 1;
+        }
+    }
+}
 
 /// The multipliers `λ ≥ 0` with `Σ λ_k rows_k = m` of the rows active at a support point (the
 /// dual of the support function's linear program `max m·x s.t. a_k·x ≤ b_k`: `∂h/∂b_k = λ_k`,
@@ -280,6 +312,46 @@ pub(crate) fn multipliers(rows: &[Vec3], m: &Vec3, dim: usize) -> ([Real; MAX_AC
 /// normal equations), and its residual; `None` when the rows are dependent.
 fn gram_solve(rows: &[Vec3], m: &Vec3) -> Option<([Real; 3], Real)> {
     let k = rows.len();
+    match k {
+        // Closed forms for the common cases: a facet, and a simple corner (Cramer's rule on
+        // `Σ x_k rows_k = m`, exact, so no residual).
+        1 => {
+            let rr = rows[0].norm_squared();
+            if !(rr > 0.0) {
+                return None;
+            }
+            let x = rows[0].dot(m) / rr;
+            return Some(([x, 0.0, 0.0], (rows[0] * x - m).norm()));
+        }
+        2 => {
+            let (g00, g01, g11) = (
+                rows[0].norm_squared(),
+                rows[0].dot(&rows[1]),
+                rows[1].norm_squared(),
+            );
+            let det = g00 * g11 - g01 * g01;
+            if !(det > 1e-20 * g00 * g11) {
+                return None;
+            }
+            let (b0, b1) = (rows[0].dot(m), rows[1].dot(m));
+            let (x0, x1) = ((g11 * b0 - g01 * b1) / det, (g00 * b1 - g01 * b0) / det);
+            return Some(([x0, x1, 0.0], (rows[0] * x0 + rows[1] * x1 - m).norm()));
+        }
+        3 => {
+            let (c0, c1, c2) = (
+                rows[1].cross(&rows[2]),
+                rows[2].cross(&rows[0]),
+                rows[0].cross(&rows[1]),
+            );
+            let det = rows[0].dot(&c0);
+            let scale = rows[0].norm_squared() * rows[1].norm_squared() * rows[2].norm_squared();
+            if !(det * det > 1e-20 * scale) {
+                return None;
+            }
+            return Some(([m.dot(&c0) / det, m.dot(&c1) / det, m.dot(&c2) / det], 0.0));
+        }
+        _ => {}
+    }
     let mut g = Mat3::identity();
     let mut rhs = Vec3::zeros();
     let mut big: Real = 0.0;

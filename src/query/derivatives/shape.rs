@@ -81,9 +81,7 @@ pub(crate) fn shape_gradient<const N: usize>(
             };
             let at = point_of(i, z, true);
             unique &= shapes[i].row_gradient(inv, &at, false, |j| scaled(&at, -lam(i, j)), out);
-            for v in out[..shapes[i].parameter_count()].iter_mut() {
-                *v *= factor;
-            }
+            sink.scale(i, shapes[i].parameter_count(), factor);
         }
         return unique;
     };
@@ -135,9 +133,7 @@ pub(crate) fn shape_gradient<const N: usize>(
             sum(&scaled(&dir, lam), &scaled(&at, omega))
         };
         unique &= shapes[i].row_gradient(inv, &at, true, point, out);
-        for v in out[..count].iter_mut() {
-            *v *= factor;
-        }
+        sink.scale(i, count, factor);
     }
     unique
 }

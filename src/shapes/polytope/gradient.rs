@@ -9,9 +9,9 @@
 //! simple corner) have one `λ`; more rows through one corner have many, and one of them is
 //! returned (flagged).
 
-use super::super::support::{multipliers, SupportMap, MAX_ACTIVE_ROWS};
+use super::super::support::{multipliers, Active, SupportMap};
 use super::super::RowPoint;
-use super::Polytope;
+use super::{Polytope, ENUMERATE_MAX};
 use crate::math::{Real, Vec3};
 
 impl Polytope {
@@ -29,61 +29,58 @@ impl Polytope {
         out[3 * m..4 * m].copy_from_slice(&self.b);
     }
 
-    /// `∂h(m)/∂(A, b)` at the support point `x` (body frame) into `out` (zeroed by the caller),
+    /// `∂h(m)/∂(A, b)` at the support point `x` (body frame) into `out` (overwritten),
     /// from the multipliers of the rows active at `x` (within 1e-8 of their offsets, relative).
     /// False when they are not unique (more than three rows through a corner, or rows given
     /// twice), or when `x` is not on the boundary and the support corner stood in for it.
     pub(crate) fn support_gradient(&self, m: &Vec3, x: &Vec3, out: &mut [Real]) -> bool {
-        let (mut ids, mut rows, mut n, mut all) = self.active_rows(x);
+        let mut act = Active::new();
+        self.active_rows(x, &mut act);
         let mut at = *x;
         let mut exact = true;
-        if n == 0 {
+        if act.n == 0 {
             // Not on the boundary (it cannot be, to rounding): the support corner's rows.
             at = self.support(m).0;
-            (ids, rows, n, all) = self.active_rows(&at);
+            self.active_rows(&at, &mut act);
             exact = false;
         }
-        let (lam, unique) = multipliers(&rows[..n], m, 3);
+        // The multipliers of the unit normals n_i = a_i/‖a_i‖.
+        let (mu, unique) = multipliers(&act.rows[..act.n], m, 3);
         let count = self.a.len();
-        for k in 0..n {
-            let i = ids[k];
-            out[3 * count + i] = lam[k];
+        out[..4 * count].fill(0.0);
+        for k in 0..act.n {
+            let i = act.ids[k];
+            let lam = mu[k] / Vec3::from(self.a[i]).norm();
+            out[3 * count + i] = lam;
             for j in 0..3 {
-                out[3 * i + j] = -lam[k] * at[j];
+                out[3 * i + j] = -lam * at[j];
             }
         }
-        exact && unique && all
+        exact && unique && act.all
     }
 
-    /// The rows active at `x` (their indices and normals, at most [`MAX_ACTIVE_ROWS`]), and
-    /// whether all of them fitted.
-    fn active_rows(
-        &self,
-        x: &Vec3,
-    ) -> (
-        [usize; MAX_ACTIVE_ROWS],
-        [Vec3; MAX_ACTIVE_ROWS],
-        usize,
-        bool,
-    ) {
-        let mut ids = [0; MAX_ACTIVE_ROWS];
-        let mut rows = [Vec3::zeros(); MAX_ACTIVE_ROWS];
-        let (mut n, mut all) = (0, true);
+    /// The rows active at `x` (within 1e-8 of their offsets, relative), into `act` (emptied).
+    fn active_rows(&self, x: &Vec3, act: &mut Active) {
+        act.n = 0;
+        act.all = true;
         let xn = x.norm();
-        for (i, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
-            let a = Vec3::from(*a);
-            let gap = b - a.dot(x);
-            if gap <= 1e-8 * (b.abs() + a.norm() * xn) {
-                if n == MAX_ACTIVE_ROWS {
-                    all = false;
-                    break;
+        if self.a.len() <= ENUMERATE_MAX {
+            // Built from every triple of planes: the unit normals and offsets are the rows'.
+            for (i, (nrm, o)) in self.normals.iter().zip(&self.offsets).enumerate() {
+                if o - nrm.dot(x) <= 1e-8 * (o + xn) {
+                    act.push(i, *nrm);
                 }
-                ids[n] = i;
-                rows[n] = a;
-                n += 1;
+            }
+        } else {
+            // Through the polar hull: its facets are the irredundant rows, in another order.
+            for (i, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
+                let a = Vec3::from(*a);
+                let k = a.norm();
+                if b / k - a.dot(x) / k <= 1e-8 * (b / k + xn) {
+                    act.push(i, a / k);
+                }
             }
         }
-        (ids, rows, n, all)
     }
 
     /// The rows' derivatives at `p` (`shapes/parameters.rs`): row `i` is
