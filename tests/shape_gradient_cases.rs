@@ -180,9 +180,7 @@ fn corner_of_four_planes() {
     assert!((side + alpha / 1.3 * 2f64.sqrt()).abs() < 1e-9, "{side}");
     // Along the direction that grows all four side offsets together, the finite difference.
     let mut v = vec![0.0; 20];
-    for i in 15..19 {
-        v[i] = 1.0;
-    }
+    v[15..19].fill(1.0);
     let fd = fd1(&pyramid, &p1, &ball, &p2, &v, 1e-6);
     assert!((side - fd).abs() < 1e-7, "{side} {fd}");
 }
@@ -413,4 +411,55 @@ fn moving_every_point_is_moving_the_shape() {
         }
     }
     assert!(checked > 100, "{checked}");
+}
+
+/// A polytope of more than 64 planes is built through its polar hull, whose facets are the
+/// irredundant rows in another order (and a few rows here are redundant): its active rows are
+/// found from `A` and `b` themselves. Random directions of all 4m parameters against finite
+/// differences, with a sphere and with a cone.
+#[test]
+fn many_planes_through_the_polar_hull() {
+    let mut rng = Rng::new(0x34_36);
+    let m = 90;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let a: Vec<[f64; 3]> = (0..m)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / m as f64;
+            let r = (1.0 - z * z).sqrt();
+            let t = golden * i as f64;
+            [r * t.cos(), r * t.sin(), z].map(|c| c * rng.range(0.5, 2.0))
+        })
+        .collect();
+    let b: Vec<f64> = a
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let norm = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+            // Every tenth row well outside the others: redundant.
+            norm * if i % 10 == 3 {
+                2.0
+            } else {
+                rng.range(0.8, 1.0)
+            }
+        })
+        .collect();
+    let poly = Shape::polytope(&a, &b).unwrap();
+    let mut compared = 0;
+    for other in [Shape::sphere(0.3).unwrap(), Shape::cone(0.8, 0.4).unwrap()] {
+        for _ in 0..12 {
+            let p1 = Pose::new([0.0; 3], rng.quat()).unwrap();
+            let u = rng.unit::<3>();
+            let p2 = Pose::new(u.map(|c| c * rng.range(1.0, 2.5)), rng.quat()).unwrap();
+            let (_, g1, _, k) = grads(&poly, &p1, &other, &p2, &Options::default());
+            if k != DerivativeKind::Exact {
+                continue;
+            }
+            let v: Vec<f64> = (0..4 * m).map(|_| rng.gauss()).collect();
+            let mine: f64 = g1.iter().zip(&v).map(|(g, d)| g * d).sum();
+            let fd = fd1(&poly, &p1, &other, &p2, &v, 1e-7);
+            assert!((mine - fd).abs() < 1e-6 * fd.abs().max(1.0), "{mine} {fd}");
+            compared += 1;
+        }
+    }
+    assert!(compared >= 20, "{compared}");
 }

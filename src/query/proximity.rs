@@ -201,7 +201,7 @@ pub(crate) fn query_full(
     options: &Options,
     want: Want,
     threshold: Option<(Real, bool)>,
-    mut sink: Option<&mut ShapeSink<'_>>,
+    sink: Option<&mut ShapeSink<'_>>,
 ) -> Result<Full, Error> {
     options.validate()?;
     // A half-space against anything: closed forms (two half-spaces: an error), or the cone
@@ -363,16 +363,7 @@ pub(crate) fn query_full(
             geometric::Outcome::Fallback => {}
         }
     }
-    query_ipm_until(
-        shape1,
-        pose1,
-        shape2,
-        pose2,
-        options,
-        want,
-        threshold,
-        sink.as_deref_mut(),
-    )
+    query_ipm_until(shape1, pose1, shape2, pose2, options, want, threshold, sink)
 }
 
 /// The derivatives from the interior-point path where the geometric solution has none (x* not
