@@ -110,6 +110,25 @@ pub fn contact_manifold(
     max_points: usize,
     options: &Options,
 ) -> Result<Manifold, Error> {
+    manifold(
+        shape1, pose1, shape2, pose2, margin, max_points, options, true,
+    )
+}
+
+/// [`contact_manifold`]; with `exact_distance` false, a manifold without points may carry a
+/// lower bound above the margin as its signed distance (a separating axis decided, without the
+/// distance), for callers that read only the points (the C function).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn manifold(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    margin: Real,
+    max_points: usize,
+    options: &Options,
+    exact_distance: bool,
+) -> Result<Manifold, Error> {
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(Error::InvalidOptions(ErrorDetail::new(
             "margin",
@@ -117,18 +136,24 @@ pub fn contact_manifold(
             "must be finite and nonnegative",
         )));
     }
-    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
-    let mut out = Manifold {
-        normal: sd.normal,
-        signed_distance: sd.distance,
-        status: sd.status,
-        iterations: sd.iterations,
-        contacts: [Contact::default(); MAX_CONTACTS],
-        count: 0,
-    };
     let cap = max_points.min(MAX_CONTACTS);
+    // Two boxes: the closed form (`super::contact_boxes`).
+    if let (Some(h1), Some(h2)) = (shape1.centred_box(), shape2.centred_box()) {
+        options.validate()?;
+        let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+        if let Some(b) = super::contact_boxes::boxes(&h1, pose1, &h2, pose2, margin, ell) {
+            if !b.points.is_empty() || !exact_distance {
+                let mut pts = Points::new();
+                for (p, d) in &b.points {
+                    pts.push(*p, *d);
+                }
+                return Ok(finish(&b.sd, &pts, cap));
+            }
+        }
+    }
+    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
     if sd.distance > margin || cap == 0 {
-        return Ok(out);
+        return Ok(finish(&sd, &Points::new(), 0));
     }
     let mut pts = Points::new();
     let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
@@ -150,8 +175,25 @@ pub fn contact_manifold(
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
+    Ok(finish(&sd, &pts, cap))
+}
+
+/// The manifold of the candidate points `pts` for the signed distance `sd`: at most `cap` of
+/// them (`reduce`).
+fn finish(sd: &SignedDistance, pts: &Points, cap: usize) -> Manifold {
+    let mut out = Manifold {
+        normal: sd.normal,
+        signed_distance: sd.distance,
+        status: sd.status,
+        iterations: sd.iterations,
+        contacts: [Contact::default(); MAX_CONTACTS],
+        count: 0,
+    };
+    if cap == 0 {
+        return out;
+    }
     let mut chosen = [0usize; MAX_CONTACTS];
-    let k = reduce(&pts, cap, &mut chosen);
+    let k = reduce(pts, cap, &mut chosen);
     for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
         *slot = Contact {
             position: pts.pos[i],
@@ -160,7 +202,7 @@ pub fn contact_manifold(
         };
     }
     out.count = k;
-    Ok(out)
+    out
 }
 
 /// Candidate contacts (no zeroed buffers: a query fills only what it uses).
