@@ -629,7 +629,8 @@ fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut ArrayVec<V2, BUF>) {
 }
 
 /// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
-/// largest triangle with those two, then each time the one farthest from those chosen.
+/// largest triangle with those two, then each time the one farthest from those chosen (each
+/// candidate's distance to the chosen ones kept up to date, one pass per pick).
 fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize {
     let n = pts.len();
     if n <= cap {
@@ -639,32 +640,41 @@ fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize
         return n;
     }
     let mut used = [false; BUF];
-    let deepest = (0..n)
-        .max_by(|&i, &j| pts.depth[i].total_cmp(&pts.depth[j]))
-        .unwrap_or(0);
+    // The best unused candidate by `score`, each scored once.
+    let pick = |used: &[bool; BUF], score: &dyn Fn(usize) -> Real| {
+        let mut best: Option<(usize, Real)> = None;
+        for i in (0..n).filter(|&i| !used[i]) {
+            let s = score(i);
+            if best.map_or(true, |(_, b)| s > b) {
+                best = Some((i, s));
+            }
+        }
+        best.map(|(i, _)| i)
+    };
+    let deepest = pick(&used, &|i| pts.depth[i]).unwrap_or(0);
     chosen[0] = deepest;
     used[deepest] = true;
+    let p0 = pts.pos[deepest];
+    // Each candidate's distance to the nearest chosen point.
+    let mut near = [0.0; BUF];
+    for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
+        *d = (p - p0).norm();
+    }
     let mut k = 1;
     while k < cap {
-        let score = |i: usize| -> Real {
-            let p = pts.pos[i];
-            match k {
-                1 => (p - pts.pos[chosen[0]]).norm(),
-                2 => (pts.pos[chosen[1]] - pts.pos[chosen[0]])
-                    .cross(&(p - pts.pos[chosen[0]]))
-                    .norm(),
-                _ => chosen[..k]
-                    .iter()
-                    .map(|&c| (p - pts.pos[c]).norm())
-                    .fold(Real::INFINITY, Real::min),
-            }
+        let best = if k == 2 {
+            let (a, e) = (pts.pos[chosen[0]], pts.pos[chosen[1]] - pts.pos[chosen[0]]);
+            pick(&used, &|i| e.cross(&(pts.pos[i] - a)).norm_squared())
+        } else {
+            pick(&used, &|i| near[i])
         };
-        let best = (0..n)
-            .filter(|&i| !used[i])
-            .max_by(|&i, &j| score(i).total_cmp(&score(j)));
         let Some(b) = best else { break };
         chosen[k] = b;
         used[b] = true;
+        let pb = pts.pos[b];
+        for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
+            *d = d.min((p - pb).norm());
+        }
         k += 1;
     }
     k
