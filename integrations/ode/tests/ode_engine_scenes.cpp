@@ -36,41 +36,11 @@ using engine_scenes::check;
 using ode_scenes::Body;
 using ode_scenes::Settings;
 using ode_scenes::World;
+using ode_scenes::pile_settings;
+using ode_scenes::pyramid_settings;
+using ode_scenes::slope_settings;
 
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-
-// The parameters of each scene (identical for both narrow phases).
-Settings pyramid_settings() {
-  Settings s;
-  s.dt = 0.005;
-  s.iterations = 100;
-  s.erp = 0.2;
-  s.cfm = 1e-5;
-  s.mu = 0.6;
-  return s;
-}
-
-Settings pile_settings() {
-  Settings s;
-  s.dt = 0.005;
-  s.iterations = 50;
-  s.erp = 0.2;
-  s.cfm = 1e-5;
-  s.mu = 0.6;
-  s.linear_damping = 0.001;
-  s.angular_damping = 0.005;
-  return s;
-}
-
-Settings slope_settings(double mu) {
-  Settings s;
-  s.dt = 0.002;
-  s.iterations = 50;
-  s.erp = 0.2;
-  s.cfm = 1e-6;
-  s.mu = mu;
-  return s;
-}
 
 void print_settings(const char *scene, const Settings &s) {
   std::printf("%s: dt %.4f s, dWorldQuickStep %d iterations, ERP %.2f, CFM %.0e, %d contacts per pair, "
@@ -174,20 +144,21 @@ int pile(unsigned seed, const char *csv, bool recorded) {
     outside = std::max(outside, std::max(std::fabs(p[0]) - half, std::fabs(p[1]) - half));
     zmin = std::min(zmin, p[2]);
   }
-  // Depths: every pair of bodies, each body against the floor and the four walls.
+  // Depths: every pair of bodies, each body against the floor and the four walls (dcol
+  // half-spaces of depth 1 whose boundaries are ODE's five planes).
   std::vector<dcol_shape *> shapes;
   std::vector<dcol_pose> poses(w.bodies.size());
   for (std::size_t i = 0; i < w.bodies.size(); ++i) shapes.push_back(ode_scenes::check_shape(w.bodies[i], &poses[i]));
-  dcol_shape *floor = nullptr, *wall_x = nullptr, *wall_y = nullptr;
-  dcol_shape_new_halfspace(1.0, &floor);
-  const double in = ode_scenes::kBinInner, t = ode_scenes::kBinWall, hgt = ode_scenes::kBinHeight;
-  dcol_shape_new_box(0.5 * t, 0.5 * (in + 2 * t), 0.5 * hgt, &wall_x);
-  dcol_shape_new_box(0.5 * (in + 2 * t), 0.5 * t, 0.5 * hgt, &wall_y);
-  const dcol_pose floor_pose = {{0, 0, -1}, {1, 0, 0, 0}};
-  const dcol_pose walls[4] = {{{-0.5 * (in + t), 0, 0.5 * hgt}, {1, 0, 0, 0}},
-                              {{0.5 * (in + t), 0, 0.5 * hgt}, {1, 0, 0, 0}},
-                              {{0, -0.5 * (in + t), 0.5 * hgt}, {1, 0, 0, 0}},
-                              {{0, 0.5 * (in + t), 0.5 * hgt}, {1, 0, 0, 0}}};
+  dcol_shape *halfspace = nullptr;
+  dcol_shape_new_halfspace(1.0, &halfspace);
+  const double c = std::sqrt(0.5);
+  // Attitudes turning e_z to the planes' normals: +z; -x, +x, -y, +y (the walls at x = +-half,
+  // y = +-half, normals into the bin).
+  const dcol_pose planes[5] = {{{0, 0, -1}, {1, 0, 0, 0}},
+                               {{half + 1, 0, 0}, {c, 0, -c, 0}},
+                               {{-half - 1, 0, 0}, {c, 0, c, 0}},
+                               {{0, half + 1, 0}, {c, c, 0, 0}},
+                               {{0, -half - 1, 0}, {c, -c, 0, 0}}};
   double deepest = 1e300;
   std::string deepest_what;
   bool all_shapes = true;
@@ -202,9 +173,9 @@ int pile(unsigned seed, const char *csv, bool recorded) {
         deepest_what = what;
       }
     };
-    note(signed_distance(floor, floor_pose, shapes[i], poses[i]), "body " + std::to_string(i) + " / floor");
-    for (int k = 0; k < 4; ++k)
-      note(signed_distance(k < 2 ? wall_x : wall_y, walls[k], shapes[i], poses[i]),
+    note(signed_distance(halfspace, planes[0], shapes[i], poses[i]), "body " + std::to_string(i) + " / floor");
+    for (int k = 1; k < 5; ++k)
+      note(signed_distance(halfspace, planes[k], shapes[i], poses[i]),
            "body " + std::to_string(i) + " / wall " + std::to_string(k));
     for (std::size_t j = i + 1; j < shapes.size(); ++j)
       if (shapes[j])
@@ -212,9 +183,7 @@ int pile(unsigned seed, const char *csv, bool recorded) {
              "bodies " + std::to_string(i) + " / " + std::to_string(j));
   }
   for (dcol_shape *x : shapes) dcol_shape_free(x);
-  dcol_shape_free(floor);
-  dcol_shape_free(wall_x);
-  dcol_shape_free(wall_y);
+  dcol_shape_free(halfspace);
   std::printf("pile of %zu bodies (seed %u) after 5 s: largest speed %.3e m/s (%d at 0.05 or more), largest angular "
               "speed %.3e rad/s, farthest outside the bin %.3e m, lowest centre z %.4f m, deepest pair %.3e m (%s); "
               "%.1f us per step\n",

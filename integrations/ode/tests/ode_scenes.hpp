@@ -27,6 +27,11 @@ struct Settings {
   double angular_damping = 0;  ///< dWorldSetAngularDamping
 };
 
+/// The parameters of each scene (identical for both narrow phases).
+Settings pyramid_settings();
+Settings pile_settings();
+Settings slope_settings(double mu);
+
 /// A convex hull as ODE's dCreateConvex wants it (planes a, b, c, d with the normal out; points;
 /// polygons as counts followed by counter-clockwise indices), about the origin.
 struct Hull {
@@ -46,7 +51,7 @@ Hull pyramid(int n, double r, double h);
 /// An n-gon bipyramid: equator radius r, tips at +-h on z (n + 2 points).
 Hull bipyramid(int n, double r, double h);
 
-enum Kind { kSphere, kBox, kCapsule, kCylinder, kHull, kStatic };
+enum Kind { kSphere, kBox, kCapsule, kCylinder, kHull };
 
 /// A body and its geom, with the sizes the scene gave it (for checks made without the adapter).
 struct Body {
@@ -66,6 +71,7 @@ struct Narrow {
   std::vector<double> samples;   ///< each call's time (s), when keep_samples
   // Per pair of classes (the lower class number first), calls and seconds.
   unsigned long pair_calls[16][16] = {};
+  unsigned long pair_empty[16][16] = {};  ///< calls that returned no contact
   double pair_seconds[16][16] = {};
 };
 
@@ -84,8 +90,6 @@ class World {
   /// A dynamic body of the given kind (hull: made with dcol_ode::create_convex when `recorded`,
   /// else dCreateConvex), density 500 kg/m^3.
   Body &add(Kind kind, const double size[3], const Hull *hull, const double pos[3], const dQuaternion q, bool recorded);
-  /// A static box (no body).
-  dGeomID add_static_box(const double lengths[3], const double pos[3]);
 
   Settings settings;
   dWorldID world;
@@ -103,12 +107,10 @@ class World {
 /// The pyramid: 55 boxes (0.2 m cubes) in 10 layers on ODE's plane z = 0, each box on two below.
 void build_pyramid(World &w, bool recorded_hulls);
 /// The pile: 48 bodies (spheres, boxes, capsules, cylinders and hulls of 12 to 200 points) with
-/// random attitudes, dropped from up to 1 m into a bin (floor: ODE's plane z = 0; walls: static
-/// boxes, inner size kBinInner x kBinInner, kBinHeight high).
+/// random attitudes, dropped from up to 1 m into a bin (floor and walls: ODE's planes z = 0 and
+/// x, y = +-kBinInner / 2).
 void build_pile(World &w, unsigned seed, bool recorded_hulls);
 const double kBinInner = 0.9;
-const double kBinHeight = 0.5;
-const double kBinWall = 0.1;
 
 /// The hulls of the pile (each with 12 to 200 points).
 const std::vector<Hull> &pile_hulls();
