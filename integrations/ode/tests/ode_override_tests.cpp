@@ -698,6 +698,56 @@ void convexes() {
   destroy(plane);
 }
 
+// The collider's shortcut: a pair without contacts at its last call is first asked
+// dcol_alpha_below(1 + 1e-6). Near touching, in and out of contact again and again (the same geom
+// pair, so its hint flips), dCollide must report contacts exactly when dcol_contacts on the same
+// shapes and poses does, with the same deepest depth.
+void near_touching() {
+  const int classes[5] = {dSphereClass, dBoxClass, dCapsuleClass, dCylinderClass, dConvexClass};
+  const double gaps[6] = {-1e-4, -1e-7, -1e-10, 1e-10, 1e-7, 1e-4};
+  int cases = 0, agree = 0, touching = 0;
+  for (int i = 0; i < 5; ++i)
+    for (int j = i; j < 5; ++j) {
+      dGeomID a = make_geom(classes[i]), b = make_geom(classes[j]);
+      for (int k = 0; k < 12; ++k) {
+        random_pose_pair(a, b, 0.7);
+        dcol_pose pa, pb;
+        const dcol_shape *sa = dcol_ode::shape_of(a, &pa), *sb = dcol_ode::shape_of(b, &pb);
+        dcol_signed_distance_result r;
+        if (!sa || !sb || dcol_signed_distance(sa, &pa, sb, &pb, nullptr, &r) != DCOL_OK) continue;
+        const dReal *p = dGeomGetPosition(b);
+        const double base[3] = {p[0], p[1], p[2]};
+        for (double gap : gaps) {
+          // Move b along the normal so that the signed distance becomes about `gap`.
+          const double t = gap - r.distance;
+          dGeomSetPosition(b, base[0] + t * r.normal[0], base[1] + t * r.normal[1], base[2] + t * r.normal[2]);
+          dcol_ode::shape_of(b, &pb);
+          dcol_contact cs[8];
+          std::size_t n = 0;
+          dcol_contacts(sa, &pa, sb, &pb, 0.0, nullptr, cs, 8, &n);
+          dContactGeom c[8];
+          const int m = dCollide(a, b, 8, c, sizeof(dContactGeom));
+          double want = -1e300;
+          for (std::size_t q = 0; q < n; ++q) want = std::max(want, cs[q].depth);
+          ++cases;
+          touching += n > 0;
+          if (static_cast<std::size_t>(m) == n && (n == 0 || std::fabs(max_depth(c, m) - want) < 1e-12)) {
+            ++agree;
+          } else {
+            std::printf("  %s-%s gap %.0e: dCollide %d contacts, dcol_contacts %zu\n", class_name(classes[i]),
+                        class_name(classes[j]), gap, m, n);
+          }
+        }
+      }
+      destroy(a);
+      destroy(b);
+    }
+  std::printf("near touching: %d poses (signed distance -1e-4 to 1e-4, the same pairs in and out of contact), %d with "
+              "contacts, %d as dcol_contacts\n",
+              cases, touching, agree);
+  expect(cases > 800 && agree == cases, "the alpha_below shortcut never changes dcol_contacts' answer");
+}
+
 // The dcol geom class against ODE's own box (through the same collider).
 void user_class() {
   dcol_shape *ball = nullptr;
@@ -754,6 +804,7 @@ int main() {
   count_and_skip();
   parameters_change();
   rejected_pairs();
+  near_touching();
   convexes();
   user_class();
   const dcol_ode::Stats s = dcol_ode::stats();
