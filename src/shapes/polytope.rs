@@ -2,6 +2,7 @@
 //! `α b_i − a_i·u ≥ 0`.
 
 use super::climb::Climb;
+use super::quickhull::{self, HullError, Lists, Mesh};
 use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
 use super::{check_halfspaces, BodyRow, ConicShape, RowSink};
 use crate::error::{Error, ErrorDetail};
@@ -14,6 +15,15 @@ use crate::math::{Real, Vec3};
 /// 1 101 -> 641 at 256; on benches/proximity's 12-facet polytope (20 vertices) the search
 /// stays ahead for spheres, capsules and ellipsoids (by 5-9 %).
 const CLIMB_MIN: usize = 24;
+
+/// Polytopes given by more planes than this find their vertices as the polar polytope's
+/// facets (the convex hull of the points `a_i/b_i`, O(m log m)) rather than by trying every
+/// triple of planes (O(m³) triples, each checked against every plane).
+const ENUMERATE_MAX: usize = 64;
+
+/// Polytopes with this many facets or more find their gauge (and the facet facing a
+/// direction) by climbing the facet graph rather than by a dot product per facet.
+const GAUGE_CLIMB_MIN: usize = 24;
 
 /// A bounded convex polytope in halfspace form.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,15 +45,172 @@ pub struct Polytope {
     /// The vertex graph and start table of the support map's hill climb (`super::climb`), for
     /// polytopes with [`CLIMB_MIN`] vertices or more.
     climb: Option<Climb>,
+    /// The facets' corner loops and the polar climb, for polytopes built from a hull.
+    faces: Option<Box<Faces>>,
     bounding_radius: Real,
     inscribed_radius: Real,
 }
 
+/// What a polytope built from a convex hull (of its points, or of its polar points) knows of
+/// its facets.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Faces {
+    /// Each facet's corners (indices into the vertices), counter-clockwise seen from outside.
+    loops: Lists,
+    /// The polar polytope's corners `n_i/o_i`, one per facet.
+    polar: Vec<Vec3>,
+    /// The climb on the facet graph (two facets joined when they share an edge) that finds the
+    /// largest `polar_i·p`, the gauge of `p`; for polytopes of [`GAUGE_CLIMB_MIN`] facets or
+    /// more.
+    gauge: Option<Climb>,
+}
+
 impl Polytope {
     /// Validates `A` (m×3, rows non-zero, finite) and `b` (m, positive, finite), m ≤
-    /// [`super::MAX_FACETS`], and that the set is bounded. Computes its vertices' largest norm.
+    /// [`super::MAX_FACETS`], and that the set is bounded; finds its vertices.
     pub fn new(a: &[[Real; 3]], b: &[Real]) -> Result<Polytope, Error> {
-        check_halfspaces("A", "b", a, b)?;
+        check_halfspaces("A", "b", a, b, super::MAX_FACETS)?;
+        if a.len() <= ENUMERATE_MAX {
+            Polytope::enumerated(a, b)
+        } else {
+            Polytope::polar(a, b)
+        }
+    }
+
+    /// The polytope whose facets are the hull `mesh` of points (the corners), as
+    /// [`super::Shape::convex_hull`] builds it: `Err(offset)` with the least facet offset when
+    /// the origin is not strictly inside.
+    pub(crate) fn from_mesh(mesh: Mesh, tol: Real) -> Result<Polytope, Real> {
+        let least = mesh.offsets.iter().cloned().fold(Real::INFINITY, Real::min);
+        if !(least > tol) {
+            return Err(least);
+        }
+        let a: Vec<[Real; 3]> = mesh.normals.iter().map(|n| [n.x, n.y, n.z]).collect();
+        let faces = Faces::new(mesh.loops, &mesh.normals, &mesh.offsets, &mesh.facet_graph);
+        Ok(Polytope::finish(
+            a,
+            mesh.offsets.clone(),
+            mesh.vertices,
+            mesh.normals,
+            mesh.offsets,
+            mesh.vertex_graph,
+            Some(faces),
+        ))
+    }
+
+    /// Many planes: the vertices are the polar polytope's facets. The polar polytope
+    /// `{ y : x·y ≤ 1 for all x in P }` is the hull of the points `q_i = a_i/b_i`; its facet
+    /// `n·y ≤ o` is the vertex `n/o` of P, its corner `q_i` the facet `i` of P (rows that are not
+    /// corners are redundant), and P is bounded exactly when the origin is strictly inside it.
+    fn polar(a: &[[Real; 3]], b: &[Real]) -> Result<Polytope, Error> {
+        let m = a.len();
+        let unbounded = || {
+            Error::InvalidShape(ErrorDetail::new(
+                "A",
+                m as Real,
+                "rows must describe a bounded polytope (found a direction d with A d ≤ 0)",
+            ))
+        };
+        let q: Vec<Vec3> = a
+            .iter()
+            .zip(b)
+            .map(|(r, bi)| Vec3::from(*r) / *bi)
+            .collect();
+        let tol = quickhull::tolerance(&q);
+        let mesh = quickhull::hull(&q).map_err(|e| match e {
+            HullError::Failed(_) | HullError::NonFinite(..) => {
+                Error::InvalidShape(ErrorDetail::new(
+                    "A",
+                    m as Real,
+                    "rows too close to degenerate for their vertices to be found",
+                ))
+            }
+            _ => unbounded(),
+        })?;
+        if !mesh.offsets.iter().all(|&o| o > tol) {
+            return Err(unbounded());
+        }
+        // P's vertices, one per polar facet; P's facets, one per polar corner.
+        let vertices: Vec<Vec3> = mesh
+            .normals
+            .iter()
+            .zip(&mesh.offsets)
+            .map(|(n, o)| n / *o)
+            .collect();
+        let rows: Vec<usize> = mesh.source.iter().map(|&k| k as usize).collect();
+        let normals: Vec<Vec3> = rows.iter().map(|&i| Vec3::from(a[i]).normalize()).collect();
+        let offsets: Vec<Real> = rows
+            .iter()
+            .map(|&i| b[i] / Vec3::from(a[i]).norm())
+            .collect();
+        // Facet k's corners: the polar facets through polar corner k, in order round its normal.
+        let mut loops = Lists {
+            first: vec![0],
+            items: Vec::new(),
+        };
+        for (k, nk) in normals.iter().enumerate() {
+            let mut ring: Vec<u32> = mesh.incident.get(k).to_vec();
+            let c = ring.iter().map(|&g| vertices[g as usize]).sum::<Vec3>() / ring.len() as Real;
+            let u = (vertices[ring[0] as usize] - c)
+                .try_normalize(0.0)
+                .unwrap_or(Vec3::x());
+            let v = nk.cross(&u);
+            let angle = |g: &u32| {
+                let d = vertices[*g as usize] - c;
+                d.dot(&v).atan2(d.dot(&u))
+            };
+            ring.sort_by(|x, y| angle(x).total_cmp(&angle(y)));
+            loops.items.extend(ring);
+            loops.first.push(loops.items.len() as u32);
+        }
+        let faces = Faces::new(loops, &normals, &offsets, &mesh.vertex_graph);
+        Ok(Polytope::finish(
+            a.to_vec(),
+            b.to_vec(),
+            vertices,
+            normals,
+            offsets,
+            mesh.facet_graph,
+            Some(faces),
+        ))
+    }
+
+    /// The parts every construction shares: radii, the box's table, the climb.
+    fn finish(
+        a: Vec<[Real; 3]>,
+        b: Vec<Real>,
+        vertices: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        offsets: Vec<Real>,
+        graph: Lists,
+        faces: Option<Faces>,
+    ) -> Polytope {
+        let rho = vertices
+            .iter()
+            .map(crate::math::robust_norm)
+            .fold(0.0, Real::max);
+        let iota = offsets.iter().cloned().fold(Real::INFINITY, Real::min);
+        let half_extents = centred_box(&normals, &offsets);
+        let box_support = half_extents.and_then(|_| box_support(&vertices));
+        let climb = (box_support.is_none() && vertices.len() >= CLIMB_MIN)
+            .then(|| Climb::from_graph(&vertices, graph));
+        Polytope {
+            a,
+            b,
+            vertices,
+            normals,
+            offsets,
+            half_extents,
+            box_support,
+            climb,
+            faces: faces.map(Box::new),
+            bounding_radius: rho.max(iota),
+            inscribed_radius: iota,
+        }
+    }
+
+    /// Few planes: every triple of planes whose intersection satisfies all of them is a vertex.
+    fn enumerated(a: &[[Real; 3]], b: &[Real]) -> Result<Polytope, Error> {
         let rows: Vec<Vec3> = a.iter().map(|r| Vec3::from(*r)).collect();
         // Scale-free copies: unit normals n_i and offsets b_i/|a_i|.
         let norms: Vec<Real> = rows.iter().map(|r| r.norm()).collect();
@@ -149,6 +316,7 @@ impl Polytope {
             half_extents,
             box_support,
             climb,
+            faces: None,
             normals: n,
             offsets: off,
             bounding_radius: rho.max(iota),
@@ -187,6 +355,36 @@ impl Polytope {
     /// Half extents when this is a box centred at its origin and aligned with its axes.
     pub(crate) fn half_extents(&self) -> Option<Vec3> {
         self.half_extents
+    }
+
+    /// The corners (indices into [`Polytope::vertices`]) of the facet whose outward unit
+    /// normal is `normal` (one of [`Polytope::facets`]'), counter-clockwise seen from outside,
+    /// when the polytope knows its facets' loops (built from a hull).
+    pub(crate) fn facet_corners(&self, normal: &Vec3) -> Option<&[u32]> {
+        let faces = self.faces.as_deref()?;
+        let k = self.normals.iter().position(|n| n == normal)?;
+        Some(faces.loops.get(k))
+    }
+
+    /// The index of the facet whose polar corner `n_i/o_i` is largest along `p` (its gauge is
+    /// that value), by the climb when there is one.
+    fn gauge_facet(&self, p: &Vec3) -> Option<usize> {
+        let faces = self.faces.as_deref()?;
+        let climb = faces.gauge.as_ref()?;
+        Some(climb.support(&faces.polar, p))
+    }
+}
+
+impl Faces {
+    fn new(loops: Lists, normals: &[Vec3], offsets: &[Real], facet_graph: &Lists) -> Faces {
+        let polar: Vec<Vec3> = normals.iter().zip(offsets).map(|(n, o)| n / *o).collect();
+        let gauge = (normals.len() >= GAUGE_CLIMB_MIN)
+            .then(|| Climb::from_graph(&polar, facet_graph.clone()));
+        Faces {
+            loops,
+            polar,
+            gauge,
+        }
     }
 }
 
@@ -276,9 +474,36 @@ impl SupportMap for Polytope {
         Round::Flat.eval(self.vertices.get(id as usize)?, m)
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
-        nearest_normal(&self.normals, m, cos_min)
+        let Some(mut k) = self.gauge_facet(m) else {
+            return nearest_normal(&self.normals, m, cos_min);
+        };
+        // From the facet whose polar corner is best along m, the best aligned normal by
+        // steepest ascent on the facet graph.
+        let graph = self.faces.as_deref()?.gauge.as_ref()?.graph();
+        let mut c = self.normals[k].dot(m);
+        loop {
+            let mut next = k;
+            for &j in graph.get(k) {
+                let cj = self.normals[j as usize].dot(m);
+                if cj > c {
+                    (c, next) = (cj, j as usize);
+                }
+            }
+            if next == k {
+                break;
+            }
+            k = next;
+        }
+        let n = m.norm();
+        (n > 0.0 && c >= cos_min * n).then(|| self.normals[k])
     }
     fn gauge(&self, p: &Vec3) -> Real {
+        if let Some(k) = self.gauge_facet(p) {
+            return self
+                .faces
+                .as_deref()
+                .map_or(0.0, |f| f.polar[k].dot(p).max(0.0));
+        }
         self.a.iter().zip(&self.b).fold(0.0, |g: Real, (a, b)| {
             g.max((a[0] * p.x + a[1] * p.y + a[2] * p.z) / b)
         })
@@ -300,7 +525,7 @@ impl ConicShape for Polytope {
     }
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         for (a, b) in self.a.iter().zip(&self.b) {
-            sink.lp(BodyRow::new([-a[0], -a[1], -a[2]], b * inv_scale, [0.0; 2]));
+            sink.lp(BodyRow::new([-a[0], -a[1], -a[2]], b * inv_scale, [0.0; 3]));
         }
     }
 }
