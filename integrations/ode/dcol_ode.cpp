@@ -460,26 +460,21 @@ void use_dcol() {
 
 namespace {
 
-// The dcol shape of a convex's points, about the geom's origin when it lies strictly inside them
-// and else about their mean (strictly inside any full-dimensional hull): *shift is that centre in
-// the geom's frame. nullptr when the points make no dcol hull.
-// INTERIM (until dcol_shape_new_convex_hull is on main): the polytope of ODE's planes.
-dcol_shape *convex_shape(const dReal *planes, unsigned planecount, const dReal *points, unsigned pointcount,
-                         double shift[3]) {
+// The convex hull of a convex's points (dcol_shape_new_convex_hull), about the geom's origin when
+// it lies strictly inside them, else about their mean (strictly inside any full-dimensional hull):
+// *shift is that centre in the geom's frame. nullptr when the points make no dcol hull (fewer than
+// four not in a plane, non-finite values).
+dcol_shape *convex_shape(const dReal *points, unsigned pointcount, double shift[3]) {
   shift[0] = shift[1] = shift[2] = 0;
-  if (pointcount == 0 || planecount == 0) return nullptr;
-  std::vector<double> A(3 * planecount), b(planecount);
-  for (unsigned i = 0; i < planecount; ++i) {
-    for (int k = 0; k < 3; ++k) A[3 * i + k] = planes[4 * i + k];
-    b[i] = planes[4 * i + 3];
-  }
+  if (!points || pointcount == 0) return nullptr;
+  std::vector<double> p(points, points + 3 * static_cast<std::size_t>(pointcount));
   dcol_shape *s = nullptr;
-  if (dcol_shape_new_polytope(A.data(), b.data(), planecount, &s) == DCOL_OK) return s;
+  if (dcol_shape_new_convex_hull(p.data(), pointcount, 0.0, &s) == DCOL_OK) return s;
   for (unsigned j = 0; j < pointcount; ++j)
-    for (int k = 0; k < 3; ++k) shift[k] += points[3 * j + k] / pointcount;
-  for (unsigned i = 0; i < planecount; ++i)
-    b[i] -= A[3 * i] * shift[0] + A[3 * i + 1] * shift[1] + A[3 * i + 2] * shift[2];
-  if (dcol_shape_new_polytope(A.data(), b.data(), planecount, &s) == DCOL_OK) return s;
+    for (int k = 0; k < 3; ++k) shift[k] += p[3 * j + k] / pointcount;
+  for (unsigned j = 0; j < pointcount; ++j)
+    for (int k = 0; k < 3; ++k) p[3 * j + k] -= shift[k];
+  if (dcol_shape_new_convex_hull(p.data(), pointcount, 0.0, &s) == DCOL_OK) return s;
   shift[0] = shift[1] = shift[2] = 0;
   return nullptr;
 }
@@ -490,7 +485,7 @@ dGeomID create_convex(dSpaceID space, const dReal *planes, unsigned planecount, 
                       unsigned pointcount, const unsigned *polygons) {
   dGeomID geom = dCreateConvex(space, planes, planecount, points, pointcount, polygons);
   ConvexRecord rec;
-  rec.shape = points ? convex_shape(planes, planecount, points, pointcount, rec.shift) : nullptr;
+  rec.shape = convex_shape(points, pointcount, rec.shift);
   if (!rec.shape) {
     ++g.stats.unrecorded_convexes;
     return geom;

@@ -688,6 +688,12 @@ void convexes() {
   expect(!dcol_ode::is_recorded_convex(cube) && dcol_ode::stats().dropped_records == dropped + 1 &&
              dcol_ode::collider_calls() == calls2 && n == 4,
          "dGeomSetConvex drops the record: ODE's collider answers");
+  // Points that make no hull (the cube's top face only: flat): the geom is made, not recorded.
+  const unsigned long unrecorded = dcol_ode::stats().unrecorded_convexes;
+  dGeomID flat = dcol_ode::create_convex(0, kCubePlanes, 6, kCubePoints + 12, 4, kCubePolygons);
+  expect(flat && !dcol_ode::is_recorded_convex(flat) && dcol_ode::stats().unrecorded_convexes == unrecorded + 1,
+         "create_convex with flat points: a plain convex, counted");
+  destroy(flat);
   dGeomID cube2 = dcol_ode::create_convex(0, kCubePlanes, 6, kCubePoints, 8, kCubePolygons);
   expect(dcol_ode::is_recorded_convex(cube2), "a second recorded convex");
   dcol_ode::forget(cube2);

@@ -331,13 +331,10 @@ dcol_shape *check_shape(const Body &b, dcol_pose *pose) {
       break;
     }
     default: {
+      // The hull of the points (about the origin, inside every pile hull).
       const Hull &h = *b.hull;
-      std::vector<double> A, c;
-      for (unsigned i = 0; i < h.plane_count; ++i) {
-        A.insert(A.end(), {h.planes[4 * i], h.planes[4 * i + 1], h.planes[4 * i + 2]});
-        c.push_back(h.planes[4 * i + 3]);
-      }
-      dcol_shape_new_polytope(A.data(), c.data(), h.plane_count, &s);
+      std::vector<double> pts(h.points.begin(), h.points.end());
+      dcol_shape_new_convex_hull(pts.data(), h.point_count(), 0.0, &s);
       break;
     }
   }
