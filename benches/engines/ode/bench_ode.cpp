@@ -1,6 +1,7 @@
 // The cost of dcol inside ODE: the scene tests' pyramid (55 boxes, 10 s) and pile (48 mixed bodies
 // in a bin, 5 s; seed 1, and seed 2 only measured), stepped with ODE's own colliders and with dcol
-// (dcol_ode::use_dcol()), in one process, rounds alternating which goes first. Prints a table:
+// (dcol_ode::use_dcol()), in one process, each scene's two runs back to back, alternating which
+// goes first. Prints a table:
 //   - whole-step time (dSpaceCollide + dWorldQuickStep): median per step and total per run;
 //   - narrow-phase time per pair call: each dCollide of the near callback timed (steady_clock,
 //     the same code for both), mean and median, and per pair of geom classes.
@@ -8,6 +9,7 @@
 // would weigh on the first); both passes step the same deterministic trajectory.
 //
 //   bench_ode [--smoke] [--rounds N]
+//   bench_ode --only pyramid|pile|pile2 native|dcol [STEPS]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -111,7 +113,27 @@ const char *class_name(int c) {
 
 int main(int argc, char **argv) {
   bool smoke = false;
-  int rounds = 3;
+  int rounds = 5;
+  // --only SCENE MODE [STEPS]: one run of one scene (pyramid, pile, pile2) with one narrow phase
+  // (native, dcol), printing only its number of dCollide calls and of steps: for instruction
+  // counts under callgrind (run.sh --instructions), which are the same on a loaded machine.
+  for (int i = 1; i + 2 < argc; ++i) {
+    if (std::strcmp(argv[i], "--only")) continue;
+    const std::string scene = argv[i + 1], mode = argv[i + 2];
+    Scene s = scene == "pyramid" ? Scene{"pyramid", 2000, 1} : Scene{"pile", 1000, scene == "pile2" ? 2u : 1u};
+    if (i + 3 < argc) s.steps = std::atoi(argv[i + 3]);
+    dInitODE2(0);
+    if (mode == "dcol") dcol_ode::use_dcol();
+    {
+      World w(settings(s));
+      build(w, s, mode == "dcol");
+      for (int k = 0; k < s.steps; ++k) w.step();
+      std::printf("%lu %d\n", w.narrow.calls, s.steps);  // dCollide calls, steps
+    }
+    dcol_ode::release_all();
+    dCloseODE();
+    return 0;
+  }
   if (const char *e = std::getenv("DCOL_BENCH_ROUNDS")) rounds = std::max(1, std::atoi(e));
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--smoke")) smoke = true;
@@ -124,19 +146,29 @@ int main(int argc, char **argv) {
   }
   const int n = static_cast<int>(scenes.size());
   std::vector<Result> native(n), dcol(n);
+  // Each scene runs with both narrow phases back to back (ODE closed and initialised again in
+  // between: dInitODE2 restores ODE's own colliders), the first of the two alternating, so that
+  // both see the same machine load.
   for (int round = 0; round < rounds; ++round) {
-    for (int order = 0; order < 2; ++order) {
-      const bool use = (order + round) % 2 == 1;  // alternate which narrow phase goes first
-      dInitODE2(0);
-      if (use) dcol_ode::use_dcol();
-      for (int i = 0; i < n; ++i) run(scenes[i], use, use ? dcol[i] : native[i]);
-      if (use && (dcol_ode::stats().rejected || dcol_ode::stats().native_calls)) {
-        std::printf("dcol rejected %lu pairs and left %lu to ODE's colliders\n", dcol_ode::stats().rejected,
-                    dcol_ode::stats().native_calls);
-        return 1;
+    for (int i = 0; i < n; ++i) {
+      for (int order = 0; order < 2; ++order) {
+        const bool use = (order + round + i) % 2 == 1;
+        dInitODE2(0);
+        if (use) dcol_ode::use_dcol();
+        run(scenes[i], use, use ? dcol[i] : native[i]);
+        if (use && (dcol_ode::stats().rejected || dcol_ode::stats().native_calls)) {
+          std::printf("dcol rejected %lu pairs and left %lu to ODE's colliders\n", dcol_ode::stats().rejected,
+                      dcol_ode::stats().native_calls);
+          return 1;
+        }
+        if (!use && dcol_ode::collider_calls()) {
+          std::printf("a native run reached dcol\n");
+          return 1;
+        }
+        dcol_ode::release_all();
+        dcol_ode::reset_stats();
+        dCloseODE();
       }
-      dcol_ode::release_all();
-      dCloseODE();
     }
   }
   const ode_scenes::Settings py = ode_scenes::pyramid_settings(), pi = ode_scenes::pile_settings();

@@ -3,9 +3,11 @@
 # ODE benchmark against the installed package and runs it: whole-step time and narrow-phase time
 # per dCollide call, ODE's own colliders against dcol's, on the pyramid and the pile, in one run.
 #
-#   benches/engines/ode/run.sh            # full run (3 rounds), about two minutes
+#   benches/engines/ode/run.sh            # full run (5 rounds), about three minutes
 #   benches/engines/ode/run.sh --smoke    # a few steps, to check that it builds and runs
-# Environment: DCOL_BENCH_ROUNDS (default 3), DCOL_BENCH_JOBS (default 2).
+#   benches/engines/ode/run.sh --instructions   # instructions per step and per dCollide under
+#                                         # callgrind (the same on a loaded machine), ~10 minutes
+# Environment: DCOL_BENCH_ROUNDS (default 5), DCOL_BENCH_JOBS (default 2).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../../.." && pwd)"
 cd "$root"
@@ -16,4 +18,28 @@ cmake --build build/bench-dcol -j"$jobs" >/dev/null
 cmake --install build/bench-dcol --prefix "$prefix" >/dev/null
 cmake -S benches/engines/ode -B build/bench-ode -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build build/bench-ode -j"$jobs" >/dev/null
-build/bench-ode/bench_ode "$@"
+if [[ "${1:-}" != "--instructions" ]]; then
+  build/bench-ode/bench_ode "$@"
+  exit 0
+fi
+# Instructions (valgrind --tool=callgrind), which a loaded machine does not change: inside
+# World::step (the whole step) and inside dCollide (the narrow phase), per step and per call.
+echo "instructions per step and per dCollide call (callgrind; pyramid: the first ${DCOL_BENCH_PYRAMID_STEPS:-400} steps)"
+echo
+echo "| scene | narrow phase | per step | per dCollide call | calls per step |"
+echo "|---|---|---|---|---|"
+for scene in pyramid pile pile2; do
+  steps=1000
+  [[ $scene == pyramid ]] && steps=${DCOL_BENCH_PYRAMID_STEPS:-400}
+  for mode in native dcol; do
+    out=build/bench-ode/callgrind.$scene.$mode
+    calls=$(valgrind --tool=callgrind --callgrind-out-file="$out" \
+      --toggle-collect='ode_scenes::World::step()' build/bench-ode/bench_ode --only $scene $mode $steps 2>/dev/null |
+      awk '{print $1}')
+    step_ir=$(callgrind_annotate "$out" 2>/dev/null | awk '/PROGRAM TOTALS/ {gsub(",", "", $1); print $1}')
+    valgrind --tool=callgrind --callgrind-out-file="$out.collide" \
+      --toggle-collect='dCollide' build/bench-ode/bench_ode --only $scene $mode $steps >/dev/null 2>&1
+    collide_ir=$(callgrind_annotate "$out.collide" 2>/dev/null | awk '/PROGRAM TOTALS/ {gsub(",", "", $1); print $1}')
+    echo "| $scene | $mode | $((step_ir / steps)) | $((collide_ir / calls)) | $((calls / steps)) |"
+  done
+done

@@ -163,13 +163,11 @@ void World::near(void *self, dGeomID o1, dGeomID o2) {
   dContact c[16];
   const int max = std::min(w->settings.max_contacts, 16);
   int n;
+  Narrow &s = w->narrow;
   if (w->time_narrow) {
     const auto t0 = std::chrono::steady_clock::now();
     n = dCollide(o1, o2, max, &c[0].geom, sizeof(dContact));
     const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    Narrow &s = w->narrow;
-    ++s.calls;
-    s.contacts += static_cast<unsigned long>(n);
     s.seconds += dt;
     if (w->keep_samples) s.samples.push_back(dt);
     int c1 = dGeomGetClass(o1), c2 = dGeomGetClass(o2);
@@ -182,6 +180,8 @@ void World::near(void *self, dGeomID o1, dGeomID o2) {
   } else {
     n = dCollide(o1, o2, max, &c[0].geom, sizeof(dContact));
   }
+  ++s.calls;
+  s.contacts += static_cast<unsigned long>(n);
   for (int i = 0; i < n; ++i) {
     c[i].surface.mode = dContactApprox1;
     c[i].surface.mu = w->settings.mu;

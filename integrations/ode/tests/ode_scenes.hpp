@@ -63,7 +63,8 @@ struct Body {
   double start[3];    ///< initial position
 };
 
-/// Narrow-phase statistics of the near callback (filled when World::time_narrow is set).
+/// Narrow-phase statistics of the near callback (calls and contacts always; the times and the
+/// per-pair counts when World::time_narrow is set).
 struct Narrow {
   unsigned long calls = 0;       ///< dCollide calls
   unsigned long contacts = 0;    ///< contacts they returned
