@@ -43,3 +43,29 @@ for scene in pyramid pile pile2; do
     echo "| $scene | $mode | $((step_ir / steps)) | $((collide_ir / calls)) | $((calls / steps)) |"
   done
 done
+
+# One resting pair at a time: instructions per dCollide (callgrind, 1000 calls minus 0), aligned
+# faces and tilted by 1e-6 rad.
+ir() {
+  valgrind --tool=callgrind --callgrind-out-file=/dev/null build/bench-ode/pair_instructions "$@" 2>&1 |
+    awk '/Collected/ {print $4}'
+}
+echo
+echo "instructions per dCollide of one resting pair (contacts), aligned and tilted by 1e-6 rad"
+echo
+echo "| pair | ODE | dcol | ODE, tilted | dcol, tilted |"
+echo "|---|---|---|---|---|"
+i=0
+while read -r name; do
+  row="| $name"
+  for tilt in 0 1e-6; do
+    for mode in native dcol; do
+      n0=$(ir $i $mode 0 $tilt)
+      n1=$(ir $i $mode 1000 $tilt)
+      contacts=$(build/bench-ode/pair_instructions $i $mode 1 $tilt)
+      row="$row | $(((n1 - n0) / 1000)) ($contacts)"
+    done
+  done
+  echo "$row |"
+  i=$((i + 1))
+done < <(build/bench-ode/pair_instructions --list)
