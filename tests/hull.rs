@@ -95,7 +95,7 @@ fn the_hull_of_a_boxs_corners_is_the_box() {
             }
         }
     }
-    assert_eq!(compared, 40 * 8 * 10);
+    assert_eq!(compared, 40 * KINDS.len() * 10);
 }
 
 #[test]

@@ -120,7 +120,7 @@ pub(crate) fn proximity(
 }
 
 /// `∂α*/∂(r₁, q₁, r₂, q₂)` from the geometric solution by the envelope theorem
-/// (`../shared/ALGORITHMS.md` §4): with `ñ = n*/h_K(n*)`, `∂α*/∂r₂ = ñ = −∂α*/∂r₁`; a change of
+/// (`docs/maths.md` §4): with `ñ = n*/h_K(n*)`, `∂α*/∂r₂ = ñ = −∂α*/∂r₁`; a change of
 /// `qᵢ` moves shape i's support function at `n*` through its support point `bᵢ*` (body frame),
 /// `∂h₁(n)/∂q₁ₖ = n·(∂R₁/∂q₁ₖ) b₁*` and `∂h₂(−n)/∂q₂ₖ = −n·(∂R₂/∂q₂ₖ) b₂*`, and
 /// `∂α*/∂h_K = −α*/h_K`. Exact wherever the optimal normal and support points are unique. A

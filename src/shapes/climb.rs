@@ -46,7 +46,7 @@ impl Climb {
                 }
             }
         }
-        let graph = Lists::from_pairs(nv, &mut pairs);
+        let graph = Lists::from_pairs(nv, &pairs);
         let start = (0..6 * N_MIN * N_MIN)
             .map(|c| super::support::argmax_dot(vertices, &centre(N_MIN, c)).0 as u32)
             .collect();

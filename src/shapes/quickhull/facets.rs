@@ -1,6 +1,7 @@
 //! From quickhull's triangles to the polytope's facets: coplanar neighbours merged into one
 //! facet (checked planar and bounded by one loop, else left as triangles), the vertices that are
-//! then not corners dropped, and the graphs built (see [`Mesh`]).
+//! then not corners dropped, and the graphs built (see [`Mesh`]). Linear in the number of
+//! triangles but for the sorting of each facet's few boundary edges.
 
 use super::{HullError, Lists, Mesh, Tri};
 use crate::math::{Real, Vec3};
@@ -22,58 +23,70 @@ fn coplanar(pts: &[Vec3], a: &Tri, b: &Tri, tol: Real) -> bool {
             .all(|&k| (a.normal.dot(&pts[k as usize]) - a.offset).abs() <= tol)
 }
 
-/// The boundary loop of each group: `None` for a group whose boundary is not one cycle.
-fn loops(tris: &[Tri], group: &[u32], count: usize) -> Vec<Option<Vec<u32>>> {
-    // Boundary half-edges (group, from, to), sorted by group then start.
-    let mut edges: Vec<(u32, u32, u32)> = Vec::new();
-    for (t, tri) in tris.iter().enumerate() {
+/// The sum of the triangles' edge cross products: twice their area times their normal.
+fn area_normal(pts: &[Vec3], tris: &[Tri], members: &[u32]) -> Vec3 {
+    members.iter().fold(Vec3::zeros(), |s, &t| {
+        let [a, b, c] = tris[t as usize].v.map(|k| pts[k as usize]);
+        s + (b - a).cross(&(c - a))
+    })
+}
+
+/// Appends group `g`'s boundary loop (counter-clockwise) to `out`; `false` when the boundary is
+/// not one cycle (it touches itself, or is broken).
+fn boundary(
+    tris: &[Tri],
+    group: &[u32],
+    members: &[u32],
+    g: u32,
+    edges: &mut Vec<(u32, u32)>,
+    out: &mut Vec<u32>,
+) -> bool {
+    if let [t] = members {
+        out.extend_from_slice(&tris[*t as usize].v);
+        return true;
+    }
+    edges.clear();
+    for &t in members {
+        let tri = &tris[t as usize];
         for i in 0..3 {
-            if group[tri.adj[i] as usize] != group[t] {
-                edges.push((group[t], tri.v[i], tri.v[(i + 1) % 3]));
+            if group[tri.adj[i] as usize] != g {
+                edges.push((tri.v[i], tri.v[(i + 1) % 3]));
             }
         }
     }
     edges.sort_unstable();
-    let mut out = vec![None; count];
-    let mut at = 0;
-    while at < edges.len() {
-        let g = edges[at].0;
-        let end = at + edges[at..].iter().take_while(|e| e.0 == g).count();
-        let mine = &edges[at..end];
-        at = end;
-        if mine.windows(2).any(|w| w[0].1 == w[1].1) {
-            continue; // a vertex where the boundary touches itself
-        }
-        let mut cycle = Vec::with_capacity(mine.len());
-        let mut k = 0;
-        for _ in 0..mine.len() {
-            cycle.push(mine[k].1);
-            match mine.binary_search_by_key(&mine[k].2, |e| e.1) {
-                Ok(next) => k = next,
-                Err(_) => break,
-            }
-        }
-        if cycle.len() == mine.len() && k == 0 {
-            out[g as usize] = Some(cycle);
+    if edges.is_empty() || edges.windows(2).any(|w| w[0].0 == w[1].0) {
+        return false; // a vertex where the boundary touches itself
+    }
+    let start = out.len();
+    let mut k = 0;
+    for _ in 0..edges.len() {
+        out.push(edges[k].0);
+        match edges.binary_search_by_key(&edges[k].1, |e| e.0) {
+            Ok(next) => k = next,
+            Err(_) => break,
         }
     }
-    out
+    if out.len() - start == edges.len() && k == 0 {
+        true
+    } else {
+        out.truncate(start);
+        false
+    }
 }
 
-/// The facets of the hull whose triangles are `tris` (adjacency closed, outward normals).
-pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullError> {
+/// Groups (dense numbers) of the triangles: coplanar neighbours joined, unless `alone[t]`.
+fn groups(pts: &[Vec3], tol: Real, tris: &[Tri], alone: &[bool]) -> (Vec<u32>, usize) {
     let nt = tris.len();
-    if nt < 4 || tris.iter().any(|t| t.adj.iter().any(|&a| a as usize >= nt)) {
-        return Err(HullError::Failed(Real::INFINITY));
-    }
-    // Groups of coplanar neighbours.
     let mut parent: Vec<u32> = (0..nt as u32).collect();
     for (t, tri) in tris.iter().enumerate() {
         for &u in &tri.adj {
             let u = u as usize;
             if u > t
-                && coplanar(pts, tri, &tris[u], 2.0 * tol)
-                && coplanar(pts, &tris[u], tri, 2.0 * tol)
+                && !alone[t]
+                && !alone[u]
+                && coplanar(pts, tri, &tris[u], tol)
+                && coplanar(pts, &tris[u], tri, tol)
             {
                 let (a, b) = (find(&mut parent, t as u32), find(&mut parent, u as u32));
                 if a != b {
@@ -93,88 +106,81 @@ pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullE
         }
         group[t] = index[r];
     }
-    // Each group's plane: the area-weighted normal, checked against every vertex of the group
-    // (a chain of nearly coplanar triangles may bend): groups that are not planar, or not
-    // bounded by one loop, go back to their triangles.
-    let normal_of = |members: &mut dyn Iterator<Item = usize>| -> Vec3 {
-        members.fold(Vec3::zeros(), |s, t| {
-            let [a, b, c] = tris[t].v.map(|k| pts[k as usize]);
-            s + (b - a).cross(&(c - a))
-        })
-    };
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for t in 0..nt {
-        members[group[t] as usize].push(t);
+    (group, count)
+}
+
+/// The facets of the hull whose triangles are `tris` (adjacency closed, outward normals).
+pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullError> {
+    let nt = tris.len();
+    if nt < 4 || tris.iter().any(|t| t.adj.iter().any(|&a| a as usize >= nt)) {
+        return Err(HullError::Failed(Real::INFINITY));
     }
-    let mut bad = vec![false; count];
-    for (g, m) in members.iter().enumerate() {
-        if m.len() < 2 {
-            continue;
-        }
-        let Some(n) = normal_of(&mut m.iter().copied()).try_normalize(0.0) else {
-            bad[g] = true;
-            continue;
+    // Groups of coplanar neighbours, each checked planar (a chain of nearly coplanar triangles
+    // may bend) and bounded by one loop; the triangles of a group that is not go back to being
+    // facets of their own, once.
+    let mut alone = vec![false; nt];
+    let mut edges = Vec::new();
+    let (group, count, members, loops) = loop {
+        let (group, count) = groups(pts, 2.0 * tol, tris, &alone);
+        let pairs: Vec<(u32, u32)> = (0..nt as u32).map(|t| (group[t as usize], t)).collect();
+        let members = Lists::from_pairs(count, &pairs);
+        let mut loops = Lists {
+            first: Vec::with_capacity(count + 1),
+            items: Vec::with_capacity(3 * nt),
         };
-        let vals: Vec<Real> = m
-            .iter()
-            .flat_map(|&t| tris[t].v)
-            .map(|k| n.dot(&pts[k as usize]))
-            .collect();
-        let (lo, hi) = vals
-            .iter()
-            .fold((Real::INFINITY, Real::NEG_INFINITY), |(l, h), &v| {
-                (l.min(v), h.max(v))
-            });
-        bad[g] = hi - lo > 4.0 * tol;
-    }
-    let mut cycles = loops(tris, &group, count);
-    if bad.iter().zip(&cycles).any(|(b, c)| *b || c.is_none()) {
-        let split: Vec<bool> = bad
-            .iter()
-            .zip(&cycles)
-            .map(|(b, c)| *b || c.is_none())
-            .collect();
-        let mut next = count as u32;
-        for t in 0..nt {
-            if split[group[t] as usize] {
-                group[t] = next;
-                next += 1;
+        let mut bad = Vec::new();
+        for g in 0..count {
+            let m = members.get(g);
+            loops.first.push(loops.items.len() as u32);
+            let planar = m.len() < 2 || {
+                let n = area_normal(pts, tris, m)
+                    .try_normalize(0.0)
+                    .unwrap_or_default();
+                let (lo, hi) = m
+                    .iter()
+                    .flat_map(|&t| tris[t as usize].v)
+                    .map(|k| n.dot(&pts[k as usize]))
+                    .fold((Real::INFINITY, Real::NEG_INFINITY), |(l, h), v| {
+                        (l.min(v), h.max(v))
+                    });
+                n != Vec3::zeros() && hi - lo <= 4.0 * tol
+            };
+            if !(planar && boundary(tris, &group, m, g as u32, &mut edges, &mut loops.items)) {
+                bad.push(g);
             }
         }
-        // Renumber densely.
-        let mut index = vec![u32::MAX; next as usize];
-        count = 0;
-        for g in group.iter_mut() {
-            if index[*g as usize] == u32::MAX {
-                index[*g as usize] = count as u32;
-                count += 1;
-            }
-            *g = index[*g as usize];
+        loops.first.push(loops.items.len() as u32);
+        if bad.is_empty() {
+            break (group, count, members, loops);
         }
-        cycles = loops(tris, &group, count);
-        if cycles.iter().any(Option::is_none) {
+        if alone.iter().any(|&a| a) {
             return Err(HullError::Failed(Real::INFINITY));
         }
-        members = vec![Vec::new(); count];
-        for t in 0..nt {
-            members[group[t] as usize].push(t);
+        for g in bad {
+            for &t in members.get(g) {
+                alone[t as usize] = true;
+            }
         }
-    }
-    let cycles: Vec<Vec<u32>> = cycles.into_iter().map(Option::unwrap_or_default).collect();
+    };
     // Corners: vertices on three facets or more (the others lie inside a facet or a straight
     // edge). A loop left with fewer than three keeps all its vertices.
     let np = pts.len();
-    let mut on: Vec<(u32, u32)> = Vec::with_capacity(3 * nt);
+    // Up to three distinct facets seen at each vertex (and whether it is on the hull at all).
+    let mut seen = vec![[u32::MAX; 3]; np];
     for (t, tri) in tris.iter().enumerate() {
         for &v in &tri.v {
-            on.push((v, group[t]));
+            let s = &mut seen[v as usize];
+            if let Some(slot) = s.iter().position(|&g| g == u32::MAX || g == group[t]) {
+                s[slot] = group[t];
+            }
         }
     }
-    let facets_of = Lists::from_pairs(np, &mut on);
-    let mut corner: Vec<bool> = (0..np).map(|v| facets_of.get(v).len() >= 3).collect();
-    for c in &cycles {
-        if c.iter().filter(|&&v| corner[v as usize]).count() < 3 {
-            for &v in c {
+    let on_hull = |v: usize| seen[v][0] != u32::MAX;
+    let mut corner: Vec<bool> = (0..np).map(|v| seen[v][2] != u32::MAX).collect();
+    for g in 0..count {
+        let l = loops.get(g);
+        if l.iter().filter(|&&v| corner[v as usize]).count() < 3 {
+            for &v in l {
                 corner[v as usize] = true;
             }
         }
@@ -183,33 +189,35 @@ pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullE
     let mut vertices = Vec::new();
     let mut source = Vec::new();
     for (v, &is) in corner.iter().enumerate() {
-        if is && !facets_of.get(v).is_empty() {
+        if is && on_hull(v) {
             vindex[v] = vertices.len() as u32;
             vertices.push(pts[v]);
             source.push(v as u32);
         }
     }
-    let mut loops_out = Lists {
+    let mut corners = Lists {
         first: Vec::with_capacity(count + 1),
-        items: Vec::new(),
+        items: Vec::with_capacity(loops.items.len()),
     };
-    for c in &cycles {
-        loops_out.first.push(loops_out.items.len() as u32);
-        loops_out.items.extend(
-            c.iter()
+    for g in 0..count {
+        corners.first.push(corners.items.len() as u32);
+        corners.items.extend(
+            loops
+                .get(g)
+                .iter()
                 .filter(|&&v| corner[v as usize])
                 .map(|&v| vindex[v as usize]),
         );
     }
-    loops_out.first.push(loops_out.items.len() as u32);
-    // Planes.
+    corners.first.push(corners.items.len() as u32);
+    // Planes: the area-weighted normal; the offset the largest of the corners'.
     let mut normals = Vec::with_capacity(count);
     let mut offsets = Vec::with_capacity(count);
-    for (g, m) in members.iter().enumerate() {
-        let n = normal_of(&mut m.iter().copied())
+    for g in 0..count {
+        let n = area_normal(pts, tris, members.get(g))
             .try_normalize(0.0)
             .ok_or(HullError::Failed(Real::INFINITY))?;
-        let off = loops_out
+        let off = corners
             .get(g)
             .iter()
             .map(|&v| n.dot(&vertices[v as usize]))
@@ -218,16 +226,16 @@ pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullE
         offsets.push(off);
     }
     // Graphs.
-    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(2 * corners.items.len());
     for g in 0..count {
-        let l = loops_out.get(g);
+        let l = corners.get(g);
         for i in 0..l.len() {
             let (a, b) = (l[i], l[(i + 1) % l.len()]);
             pairs.push((a, b));
             pairs.push((b, a));
         }
     }
-    let vertex_graph = Lists::from_pairs(vertices.len(), &mut pairs);
+    let vertex_graph = Lists::from_pairs(vertices.len(), &pairs);
     pairs.clear();
     for (t, tri) in tris.iter().enumerate() {
         for &u in &tri.adj {
@@ -236,20 +244,20 @@ pub(crate) fn merge(pts: &[Vec3], tol: Real, tris: &[Tri]) -> Result<Mesh, HullE
             }
         }
     }
-    let facet_graph = Lists::from_pairs(count, &mut pairs);
+    let facet_graph = Lists::from_pairs(count, &pairs);
     pairs.clear();
     for g in 0..count {
-        for &v in loops_out.get(g) {
+        for &v in corners.get(g) {
             pairs.push((v, g as u32));
         }
     }
-    let incident = Lists::from_pairs(vertices.len(), &mut pairs);
+    let incident = Lists::from_pairs(vertices.len(), &pairs);
     let mut mesh = Mesh {
         vertices,
         source,
         normals,
         offsets,
-        loops: loops_out,
+        loops: corners,
         vertex_graph,
         facet_graph,
         incident,

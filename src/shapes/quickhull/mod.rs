@@ -50,24 +50,39 @@ impl Lists {
         &self.items[self.first[k] as usize..self.first[k + 1] as usize]
     }
 
-    /// Lists from `(list, item)` pairs, each list's items sorted and deduplicated.
-    pub(crate) fn from_pairs(count: usize, pairs: &mut [(u32, u32)]) -> Lists {
-        pairs.sort_unstable();
-        let mut first = Vec::with_capacity(count + 1);
-        let mut items = Vec::with_capacity(pairs.len());
-        let mut at = 0;
-        for k in 0..count as u32 {
-            first.push(items.len() as u32);
-            let mut last = None;
-            while at < pairs.len() && pairs[at].0 == k {
-                if last != Some(pairs[at].1) {
-                    items.push(pairs[at].1);
-                    last = Some(pairs[at].1);
+    /// Lists from `(list, item)` pairs, each list's items sorted and deduplicated (a counting
+    /// sort by list, then each short list sorted).
+    pub(crate) fn from_pairs(count: usize, pairs: &[(u32, u32)]) -> Lists {
+        let mut first = vec![0u32; count + 1];
+        for &(k, _) in pairs {
+            first[k as usize + 1] += 1;
+        }
+        for k in 0..count {
+            first[k + 1] += first[k];
+        }
+        let mut at = first.clone();
+        let mut items = vec![0u32; pairs.len()];
+        for &(k, v) in pairs {
+            items[at[k as usize] as usize] = v;
+            at[k as usize] += 1;
+        }
+        // Sort and deduplicate each list, moving it down over the duplicates removed before.
+        let mut write = 0usize;
+        for k in 0..count {
+            let (a, b) = (first[k] as usize, first[k + 1] as usize);
+            if items[a..b].windows(2).any(|w| w[0] >= w[1]) {
+                items[a..b].sort_unstable();
+            }
+            first[k] = write as u32;
+            for r in a..b {
+                if r == a || items[r] != items[r - 1] {
+                    items[write] = items[r];
+                    write += 1;
                 }
-                at += 1;
             }
         }
-        first.push(items.len() as u32);
+        first[count] = write as u32;
+        items.truncate(write);
         Lists { first, items }
     }
 }
@@ -103,8 +118,11 @@ struct Face {
     adj: [u32; 3],
     normal: Vec3,
     offset: Real,
-    /// The points above this face (farther than `tol`), not yet in the hull.
-    outside: Vec<u32>,
+    /// The first of the points above this face (farther than `tol`), not yet in the hull:
+    /// a list linked through `Builder::next`, `NONE` when empty.
+    head: u32,
+    /// The farthest of them and its distance.
+    far: (Real, u32),
     alive: bool,
     /// The step at which this face was last found visible.
     seen: u32,
@@ -134,9 +152,13 @@ struct Builder<'a> {
     pts: &'a [Vec3],
     tol: Real,
     faces: Vec<Face>,
+    /// The conflict lists' links: the point after each point in its face's list.
+    next: Vec<u32>,
     step: u32,
     /// Points dropped by a step that could not use them (checked at the end).
     dropped: Vec<u32>,
+    /// The depth-first search's stack (kept between steps).
+    stack: Vec<(u32, u8, u8)>,
 }
 
 impl Builder<'_> {
@@ -153,28 +175,57 @@ impl Builder<'_> {
             adj: [NONE; 3],
             normal,
             offset,
-            outside: Vec::new(),
+            head: NONE,
+            far: (Real::NEG_INFINITY, NONE),
             alive: true,
             seen: 0,
         });
         Some(self.faces.len() as u32 - 1)
     }
 
-    /// Gives each point to the face (of `faces`) it is farthest above, if any is farther than
+    /// Gives point `p` to the face of `faces` it is farthest above, if any is farther than
     /// `tol`.
-    fn assign(&mut self, points: &[u32], faces: &[u32]) {
-        for &p in points {
-            let mut best = (self.tol, NONE);
-            for &f in faces {
-                let d = self.dist(f as usize, p);
-                if d > best.0 {
-                    best = (d, f);
-                }
-            }
-            if best.1 != NONE {
-                self.faces[best.1 as usize].outside.push(p);
+    #[inline]
+    fn assign(&mut self, p: u32, faces: std::ops::Range<u32>) {
+        let q = self.pts[p as usize];
+        let mut best = (self.tol, NONE);
+        for f in faces {
+            let face = &self.faces[f as usize];
+            let d = face.normal.dot(&q) - face.offset;
+            if d > best.0 {
+                best = (d, f);
             }
         }
+        if best.1 != NONE {
+            let face = &mut self.faces[best.1 as usize];
+            self.next[p as usize] = face.head;
+            face.head = p;
+            if best.0 > face.far.0 {
+                face.far = (best.0, p);
+            }
+        }
+    }
+
+    /// Takes `p` out of face `f`'s list (and its farthest point, found again).
+    fn remove(&mut self, f: u32, p: u32) {
+        let mut k = self.faces[f as usize].head;
+        let mut kept = NONE;
+        let mut far = (Real::NEG_INFINITY, NONE);
+        while k != NONE {
+            let after = self.next[k as usize];
+            if k != p {
+                self.next[k as usize] = kept;
+                kept = k;
+                let d = self.dist(f as usize, k);
+                if d > far.0 {
+                    far = (d, k);
+                }
+            }
+            k = after;
+        }
+        let face = &mut self.faces[f as usize];
+        face.head = kept;
+        face.far = far;
     }
 
     /// The faces `eye` sees, from `start` (which it sees), and their horizon: the edges
@@ -188,7 +239,9 @@ impl Builder<'_> {
         visible.push(start);
         // Depth first, each face's edges in order from the one it was entered by: the horizon
         // comes out as a cycle when the visible region is a disc.
-        let mut stack: Vec<(u32, u8, u8)> = vec![(start, 0, 3)];
+        let mut stack = std::mem::take(&mut self.stack);
+        stack.clear();
+        stack.push((start, 0, 3));
         while let Some(top) = stack.last_mut() {
             let (f, from, left) = *top;
             if left == 0 {
@@ -216,52 +269,46 @@ impl Builder<'_> {
                 edges.push([face.v[i], face.v[(i + 1) % 3], g]);
             }
         }
+        self.stack = stack;
     }
 
-    /// Adds the farthest point above face `f`. Returns the new faces with points above them.
-    fn expand(&mut self, f: u32, visible: &mut Vec<u32>, edges: &mut Vec<[u32; 3]>) -> Vec<u32> {
-        let outside = std::mem::take(&mut self.faces[f as usize].outside);
-        let (mut eye, mut far) = (outside[0], Real::NEG_INFINITY);
-        for &p in &outside {
-            let d = self.dist(f as usize, p);
-            if d > far {
-                (eye, far) = (p, d);
-            }
-        }
-        self.faces[f as usize].outside = outside;
+    /// Adds the farthest point above face `f`; queues the new faces with points above them.
+    fn expand(
+        &mut self,
+        f: u32,
+        visible: &mut Vec<u32>,
+        edges: &mut Vec<[u32; 3]>,
+        work: &mut std::collections::VecDeque<u32>,
+    ) {
+        let eye = self.faces[f as usize].far.1;
         self.horizon(f, eye, visible, edges);
         let cycle = !edges.is_empty()
             && (0..edges.len()).all(|k| edges[k][1] == edges[(k + 1) % edges.len()][0]);
-        if !cycle {
-            // The visible region is not a disc (rounding at a pinched vertex): leave the point
-            // out and check at the end how far outside the hull it is.
-            let face = &mut self.faces[f as usize];
-            face.outside.retain(|&p| p != eye);
-            self.dropped.push(eye);
-            return if face.outside.is_empty() {
-                vec![]
-            } else {
-                vec![f]
-            };
-        }
         // The cone from the eye to the horizon.
         let first = self.faces.len() as u32;
         let k = edges.len() as u32;
-        for (j, e) in edges.iter().enumerate() {
-            let Some(nf) = self.add_face([e[0], e[1], eye]) else {
-                // A sliver (the eye on the line of a horizon edge): undo and drop the point.
-                self.faces.truncate(first as usize);
-                let face = &mut self.faces[f as usize];
-                face.outside.retain(|&p| p != eye);
-                self.dropped.push(eye);
-                return if face.outside.is_empty() {
-                    vec![]
-                } else {
-                    vec![f]
+        let mut made = cycle;
+        if cycle {
+            for (j, e) in edges.iter().enumerate() {
+                let Some(nf) = self.add_face([e[0], e[1], eye]) else {
+                    made = false;
+                    break;
                 };
-            };
-            let j = j as u32;
-            self.faces[nf as usize].adj = [e[2], first + (j + 1) % k, first + (j + k - 1) % k];
+                let j = j as u32;
+                self.faces[nf as usize].adj = [e[2], first + (j + 1) % k, first + (j + k - 1) % k];
+            }
+        }
+        if !made {
+            // The visible region is not a disc (rounding at a pinched vertex), or the eye lies
+            // on the line of a horizon edge: leave the point out (checked at the end: it is
+            // within rounding of the hull).
+            self.faces.truncate(first as usize);
+            self.remove(f, eye);
+            self.dropped.push(eye);
+            if self.faces[f as usize].head != NONE {
+                work.push_back(f);
+            }
+            return;
         }
         // The faces beyond the horizon now border the cone across their edge b → a.
         for (j, e) in edges.iter().enumerate() {
@@ -272,17 +319,19 @@ impl Builder<'_> {
                 }
             }
         }
-        let mut orphans = Vec::new();
+        // The visible faces' points go to the new faces (or inside).
         for &v in visible.iter() {
-            let face = &mut self.faces[v as usize];
-            face.alive = false;
-            orphans.extend(face.outside.drain(..).filter(|&p| p != eye));
+            self.faces[v as usize].alive = false;
+            let mut p = std::mem::replace(&mut self.faces[v as usize].head, NONE);
+            while p != NONE {
+                let after = self.next[p as usize];
+                if p != eye {
+                    self.assign(p, first..first + k);
+                }
+                p = after;
+            }
         }
-        let new: Vec<u32> = (first..first + k).collect();
-        self.assign(&orphans, &new);
-        new.into_iter()
-            .filter(|&g| !self.faces[g as usize].outside.is_empty())
-            .collect()
+        work.extend((first..first + k).filter(|&g| self.faces[g as usize].head != NONE));
     }
 }
 
@@ -310,8 +359,10 @@ pub(crate) fn hull(pts: &[Vec3]) -> Result<Mesh, HullError> {
         pts,
         tol,
         faces: Vec::with_capacity(2 * pts.len() + 8),
+        next: vec![NONE; pts.len()],
         step: 0,
         dropped: Vec::new(),
+        stack: Vec::new(),
     };
     let [p0, p1, p2, p3] = simplex;
     // p3 lies below the plane (p0, p1, p2) seen counter-clockwise: orient every face outward.
@@ -330,20 +381,21 @@ pub(crate) fn hull(pts: &[Vec3]) -> Result<Mesh, HullError> {
                 .map_or(NONE, |g| g as u32);
         }
     }
-    let rest: Vec<u32> = (0..pts.len() as u32)
-        .filter(|p| !simplex.contains(p))
-        .collect();
-    b.assign(&rest, &[0, 1, 2, 3]);
-    let mut work: Vec<u32> = (0..4)
-        .filter(|&f| !b.faces[f as usize].outside.is_empty())
+    for p in 0..pts.len() as u32 {
+        if !simplex.contains(&p) {
+            b.assign(p, 0..4);
+        }
+    }
+    // Faces in the order they were made (the oldest, largest first: balanced splits).
+    let mut work: std::collections::VecDeque<u32> = (0..4)
+        .filter(|&f| b.faces[f as usize].head != NONE)
         .collect();
     let (mut visible, mut edges) = (Vec::new(), Vec::new());
-    while let Some(f) = work.pop() {
+    while let Some(f) = work.pop_front() {
         let face = &b.faces[f as usize];
-        if !face.alive || face.outside.is_empty() {
-            continue;
+        if face.alive && face.head != NONE {
+            b.expand(f, &mut visible, &mut edges, &mut work);
         }
-        work.extend(b.expand(f, &mut visible, &mut edges));
     }
     let alive: Vec<usize> = (0..b.faces.len()).filter(|&f| b.faces[f].alive).collect();
     // Points left out by a step: inside to the tolerance, or the construction failed.
