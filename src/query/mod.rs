@@ -3,6 +3,7 @@
 
 mod assemble;
 mod contact;
+mod contact_boxes;
 mod context;
 mod cores;
 mod derivatives;
@@ -17,6 +18,7 @@ mod shape_gradient;
 mod shortcuts;
 mod signed;
 
+pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
 pub(crate) use context::Want;
 pub use context::{Distance, DistancePath, Options, Proximity, SignedDistance};

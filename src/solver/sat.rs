@@ -78,9 +78,10 @@ pub(crate) struct Overlap {
     pub closest2: Vec3,
 }
 
-/// Which candidate decided.
-#[derive(Clone, Copy)]
-enum Axis {
+/// Which candidate decided: a facet of shape 1 or 2 (its index), or two edges (the length of
+/// their unit directions' cross product).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Axis {
     Face1(usize),
     Face2(usize),
     Edges(Real),
@@ -99,7 +100,7 @@ pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Res
     if let (Body::Box(ea), Body::Box(eb)) = (ha, hb) {
         let (v, n, axis) = match two_boxes(&ea, &eb, &c, &t) {
             Ok(best) => best,
-            Err(()) => return Some(Err(())),
+            Err(_) => return Some(Err(())),
         };
         // The facets' indices in the boxes' own lists.
         let axis = match axis {
@@ -161,8 +162,14 @@ pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Res
 /// Two centred boxes of half extents `ea`, `eb` in shape 1's frame, shape 2 turned by `c` at
 /// `t`: the least `f` over the 15 axes (the 3 + 3 face axes, signed towards shape 2, and the 9
 /// edge cross products), its unit normal (shape 1's frame) and axis (`Face1(k)`/`Face2(k)`:
-/// the body normal `±e_{k mod 3}`, `k < 3` positive); `Err` when an axis separates.
-fn two_boxes(ea: &Vec3, eb: &Vec3, c: &Mat3, t: &Vec3) -> Result<(Real, Vec3, Axis), ()> {
+/// the body normal `±e_{k mod 3}`, `k < 3` positive); `Err(gap)` when an axis separates the
+/// boxes by `gap > 0` (a lower bound on their distance).
+pub(crate) fn two_boxes(
+    ea: &Vec3,
+    eb: &Vec3,
+    c: &Mat3,
+    t: &Vec3,
+) -> Result<(Real, Vec3, Axis), Real> {
     let abs = c.abs();
     let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
     let mut keep = |v: Real, n: Vec3, axis: Axis| {
@@ -174,12 +181,13 @@ fn two_boxes(ea: &Vec3, eb: &Vec3, c: &Mat3, t: &Vec3) -> Result<(Real, Vec3, Ax
     for k in 0..3 {
         let rb = eb.x * abs[(k, 0)] + eb.y * abs[(k, 1)] + eb.z * abs[(k, 2)];
         let s = if t[k] < 0.0 { -1.0 } else { 1.0 };
+        let v = ea[k] + rb - t[k].abs();
         if keep(
-            ea[k] + rb - t[k].abs(),
+            v,
             Vec3::ith(k, s),
             Axis::Face1(k + if s < 0.0 { 3 } else { 0 }),
         ) {
-            return Err(());
+            return Err(-v);
         }
     }
     for j in 0..3 {
@@ -188,12 +196,9 @@ fn two_boxes(ea: &Vec3, eb: &Vec3, c: &Mat3, t: &Vec3) -> Result<(Real, Vec3, Ax
         let tj = col.dot(t);
         let s = if tj < 0.0 { -1.0 } else { 1.0 };
         // Shape 2's facet facing shape 1 has the body normal −s·e_j.
-        if keep(
-            ra + eb[j] - tj.abs(),
-            col * s,
-            Axis::Face2(j + if s > 0.0 { 3 } else { 0 }),
-        ) {
-            return Err(());
+        let v = ra + eb[j] - tj.abs();
+        if keep(v, col * s, Axis::Face2(j + if s > 0.0 { 3 } else { 0 })) {
+            return Err(-v);
         }
     }
     for i in 0..3 {
@@ -208,8 +213,9 @@ fn two_boxes(ea: &Vec3, eb: &Vec3, c: &Mat3, t: &Vec3) -> Result<(Real, Vec3, Ax
             let rb = eb.x * m.x.abs() + eb.y * m.y.abs() + eb.z * m.z.abs();
             let lt = l.dot(t);
             let s = if lt < 0.0 { -1.0 } else { 1.0 };
-            if keep((ra + rb - lt.abs()) / len, l * (s / len), Axis::Edges(len)) {
-                return Err(());
+            let v = (ra + rb - lt.abs()) / len;
+            if keep(v, l * (s / len), Axis::Edges(len)) {
+                return Err(-v);
             }
         }
     }
