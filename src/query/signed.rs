@@ -29,8 +29,11 @@ const TOL_FLOOR: Real = 1e-13;
 const GJK_BUDGET: u32 = 64;
 /// Support calls of K in EPA. On curved pairs the polytope must be refined round the optimum
 /// until its faces there lie within the tolerance of K's boundary: 120 left 187 of 11 200
-/// random overlapping pairs (1.7 %) open, 250 leaves 7, at the same median time.
-const BUDGET: u32 = 250;
+/// random overlapping pairs (1.7 %) open, 250 leaves 7, at the same median time. Beyond the
+/// first 250 (on the stack) EPA goes on in a per-thread heap polytope: of 10⁶ random
+/// overlapping pairs 256 needed more than 250 calls, none more than 2 110
+/// (`tests/overlap_sweep.rs`, docs/failure-modes.md).
+const BUDGET: u32 = 4000;
 
 /// The signed distance of two posed shapes, the unit normal from shape 1 to shape 2 and the
 /// witness points (`closest2 − closest1 = distance·normal`).

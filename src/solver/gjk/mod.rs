@@ -25,6 +25,7 @@ mod epa;
 mod newton;
 pub(crate) mod padded;
 mod simplex;
+mod slots;
 
 pub(crate) use epa::{penetration, EpaEnd, Penetration};
 
