@@ -125,7 +125,8 @@ typedef enum dcol_status {
    */
   DCOL_ERROR_INVALID_SHAPE = 2,
   /**
-   * Non-finite position or attitude, zero quaternion.
+   * Non-finite position or attitude, zero quaternion, or shapes placed so near the largest
+   * double that the answer (a point, a distance, alpha*) is not representable.
    */
   DCOL_ERROR_INVALID_POSE = 3,
   /**
@@ -879,7 +880,8 @@ enum dcol_status dcol_jacobian_mrp(const struct dcol_shape *shape1,
  * Each pair is independent: a bad pair does not fail the batch. `statuses[i]` is DCOL_OK
  * (`results[i]` written), DCOL_ERROR_NOT_CONVERGED (`results[i]` holds the last iterate),
  * DCOL_ERROR_NULL_POINTER (`shapes1[i]` or `shapes2[i]` is NULL), DCOL_ERROR_INVALID_POSE
- * (`poses1[i]` or `poses2[i]` rejected, or their origins too far apart) or
+ * (`poses1[i]` or `poses2[i]` rejected, their origins too far apart, or the answer beyond the
+ * largest double) or
  * DCOL_ERROR_INTERNAL, and on these errors `results[i]` is untouched. Per-pair failures do
  * not set the last error message (the call itself succeeds): call dcol_proximity on that pair
  * for the sentence. `results[i]` is exactly what dcol_proximity returns for the pair, bit for

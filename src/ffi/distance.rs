@@ -30,6 +30,14 @@ fn arr(v: &Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
+/// The numbers of a distance result.
+fn numbers(d: &Distance) -> impl Iterator<Item = f64> + '_ {
+    std::iter::once(d.distance)
+        .chain(d.closest1.iter().copied())
+        .chain(d.closest2.iter().copied())
+        .chain(d.normal.iter().copied())
+}
+
 impl From<&Distance> for dcol_distance_result {
     fn from(d: &Distance) -> Self {
         dcol_distance_result {
@@ -68,6 +76,7 @@ pub unsafe extern "C" fn dcol_distance(
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         let d = query::distance(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
             .map_err(Failure::api)?;
+        q.representable(numbers(&d))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
         q.outcome(d.status, d.iterations)
@@ -149,6 +158,8 @@ pub unsafe extern "C" fn dcol_distance_gradient(
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         let (d, g) = query::distance_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
             .map_err(Failure::api)?;
+        let converged = d.status.is_converged();
+        q.representable(numbers(&d).chain(g.iter().copied().filter(|_| converged)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
         if d.status.is_converged() || g.iter().all(|v| v.is_finite()) {

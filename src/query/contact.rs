@@ -16,7 +16,7 @@
 
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
-use super::signed::signed_distance;
+use super::signed::{not_representable, signed_distance};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, SupportMap};
@@ -161,6 +161,19 @@ pub fn contact_manifold(
         };
     }
     out.count = k;
+    // Points of shapes within their size of the largest double can pass it.
+    let finite = out.signed_distance.is_finite()
+        && out.normal.iter().all(|v| v.is_finite())
+        && out.contacts().iter().all(|c| {
+            c.depth.is_finite()
+                && c.position
+                    .iter()
+                    .chain(c.normal.iter())
+                    .all(|v| v.is_finite())
+        });
+    if !finite {
+        return Err(not_representable(pose1.position(), pose2.position()));
+    }
     Ok(out)
 }
 
@@ -187,8 +200,14 @@ impl Points {
         }
     }
     fn push_witness(&mut self, sd: &SignedDistance) {
-        self.push(0.5 * (sd.closest1 + sd.closest2), -sd.distance);
+        self.push(midpoint(&sd.closest1, &sd.closest2), -sd.distance);
     }
+}
+
+/// The point midway between `a` and `b`, without forming `a + b` (which overflows for points
+/// near the largest double: a padded polygon and a capsule at x = −1e308 got a contact at −inf).
+fn midpoint(a: &Vec3, b: &Vec3) -> Vec3 {
+    a + (b - a) * 0.5
 }
 
 /// A feature in world coordinates: 1 point, a segment (2) or a convex face polygon (≥ 3, in
@@ -310,7 +329,9 @@ fn ball_radius(shape: &Shape) -> Option<Real> {
 /// Orders a face's points counter-clockwise about its normal.
 fn order(f: &mut Feature) {
     let k = f.k;
-    let c = f.pts[..k].iter().sum::<Vec3>() / k as Real;
+    // The centroid, from the first point (a sum of far points can overflow).
+    let p0 = f.pts[0];
+    let c = p0 + f.pts[..k].iter().map(|p| p - p0).sum::<Vec3>() / k as Real;
     let (u, v) = basis(&f.face);
     let mut key = [0.0; MAX_FACE];
     for i in 0..k {
@@ -344,15 +365,15 @@ fn cross2(a: &V2, b: &V2) -> Real {
     a.x * b.y - a.y * b.x
 }
 
-/// Lifts the plane point `q` (coordinates on `(u, v)`) along `n` onto a feature: onto a face's
-/// plane, or onto a segment's line.
-fn lift(f: &Feature, q: &V2, u: &Vec3, v: &Vec3, n: &Vec3) -> Vec3 {
-    let x = u * q.x + v * q.y;
+/// Lifts the plane point `q` (coordinates on `(u, v)` about the origin `o`) along `n` onto a
+/// feature: onto a face's plane, or onto a segment's line.
+fn lift(f: &Feature, q: &V2, o: &Vec3, (u, v): (&Vec3, &Vec3), n: &Vec3) -> Vec3 {
+    let x = o + u * q.x + v * q.y;
     match f.k {
         1 => f.pts[0],
         2 => {
             let (p0, p1) = (f.pts[0], f.pts[1]);
-            let a = V2::new(p0.dot(u), p0.dot(v));
+            let a = V2::new((p0 - o).dot(u), (p0 - o).dot(v));
             let d = V2::new((p1 - p0).dot(u), (p1 - p0).dot(v));
             let s = if d.norm_squared() > 0.0 {
                 ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
@@ -362,8 +383,7 @@ fn lift(f: &Feature, q: &V2, u: &Vec3, v: &Vec3, n: &Vec3) -> Vec3 {
             p0 + (p1 - p0) * s
         }
         _ => {
-            let c = f.pts[0].dot(&f.face);
-            let t = (c - x.dot(&f.face)) / n.dot(&f.face);
+            let t = (f.pts[0] - x).dot(&f.face) / n.dot(&f.face);
             x + n * t
         }
     }
@@ -389,7 +409,10 @@ fn build(
         return;
     }
     let (u, v) = basis(&n);
-    let proj = |p: &Vec3| V2::new(p.dot(&u), p.dot(&v));
+    // Plane coordinates about a witness point (world coordinates near the largest double would
+    // overflow in the dot products).
+    let o = sd.closest1;
+    let proj = |p: &Vec3| V2::new((p - o).dot(&u), (p - o).dot(&v));
     let mut q = [V2::zeros(); BUF];
     let nq;
     if f1.k == 2 && f2.k == 2 {
@@ -428,11 +451,11 @@ fn build(
         };
     }
     for qi in &q[..nq] {
-        let a = lift(&f1, qi, &u, &v, &n);
-        let b = lift(&f2, qi, &u, &v, &n);
+        let a = lift(&f1, qi, &o, (&u, &v), &n);
+        let b = lift(&f2, qi, &o, (&u, &v), &n);
         let depth = (a - b).dot(&n);
         if -depth <= margin + SEP_TOL * ell {
-            pts.push(0.5 * (a + b), depth);
+            pts.push(midpoint(&a, &b), depth);
         }
     }
 }
@@ -450,9 +473,10 @@ fn on_halfspace(
     let n = pair.normal;
     let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
     let f = feature(pair.other, pair.pose_b, &(-n), window);
-    let plane = n.dot(pair.pose_h.position()) + pair.depth;
+    let origin = pair.pose_h.position();
     for q in &f.pts[..f.k] {
-        let depth = plane - n.dot(q);
+        // Below the plane `n·x = n·r + depth`, from its origin (`n·q` alone can overflow).
+        let depth = pair.depth - n.dot(&(q - origin));
         if -depth <= margin + SEP_TOL * ell {
             // Midway between the point and its projection onto the plane.
             pts.push(q + n * (0.5 * depth), depth);

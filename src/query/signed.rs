@@ -60,6 +60,23 @@ pub fn signed_distance(
     pose2: &Pose,
     options: &Options,
 ) -> Result<SignedDistance, Error> {
+    let sd = solve(shape1, pose1, shape2, pose2, options)?;
+    // The witnesses `r + ℓa` (a half-space's: the other's projection onto the plane) pass the
+    // largest double when the shapes sit within their size of it.
+    if !finite(&sd) {
+        return Err(not_representable(pose1.position(), pose2.position()));
+    }
+    Ok(sd)
+}
+
+/// [`signed_distance`] before the check that its numbers are finite.
+fn solve(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<SignedDistance, Error> {
     options.validate()?;
     if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
         return pair.signed_distance();
@@ -198,17 +215,34 @@ pub fn signed_distance(
             DistancePath::Epa
         },
     };
-    let finite = out.distance.is_finite()
-        && out
+    Ok(out)
+}
+
+/// The error of an answer a double cannot hold (shapes placed within their size of the largest
+/// double, so that a witness or contact point, x* or α* would pass it): `InvalidPose` naming the
+/// origins' largest coordinate.
+pub(crate) fn not_representable(r1: &Vec3, r2: &Vec3) -> Error {
+    let far = r1
+        .iter()
+        .chain(r2.iter())
+        .fold(0.0 as Real, |m, v| m.max(v.abs()));
+    Error::InvalidPose(ErrorDetail::new(
+        "position",
+        far,
+        "puts the answer beyond the largest double (a point, distance or alpha* of it would \
+         overflow): keep positions and offsets well inside 1e308",
+    ))
+}
+
+/// Whether every number of a signed distance is finite.
+fn finite(sd: &SignedDistance) -> bool {
+    sd.distance.is_finite()
+        && sd
             .normal
             .iter()
-            .chain(out.closest1.iter())
-            .chain(out.closest2.iter())
-            .all(|v| v.is_finite());
-    if !finite {
-        return Err(Error::Internal("signed_distance: non-finite answer"));
-    }
-    Ok(out)
+            .chain(sd.closest1.iter())
+            .chain(sd.closest2.iter())
+            .all(|v| v.is_finite())
 }
 
 /// [`signed_distance`] and its gradient with respect to (r₁, q₁, r₂, q₂): 14 numbers, the
