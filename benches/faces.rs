@@ -5,8 +5,10 @@
 //! cargo bench --bench faces
 //! ```
 //!
-//! Polytopes of 6 to 256 facets with random unit normals and offsets 0.5 ± 0.025 (bounding radii
-//! 0.5 to 1), against a sphere of radius 0.3 and against themselves, at 200 random poses each
+//! Polytopes of 6 to 5 000 facets with random unit normals and offsets 0.5 ± 0.025 (bounding radii
+//! 0.5 to 1), and convex hulls of random points on an ellipsoid of semi-axes (0.6, 0.5, 0.4)
+//! (as many points as make about the same number of facets: a hull of n such points has 2n − 4
+//! triangles), against a sphere of radius 0.3 and against themselves, at 200 random poses each
 //! (random attitudes, offsets 0.6 to 1.6 between the origins: separated, touching and
 //! overlapping), timed one call at a time and interleaved (each pose's queries back to back),
 //! medians in ns. `cargo bench --bench faces -- --test` runs a few poses only.
@@ -56,6 +58,17 @@ fn polytope(m: usize, rng: &mut Rng) -> Shape {
     }
 }
 
+/// The hull of `n` random points on an ellipsoid of semi-axes (0.6, 0.5, 0.4).
+fn hull(n: usize, rng: &mut Rng) -> Shape {
+    let pts: Vec<[f64; 3]> = (0..n)
+        .map(|_| {
+            let u = rng.unit();
+            [0.6 * u.x, 0.5 * u.y, 0.4 * u.z]
+        })
+        .collect();
+    Shape::convex_hull(&pts, 0.0).unwrap()
+}
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
@@ -68,40 +81,56 @@ fn main() {
     let o = Options::default();
     let sphere = Shape::sphere(0.3).unwrap();
     println!(
-        "| facets | build µs | proximity vs sphere | proximity vs itself | distance vs itself \
-         | signed distance vs itself |"
+        "| shape | facets | build µs | proximity vs sphere | proximity vs itself | distance vs \
+         itself | signed distance vs itself |"
     );
-    println!("|--:|--:|--:|--:|--:|--:|");
-    for m in [6, 12, 20, 50, 100, 256] {
-        let start = Instant::now();
-        let p = polytope(m, &mut rng);
-        let build = start.elapsed().as_secs_f64() * 1e6;
-        let cases: Vec<(Pose, Pose)> = (0..poses)
-            .map(|_| {
-                let p1 = Pose::new([0.0; 3], rng.quaternion()).unwrap();
-                let d = rng.unit() * (1.1 + 0.5 * rng.next());
-                let p2 = Pose::new(d.into(), rng.quaternion()).unwrap();
-                (p1, p2)
-            })
-            .collect();
-        let mut t = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
-        for _ in 0..reps {
-            for (p1, p2) in &cases {
-                let s = Instant::now();
-                std::hint::black_box(proximity(&p, p1, &sphere, p2, &o).unwrap());
-                t[0].push(s.elapsed().as_nanos() as f64);
-                let s = Instant::now();
-                std::hint::black_box(proximity(&p, p1, &p, p2, &o).unwrap());
-                t[1].push(s.elapsed().as_nanos() as f64);
-                let s = Instant::now();
-                std::hint::black_box(distance(&p, p1, &p, p2, &o).unwrap());
-                t[2].push(s.elapsed().as_nanos() as f64);
-                let s = Instant::now();
-                std::hint::black_box(signed_distance(&p, p1, &p, p2, &o).unwrap());
-                t[3].push(s.elapsed().as_nanos() as f64);
+    println!("|---|--:|--:|--:|--:|--:|--:|");
+    let sizes: &[usize] = if test {
+        &[6, 100, 2000]
+    } else {
+        &[6, 12, 20, 50, 100, 256, 1000, 2000, 5000]
+    };
+    for &m in sizes {
+        for planes in [true, false] {
+            if !planes && m < 8 {
+                continue;
             }
+            let start = Instant::now();
+            let p = if planes {
+                polytope(m, &mut rng)
+            } else {
+                hull(m / 2 + 2, &mut rng)
+            };
+            let build = start.elapsed().as_secs_f64() * 1e6;
+            let cases: Vec<(Pose, Pose)> = (0..poses)
+                .map(|_| {
+                    let p1 = Pose::new([0.0; 3], rng.quaternion()).unwrap();
+                    let d = rng.unit() * (1.1 + 0.5 * rng.next());
+                    let p2 = Pose::new(d.into(), rng.quaternion()).unwrap();
+                    (p1, p2)
+                })
+                .collect();
+            let mut t = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
+            for _ in 0..reps {
+                for (p1, p2) in &cases {
+                    let s = Instant::now();
+                    std::hint::black_box(proximity(&p, p1, &sphere, p2, &o).unwrap());
+                    t[0].push(s.elapsed().as_nanos() as f64);
+                    let s = Instant::now();
+                    std::hint::black_box(proximity(&p, p1, &p, p2, &o).unwrap());
+                    t[1].push(s.elapsed().as_nanos() as f64);
+                    let s = Instant::now();
+                    std::hint::black_box(distance(&p, p1, &p, p2, &o).unwrap());
+                    t[2].push(s.elapsed().as_nanos() as f64);
+                    let s = Instant::now();
+                    std::hint::black_box(signed_distance(&p, p1, &p, p2, &o).unwrap());
+                    t[3].push(s.elapsed().as_nanos() as f64);
+                }
+            }
+            let [a, b, c, d] = t.map(|mut v| median(&mut v));
+            let kind = if planes { "planes" } else { "hull" };
+            let facets = if planes { m } else { 2 * (m / 2 + 2) - 4 };
+            println!("| {kind} | {facets} | {build:.0} | {a:.0} | {b:.0} | {c:.0} | {d:.0} |");
         }
-        let [a, b, c, d] = t.map(|mut v| median(&mut v));
-        println!("| {m} | {build:.0} | {a:.0} | {b:.0} | {c:.0} | {d:.0} |");
     }
 }

@@ -118,6 +118,32 @@ static void test_constructors(void) {
     dcol_shape_free(s[i]);
   }
   dcol_shape_free(NULL); /* a no-op */
+
+  /* A hull of a box's corners with interior, duplicate and face points, padded by 0.1: a
+     rounded box, alpha* and the distance against a sphere along x in closed form. */
+  {
+    double pts[3 * 12];
+    dcol_shape *hull = NULL, *ball = NULL;
+    dcol_pose p1 = {{0, 0, 0}, {1, 0, 0, 0}}, p2 = {{2, 0, 0}, {1, 0, 0, 0}};
+    dcol_proximity_result r;
+    dcol_distance_result dr;
+    for (i = 0; i < 8; i++) {
+      pts[3 * i] = (i & 1) ? 0.5 : -0.5;
+      pts[3 * i + 1] = (i & 2) ? 0.3 : -0.3;
+      pts[3 * i + 2] = (i & 4) ? 0.2 : -0.2;
+    }
+    for (i = 24; i < 36; i++) pts[i] = 0.0;       /* the centre, three times */
+    pts[33] = 0.5;                                  /* the centre of the +x face */
+    CHECK(dcol_shape_new_convex_hull(pts, 12, 0.1, &hull) == DCOL_OK);
+    CHECK(dcol_shape_new_sphere(0.4, &ball) == DCOL_OK);
+    CHECK(dcol_proximity(hull, &p1, ball, &p2, NULL, &r) == DCOL_OK);
+    CHECK_MSG(fabs(r.alpha - 2.0) < 1e-13, "alpha %.17g", r.alpha);
+    CHECK(dcol_distance(hull, &p1, ball, &p2, NULL, &dr) == DCOL_OK);
+    CHECK_MSG(fabs(dr.distance - 1.0) < 1e-13, "distance %.17g", dr.distance);
+    CHECK(fabs(dr.closest1[0] - 0.6) < 1e-13 && fabs(dr.closest2[0] - 1.6) < 1e-13);
+    dcol_shape_free(hull);
+    dcol_shape_free(ball);
+  }
 }
 
 /* Checks a failed constructor: its status, *out set to NULL, and a message with both needles. */
@@ -188,7 +214,33 @@ static void test_constructor_errors(void) {
   A[7] = 0.0;
   BAD_CTOR(dcol_shape_new_polytope(A, b, 3, &out), SHAPE, "`A", "bounded");
   BAD_CTOR(dcol_shape_new_polytope(A, b, 0, &out), SHAPE, "`m`", "= 0:");
-  BAD_CTOR(dcol_shape_new_polytope(big_A, big_b, 257, &out), SHAPE, "`m`", "= 257:");
+  /* More than 256 facets is fine for a polytope (no facet cap), not for a polygon. */
+  {
+    dcol_shape *many = NULL;
+    CHECK(dcol_shape_new_polytope(big_A, big_b, 257, &many) == DCOL_OK && many != NULL);
+    dcol_shape_free(many);
+  }
+  BAD_CTOR(dcol_shape_new_polygon(big_A, big_b, 257, 0.1, &out), SHAPE, "`m`", "= 257:");
+  /* Hulls: too few points, flat, non-finite, the origin outside (the centroid is named). */
+  {
+    double pts[3 * 9];
+    for (i = 0; i < 8; i++) {
+      pts[3 * i] = (i & 1) ? 1.0 : -1.0;
+      pts[3 * i + 1] = (i & 2) ? 1.0 : -1.0;
+      pts[3 * i + 2] = (i & 4) ? 1.0 : -1.0;
+    }
+    BAD_CTOR(dcol_shape_new_convex_hull(pts, 3, 0.0, &out), SHAPE, "`n` = 3", "at least 4");
+    BAD_CTOR(dcol_shape_new_convex_hull(pts, 8, -0.5, &out), SHAPE, "`radius` = -0.5", "non-negative");
+    BAD_CTOR(dcol_shape_new_convex_hull(NULL, 8, 0.0, &out), NUL, "`points`", "NULL");
+    pts[3 * 5 + 1] = NAN;
+    BAD_CTOR(dcol_shape_new_convex_hull(pts, 8, 0.0, &out), SHAPE, "`points[16]`", "NaN");
+    pts[3 * 5 + 1] = -1.0;
+    for (i = 0; i < 8; i++) pts[3 * i] += 3.0;
+    BAD_CTOR(dcol_shape_new_convex_hull(pts, 8, 0.0, &out), SHAPE, "`points`", "(3, 0, 0)");
+    for (i = 0; i < 8; i++) pts[3 * i + 2] = 0.5;
+    BAD_CTOR(dcol_shape_new_convex_hull(pts, 8, 0.1, &out), SHAPE, "`n` = 8", "one plane");
+    CHECK(dcol_shape_new_convex_hull(pts, 8, 0.1, NULL) == NUL);
+  }
   d[1] = -1.0;
   BAD_CTOR(dcol_shape_new_polygon(C, d, 4, 0.1, &out), SHAPE, "`d[1]`", "= -1:");
   d[1] = 1.0;

@@ -513,6 +513,31 @@ void test_halfspace() {
                DCOL_ERROR_INVALID_SHAPE, "dcol_proximity");
 }
 
+// A rounded cube as a hull of its corners padded by 0.1, on a floor: four contacts at the
+// padded face's corners (the padding moves the face down by 0.1), alpha* against a sphere.
+void test_convex_hull() {
+  std::vector<std::array<double, 3>> corners;
+  for (int i = 0; i < 8; ++i)
+    corners.push_back({{(i & 1) ? 0.4 : -0.4, (i & 2) ? 0.4 : -0.4, (i & 4) ? 0.4 : -0.4}});
+  corners.push_back({{0.0, 0.0, 0.0}});  // an interior point changes nothing
+  const dcol::Shape rounded = dcol::Shape::convex_hull(corners, 0.1);
+  const dcol::Shape floor_ = dcol::Shape::halfspace(1.0);
+  const std::vector<dcol_contact> cs =
+      dcol::contacts(floor_, dcol::pose({0, 0, -1.0}), rounded, dcol::pose({0, 0, 0.49}), 0.0);
+  CHECK(cs.size() == 4);
+  for (const dcol_contact &c : cs) {
+    CHECK(close(c.depth, 0.01, 1e-12));
+    CHECK(close(std::fabs(c.position[0]), 0.4, 1e-12) && close(std::fabs(c.position[1]), 0.4, 1e-12));
+  }
+  const dcol::Shape ball = dcol::Shape::sphere(0.5);
+  const dcol_proximity_result r = dcol::proximity(rounded, dcol::pose({0, 0, 0}), ball, dcol::pose({0, 3.0, 0}));
+  CHECK(close(r.alpha, 3.0 / 1.0, 1e-13));  // 3 / (0.4 + 0.1 + 0.5)
+  std::vector<std::array<double, 3>> off = corners;
+  for (auto &c : off) c[2] += 2.0;
+  EXPECT_ERROR(dcol::Shape::convex_hull(off), DCOL_ERROR_INVALID_SHAPE, "dcol_shape_new_convex_hull");
+  EXPECT_ERROR(dcol::Shape::convex_hull({}), DCOL_ERROR_INVALID_SHAPE, "dcol_shape_new_convex_hull");
+}
+
 }  // namespace
 
 int main() {
@@ -525,6 +550,7 @@ int main() {
     test_scene();
     test_contacts();
     test_halfspace();
+    test_convex_hull();
   } catch (const std::exception &e) {
     std::fprintf(stderr, "unexpected exception: %s\n", e.what());
     return 1;

@@ -121,7 +121,7 @@ typedef enum dcol_status {
   DCOL_ERROR_NULL_POINTER = 1,
   /**
    * Geometry rejected: non-finite, non-positive size, P not SPD, polytope/polygon empty,
-   * unbounded or origin not strictly inside, more than 256 facets, ...
+   * unbounded or origin not strictly inside, too many facets or points, ...
    */
   DCOL_ERROR_INVALID_SHAPE = 2,
   /**
@@ -483,8 +483,9 @@ enum dcol_status dcol_shape_new_ellipsoid(const double *P,
 
 /**
  * A bounded polytope { x : A x <= b } (body frame) with m facets: `A` is m x 3 row-major (3m doubles),
- * `b` has m entries, all > 0 (the origin is strictly inside). 1 <= m <= 256.
- * On error *out is set to NULL.
+ * `b` has m entries, all > 0 (the origin is strictly inside). 1 <= m <= 1048576; redundant
+ * rows are allowed. Construction takes O(m log m) time (the vertices are the facets of the
+ * convex hull of the points a_i / b_i). On error *out is set to NULL.
  *
  * # Safety
  * `A` must be NULL or point to 3m readable doubles, `b` NULL or m readable doubles; `out`
@@ -549,6 +550,26 @@ enum dcol_status dcol_shape_new_polygon(const double *C,
                                         size_t m,
                                         double radius,
                                         struct dcol_shape **out);
+
+/**
+ * The convex hull of `n` points (body frame), padded by a ball of `radius`: the points within
+ * `radius` (>= 0, finite; 0 is the hull itself) of the hull. `points` is n x 3 row-major (3n
+ * doubles). Duplicate, interior and coplanar points are allowed. The points must be finite,
+ * include four affinely independent ones (a flat set is a padded polygon), and surround the
+ * origin strictly: otherwise DCOL_ERROR_INVALID_SHAPE, and the message gives the centroid of the
+ * hull's corners (shift the points by minus it, and the pose by plus it turned by the
+ * attitude). A collision margin, as Bullet's on its hulls, or a rounded box is `radius`.
+ * 4 <= n <= 4194304; construction takes O(n log n) time (quickhull) and keeps the points
+ * as given. On error *out is set to NULL.
+ *
+ * # Safety
+ * `points` must be NULL or point to 3n readable doubles; `out` must be NULL or valid for
+ * writing one pointer.
+ */
+enum dcol_status dcol_shape_new_convex_hull(const double *points,
+                                            size_t n,
+                                            double radius,
+                                            struct dcol_shape **out);
 
 /**
  * A half-space { u : u_z <= depth } (body frame), depth > 0 and finite: outward normal +e_z

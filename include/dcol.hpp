@@ -94,6 +94,16 @@ class Shape {
     });
   }
 
+  /// The convex hull of `points` (body frame) padded by a ball of `radius` >= 0 (0: the hull
+  /// itself): duplicate, interior and coplanar points are fine; the points must surround the
+  /// origin strictly (dcol::Error's message gives the centroid to shift them by otherwise).
+  static Shape convex_hull(const std::vector<std::array<double, 3>> &points, double radius = 0.0) {
+    std::vector<double> flat = flatten(points);
+    return build([&](dcol_shape **out) {
+      return dcol_shape_new_convex_hull(flat.data(), points.size(), radius, out);
+    });
+  }
+
   /// The half-space { u : u_z <= depth } (body frame), outward normal +e_z, plane `depth` above
   /// the origin: a floor with top surface z = 0 sits at (0, 0, -depth).
   static Shape halfspace(double depth) {

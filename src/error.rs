@@ -16,6 +16,9 @@ pub struct ErrorDetail {
     pub value: f64,
     /// The rule that was broken, as a phrase ("must be positive and finite").
     pub requirement: &'static str,
+    /// A point the rule refers to (for a hull that does not surround its origin: the centroid
+    /// of its corners), when there is one.
+    pub point: Option<[f64; 3]>,
 }
 
 impl ErrorDetail {
@@ -26,6 +29,23 @@ impl ErrorDetail {
             index: None,
             value,
             requirement,
+            point: None,
+        }
+    }
+
+    /// A detail naming a point (e.g. the centroid to shift a hull's points by).
+    pub const fn with_point(
+        argument: &'static str,
+        value: f64,
+        requirement: &'static str,
+        point: [f64; 3],
+    ) -> Self {
+        ErrorDetail {
+            argument,
+            index: None,
+            value,
+            requirement,
+            point: Some(point),
         }
     }
 
@@ -41,6 +61,7 @@ impl ErrorDetail {
             index: Some(index),
             value,
             requirement,
+            point: None,
         }
     }
 }
@@ -63,6 +84,18 @@ impl fmt::Display for Value {
 impl fmt::Display for ErrorDetail {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = Value(self.value);
+        if let Some([x, y, z]) = self.point {
+            return write!(
+                f,
+                "argument `{}` = {}: {} ({}, {}, {})",
+                self.argument,
+                v,
+                self.requirement,
+                Value(x),
+                Value(y),
+                Value(z)
+            );
+        }
         match self.index {
             Some(i) => write!(
                 f,

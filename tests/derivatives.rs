@@ -105,11 +105,12 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// The 36 unordered pair types, then five of them in the other order.
+/// The 55 unordered pair types (the eight primitives and the two hulls), then seven of them in
+/// the other order.
 fn pair_jobs() -> Vec<(Kind, Kind)> {
     let mut v = Vec::new();
-    for i in 0..8 {
-        for j in i..8 {
+    for i in 0..KINDS.len() {
+        for j in i..KINDS.len() {
             v.push((KINDS[i], KINDS[j]));
         }
     }
@@ -119,6 +120,8 @@ fn pair_jobs() -> Vec<(Kind, Kind)> {
         (Kind::Polygon, Kind::Capsule),
         (Kind::Cylinder, Kind::Ellipsoid),
         (Kind::Cone, Kind::Box),
+        (Kind::RoundedHull, Kind::Capsule),
+        (Kind::Cone, Kind::Hull),
     ]);
     v
 }
@@ -1198,7 +1201,7 @@ fn outputs_distance(s: &[Shape; 2], t: &[f64; 14], opts: &Options) -> Option<[f6
 #[test]
 fn distance_gradient_matches_finite_differences() {
     let start = Instant::now();
-    let jobs: Vec<(Kind, Kind)> = pair_jobs().into_iter().take(36).collect();
+    let jobs: Vec<(Kind, Kind)> = pair_jobs().into_iter().take(55).collect();
     let n = env_or("DCOL_DIST_CASES", 8);
     let fd_opts = fd_options();
     let results: Vec<JobResult> = parallel(jobs.len(), n, |job, index, out: &mut JobResult| {

@@ -131,8 +131,17 @@ fn fibonacci_normals(k: usize) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// `k` points on a sphere of radius `r` (a Fibonacci sphere, jittered in radius).
+fn sphere_points(k: usize, r: f64) -> Vec<[f64; 3]> {
+    fibonacci_normals(k)
+        .into_iter()
+        .enumerate()
+        .map(|(i, n)| n.map(|c| c * r * (1.0 + 0.01 * (i % 7) as f64)))
+        .collect()
+}
+
 /// The eight kinds, plus a 40-facet polytope and a 36-edge padded polygon (each more than
-/// the 32 orthant rows that fit on the stack).
+/// the 32 orthant rows that fit on the stack), and hulls.
 fn shapes() -> Vec<(&'static str, Shape)> {
     let twelve = fibonacci_normals(12);
     let b12: Vec<f64> = (0..12).map(|i| 0.6 + 0.05 * i as f64).collect();
@@ -167,6 +176,20 @@ fn shapes() -> Vec<(&'static str, Shape)> {
         ),
         ("polytope40", Shape::polytope(&forty, &b40).unwrap()),
         ("polygon36", Shape::polygon(&many, &[0.9; 36], 0.2).unwrap()),
+        // Hulls: of 300 points (596 facets, past the shortcuts' scan limit, climbing for the
+        // support and the gauge), and padded; a polytope of 300 planes (from the polar hull).
+        (
+            "hull300",
+            Shape::convex_hull(&sphere_points(300, 0.8), 0.0).unwrap(),
+        ),
+        (
+            "rounded-hull40",
+            Shape::convex_hull(&sphere_points(40, 0.6), 0.15).unwrap(),
+        ),
+        (
+            "polytope300",
+            Shape::polytope(&fibonacci_normals(300), &[0.75; 300]).unwrap(),
+        ),
     ]
 }
 

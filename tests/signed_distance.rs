@@ -1,6 +1,6 @@
 //! The signed distance (`signed_distance`): analytic overlaps, separated pairs equal to
 //! `distance`, random pairs of the 8×8 kinds against an independent brute force over unit
-//! normals (support functions written out here from `shared/ALGORITHMS.md` §2), the witness
+//! normals (support functions written out here from `docs/maths.md` §2), the witness
 //! identity, and continuity across touching.
 
 mod common;

@@ -86,10 +86,13 @@ if [[ $smoke == 1 ]]; then
   mkdir -p "$out"
   DCOL_BENCH_CASES="${DCOL_BENCH_CASES:-6}" DCOL_BENCH_OUT="$out" build/bench-compare/bench_compare 2>/dev/null
   test -s "$out/benchmark.md" && test -s "$out/time_vs_error.csv"
+  DCOL_BENCH_SMOKE=1 build/bench-compare/bench_hulls > "$out/hulls.md"
+  grep -q "^| 2000 |" "$out/hulls.md"
   if python3 -c "import matplotlib" 2>/dev/null; then python3 benches/compare/plot.py "$out"; fi
   echo "smoke OK"
 else
   mkdir -p results
   DCOL_BENCH_OUT="$root/results" build/bench-compare/bench_compare
+  build/bench-compare/bench_hulls | tee results/hulls.md
   python3 benches/compare/plot.py results
 fi

@@ -84,7 +84,11 @@ fn write_detail(w: &mut impl fmt::Write, context: &str, d: &ErrorDetail) -> fmt:
     if let Some(i) = d.index {
         write!(w, "[{i}]")?;
     }
-    write!(w, "` = {}: {}", Value(d.value), d.requirement)
+    write!(w, "` = {}: {}", Value(d.value), d.requirement)?;
+    if let Some([x, y, z]) = d.point {
+        write!(w, " ({}, {}, {})", Value(x), Value(y), Value(z))?;
+    }
+    Ok(())
 }
 
 /// Writes the sentence for `failure` in function `func`.

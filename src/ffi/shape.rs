@@ -3,7 +3,7 @@
 use super::boundary::{catch, check_out, read_array, run, Failure};
 use super::status::dcol_status;
 use crate::error::{Error, ErrorDetail};
-use crate::shapes::{Shape, MAX_FACETS};
+use crate::shapes::{Shape, MAX_FACETS, MAX_HULL_POINTS, MAX_POLYGON_EDGES};
 
 /// An opaque, validated convex shape (body frame). Built by one of the dcol_shape_new_*
 /// functions, released with dcol_shape_free. Immutable once built, so one shape may be used by
@@ -96,13 +96,16 @@ pub unsafe extern "C" fn dcol_shape_new_ellipsoid(
     unsafe { construct("dcol_shape_new_ellipsoid", out, build) }
 }
 
-/// Rejects a facet count above the maximum before any caller memory is read.
-fn check_facets(m: usize) -> Result<(), Failure> {
-    if m > MAX_FACETS {
+/// Rejects a count above its maximum before any caller memory is read.
+fn check_count(
+    name: &'static str,
+    m: usize,
+    max: usize,
+    rule: &'static str,
+) -> Result<(), Failure> {
+    if m > max {
         return Err(Failure::api(Error::InvalidShape(ErrorDetail::new(
-            "m",
-            m as f64,
-            "exceeds the maximum of 256 facets",
+            name, m as f64, rule,
         ))));
     }
     Ok(())
@@ -132,8 +135,9 @@ unsafe fn copy_vec(ptr: *const f64, m: usize, dst: &mut [f64]) {
 }
 
 /// A bounded polytope { x : A x <= b } (body frame) with m facets: `A` is m x 3 row-major (3m doubles),
-/// `b` has m entries, all > 0 (the origin is strictly inside). 1 <= m <= 256.
-/// On error *out is set to NULL.
+/// `b` has m entries, all > 0 (the origin is strictly inside). 1 <= m <= 1048576; redundant
+/// rows are allowed. Construction takes O(m log m) time (the vertices are the facets of the
+/// convex hull of the points a_i / b_i). On error *out is set to NULL.
 ///
 /// # Safety
 /// `A` must be NULL or point to 3m readable doubles, `b` NULL or m readable doubles; `out`
@@ -147,22 +151,22 @@ pub unsafe extern "C" fn dcol_shape_new_polytope(
     out: *mut *mut dcol_shape,
 ) -> dcol_status {
     let build = || {
-        let mut a_rows = [[0.0; 3]; MAX_FACETS];
-        let mut b_vec = [0.0; MAX_FACETS];
         if A.is_null() {
             return Err(Failure::Null("A"));
         }
         if b.is_null() {
             return Err(Failure::Null("b"));
         }
-        check_facets(m)?;
-        // SAFETY: both non-NULL (checked above), `m <= MAX_FACETS`, and `A`, `b` hold 3m
+        check_count("m", m, MAX_FACETS, "exceeds the maximum of 1048576 facets")?;
+        let mut a_rows = vec![[0.0; 3]; m];
+        let mut b_vec = vec![0.0; m];
+        // SAFETY: both non-NULL (checked above), `m` rows allocated, and `A`, `b` hold 3m
         // and m doubles (contract).
         unsafe {
             copy_rows(A, m, &mut a_rows);
             copy_vec(b, m, &mut b_vec);
         }
-        Shape::polytope(&a_rows[..m], &b_vec[..m]).map_err(Failure::api)
+        Shape::polytope(&a_rows, &b_vec).map_err(Failure::api)
     };
     // SAFETY: `out` is forwarded from this function's contract.
     unsafe { construct("dcol_shape_new_polytope", out, build) }
@@ -251,16 +255,21 @@ pub unsafe extern "C" fn dcol_shape_new_polygon(
     out: *mut *mut dcol_shape,
 ) -> dcol_status {
     let build = || {
-        let mut c_rows = [[0.0; 2]; MAX_FACETS];
-        let mut d_vec = [0.0; MAX_FACETS];
+        let mut c_rows = [[0.0; 2]; MAX_POLYGON_EDGES];
+        let mut d_vec = [0.0; MAX_POLYGON_EDGES];
         if C.is_null() {
             return Err(Failure::Null("C"));
         }
         if d.is_null() {
             return Err(Failure::Null("d"));
         }
-        check_facets(m)?;
-        // SAFETY: both non-NULL (checked above), `m <= MAX_FACETS`, and `C`, `d` hold 2m
+        check_count(
+            "m",
+            m,
+            MAX_POLYGON_EDGES,
+            "exceeds the maximum of 256 edges for a polygon",
+        )?;
+        // SAFETY: both non-NULL (checked above), `m <= MAX_POLYGON_EDGES`, and `C`, `d` hold 2m
         // and m doubles (contract).
         unsafe {
             copy_rows(C, m, &mut c_rows);
@@ -270,6 +279,53 @@ pub unsafe extern "C" fn dcol_shape_new_polygon(
     };
     // SAFETY: `out` is forwarded from this function's contract.
     unsafe { construct("dcol_shape_new_polygon", out, build) }
+}
+
+/// The convex hull of `n` points (body frame), padded by a ball of `radius`: the points within
+/// `radius` (>= 0, finite; 0 is the hull itself) of the hull. `points` is n x 3 row-major (3n
+/// doubles). Duplicate, interior and coplanar points are allowed. The points must be finite,
+/// include four affinely independent ones (a flat set is a padded polygon), and surround the
+/// origin strictly: otherwise DCOL_ERROR_INVALID_SHAPE, and the message gives the centroid of the
+/// hull's corners (shift the points by minus it, and the pose by plus it turned by the
+/// attitude). A collision margin, as Bullet's on its hulls, or a rounded box is `radius`.
+/// 4 <= n <= 4194304; construction takes O(n log n) time (quickhull) and keeps the points
+/// as given. On error *out is set to NULL.
+///
+/// # Safety
+/// `points` must be NULL or point to 3n readable doubles; `out` must be NULL or valid for
+/// writing one pointer.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_shape_new_convex_hull(
+    points: *const f64,
+    n: usize,
+    radius: f64,
+    out: *mut *mut dcol_shape,
+) -> dcol_status {
+    let build = || {
+        if n < 4 {
+            return Err(Failure::api(Error::InvalidShape(ErrorDetail::new(
+                "n",
+                n as f64,
+                "must be at least 4 (a hull needs four affinely independent points)",
+            ))));
+        }
+        if points.is_null() {
+            return Err(Failure::Null("points"));
+        }
+        check_count(
+            "n",
+            n,
+            MAX_HULL_POINTS,
+            "exceeds the maximum of 4194304 points",
+        )?;
+        let mut pts = vec![[0.0; 3]; n];
+        // SAFETY: non-NULL (checked above), `n` rows allocated, and `points` holds 3n doubles
+        // (contract).
+        unsafe { copy_rows(points, n, &mut pts) };
+        Shape::convex_hull(&pts, radius).map_err(Failure::api)
+    };
+    // SAFETY: `out` is forwarded from this function's contract.
+    unsafe { construct("dcol_shape_new_convex_hull", out, build) }
 }
 
 /// A half-space { u : u_z <= depth } (body frame), depth > 0 and finite: outward normal +e_z

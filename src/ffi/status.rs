@@ -10,7 +10,7 @@ pub enum dcol_status {
     /// A required pointer argument was NULL.
     DCOL_ERROR_NULL_POINTER = 1,
     /// Geometry rejected: non-finite, non-positive size, P not SPD, polytope/polygon empty,
-    /// unbounded or origin not strictly inside, more than 256 facets, ...
+    /// unbounded or origin not strictly inside, too many facets or points, ...
     DCOL_ERROR_INVALID_SHAPE = 2,
     /// Non-finite position or attitude, zero quaternion, or shapes placed so near the largest
     /// double that the answer (a point, a distance, alpha*) is not representable.

@@ -50,7 +50,7 @@ macro_rules! scratch_for {
         }
     )*};
 }
-scratch_for!(4, 5, 6, 7, 8, 9, 10, 11);
+scratch_for!(4, 5, 6, 7, 8, 9, 10, 11, 12, 13);
 
 /// Runs `f` with `m` zeroed orthant rows: on the stack for small problems, otherwise in a
 /// per-thread buffer that is allocated once and reused.
@@ -80,7 +80,8 @@ pub(crate) trait Task {
     fn run<const N: usize>(self, rows: &mut [LpRow<N>]) -> Self::Output;
 }
 
-/// Calls `task.run::<N>` with `N = n` and `m` orthant rows. `n` must be in 4..=11.
+/// Calls `task.run::<N>` with `N = n` and `m` orthant rows. `n` must be in 4..=13 (the
+/// distance program of two padded hulls has 7 + 3 + 3 variables).
 pub(crate) fn dispatch<T: Task>(n: usize, m: usize, task: T) -> Option<T::Output> {
     Some(match n {
         4 => with_rows::<4, _>(m, |r| task.run(r)),
@@ -91,6 +92,8 @@ pub(crate) fn dispatch<T: Task>(n: usize, m: usize, task: T) -> Option<T::Output
         9 => with_rows::<9, _>(m, |r| task.run(r)),
         10 => with_rows::<10, _>(m, |r| task.run(r)),
         11 => with_rows::<11, _>(m, |r| task.run(r)),
+        12 => with_rows::<12, _>(m, |r| task.run(r)),
+        13 => with_rows::<13, _>(m, |r| task.run(r)),
         _ => return None,
     })
 }

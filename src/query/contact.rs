@@ -246,14 +246,25 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
     if let Some((verts, pad)) = shape.flat_vertices() {
         let cos_min = if pad > 0.0 { COS_CURVED } else { COS_FACET };
         if let Some(nrm) = shape.flat_face(&m, cos_min) {
-            let top = verts
-                .iter()
-                .map(|v| v.dot(&nrm))
-                .fold(Real::NEG_INFINITY, Real::max);
-            let tol = FACET_TOL * shape.bounding_radius();
-            for v in verts {
-                if pad > 0.0 || v.dot(&nrm) >= top - tol {
-                    f.push(world(&(v + nrm * pad)));
+            // A polygon's face is all of it; a hull knows its facets' corners (taken evenly
+            // when there are more than the feature holds); other polytopes' are the vertices
+            // on the facet's plane.
+            let planar = shape.kind() == crate::shapes::ShapeKind::Polygon;
+            if let Some(corners) = shape.facet_corners(&nrm).filter(|_| !planar) {
+                let step = corners.len().div_ceil(MAX_FACE).max(1);
+                for &k in corners.iter().step_by(step) {
+                    f.push(world(&(verts[k as usize] + nrm * pad)));
+                }
+            } else {
+                let top = verts
+                    .iter()
+                    .map(|v| v.dot(&nrm))
+                    .fold(Real::NEG_INFINITY, Real::max);
+                let tol = FACET_TOL * shape.bounding_radius();
+                for v in verts {
+                    if planar || v.dot(&nrm) >= top - tol {
+                        f.push(world(&(v + nrm * pad)));
+                    }
                 }
             }
             f.face = rot * nrm;

@@ -26,6 +26,9 @@ pub(crate) enum Core<'a> {
 impl<'a> Core<'a> {
     /// The core of `shape` and the radius taken off (0 for a shape used whole).
     pub(crate) fn of(shape: &'a Shape) -> (Core<'a>, Real) {
+        if let Some((core, radius)) = shape.padded_core() {
+            return (Core::Whole(core), radius);
+        }
         match shape.rounded_segment() {
             Some((half, radius)) => (Core::Segment(half), radius),
             None => (Core::Whole(shape), 0.0),
@@ -34,7 +37,7 @@ impl<'a> Core<'a> {
 
     /// [`Core::of`], and a padded polygon's plane polygon with its radius.
     pub(crate) fn with_polygon(shape: &'a Shape) -> (Core<'a>, Real) {
-        if shape.kind() == ShapeKind::Polygon {
+        if shape.solver_kind() == ShapeKind::Polygon {
             if let Some((vertices, radius)) = shape.flat_vertices() {
                 return (Core::Flat(shape, vertices), radius);
             }
@@ -46,7 +49,7 @@ impl<'a> Core<'a> {
     /// point.
     pub(crate) fn polyhedral(&self) -> bool {
         match self {
-            Core::Whole(s) => s.kind() == ShapeKind::Polytope,
+            Core::Whole(s) => s.is_polytope(),
             Core::Segment(_) | Core::Flat(..) => true,
         }
     }

@@ -96,7 +96,8 @@ pub fn alpha_below(
     // The geometric path's decision straight, as the full query would take it (without its
     // derivatives' room, zeroed and copied: about a tenth of a closed form's time); the
     // coincident origins, half-spaces and every fallback go through the full query.
-    let bounded = shape1.kind() != ShapeKind::Halfspace && shape2.kind() != ShapeKind::Halfspace;
+    let bounded = shape1.solver_kind() != ShapeKind::Halfspace
+        && shape2.solver_kind() != ShapeKind::Halfspace;
     if options.method == Method::Auto && bounded {
         let dist = robust_norm(&(pose2.position() - pose1.position()));
         if dist > 0.0 && dist.is_finite() {

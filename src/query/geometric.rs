@@ -120,7 +120,7 @@ pub(crate) fn proximity(
 }
 
 /// `∂α*/∂(r₁, q₁, r₂, q₂)` from the geometric solution by the envelope theorem
-/// (`../shared/ALGORITHMS.md` §4): with `ñ = n*/h_K(n*)`, `∂α*/∂r₂ = ñ = −∂α*/∂r₁`; a change of
+/// (`docs/maths.md` §4): with `ñ = n*/h_K(n*)`, `∂α*/∂r₂ = ñ = −∂α*/∂r₁`; a change of
 /// `qᵢ` moves shape i's support function at `n*` through its support point `bᵢ*` (body frame),
 /// `∂h₁(n)/∂q₁ₖ = n·(∂R₁/∂q₁ₖ) b₁*` and `∂h₂(−n)/∂q₂ₖ = −n·(∂R₂/∂q₂ₖ) b₂*`, and
 /// `∂α*/∂h_K = −α*/h_K`. Exact wherever the optimal normal and support points are unique. A
@@ -140,13 +140,13 @@ pub(crate) fn gradient(
     // ∂Qᵢ/∂qᵢₖ bᵢ = ωᵢₖ × wᵢ with wᵢ = Qᵢbᵢ the support point relative to rᵢ (world), so
     // n·(∂Qᵢ/∂qᵢₖ)bᵢ = ωᵢₖ·(wᵢ × n).
     let alpha = prox.alpha;
-    if shapes[0].kind() != ShapeKind::Sphere {
+    if shapes[0].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
         for (k, w) in rotation_axes(pose1).iter().enumerate() {
             g[3 + k] = w.dot(&t);
         }
     }
-    if shapes[1].kind() != ShapeKind::Sphere {
+    if shapes[1].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
         for (k, w) in rotation_axes(pose2).iter().enumerate() {
             g[10 + k] = w.dot(&t);
@@ -196,7 +196,7 @@ pub(crate) fn unique_contact(
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
 ) -> bool {
-    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
+    let strict = |s: &Shape| matches!(s.solver_kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
     if strict(shapes[0]) || strict(shapes[1]) {
         return true;
     }
@@ -237,7 +237,7 @@ pub(crate) fn jacobian(
             j[i][c] = if i == c { 1.0 } else { 0.0 } - dx;
         }
     }
-    let round = shapes.map(|s| s.kind() == ShapeKind::Sphere);
+    let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
     for (t, col) in [3, 4, 5, 6, 10, 11, 12, 13].into_iter().enumerate() {
         if round[t / 4] {
             continue;
@@ -269,7 +269,7 @@ fn decided(c: &Cast) -> Result<(), (bool, Real)> {
 /// the ray cast identifies those faster (measured: direct first costs 1.1–2.5× there).
 fn direct_first(pair: &Pair<'_, Shape>) -> bool {
     use ShapeKind::*;
-    let kinds = [pair.one.shape.kind(), pair.two.shape.kind()];
+    let kinds = [pair.one.shape.solver_kind(), pair.two.shape.solver_kind()];
     let round = |k: &ShapeKind| matches!(k, Sphere | Ellipsoid);
     let faceted = |k: &ShapeKind| matches!(k, Polytope | Polygon);
     kinds.iter().any(round) || kinds.contains(&Capsule) || !kinds.iter().any(faceted)
@@ -375,7 +375,7 @@ fn solve(
     // pairs hand over to the polish once the bracket is narrow enough to identify the pieces.
     let polyhedral = [pair.one.shape, pair.two.shape]
         .iter()
-        .all(|s| s.kind() == ShapeKind::Polytope);
+        .all(|s| s.solver_kind() == ShapeKind::Polytope);
     let cast_tol = if polyhedral { tol } else { tol.max(HANDOVER) };
     let newton_first = direct_first(pair);
     if newton_first {

@@ -256,7 +256,7 @@ impl HalfspacePair<'_> {
             return Ok(full);
         }
         let (axes_h, axes_b) = (rotation_axes(self.pose_h), rotation_axes(self.pose_b));
-        let round = self.other.kind() == crate::ShapeKind::Sphere;
+        let round = self.other.solver_kind() == crate::ShapeKind::Sphere;
         let mut da = [0.0; 14];
         let nr = n.cross(&(point - rh)) / d;
         let wn = sp.w.cross(&n) * (alpha / d);

@@ -452,7 +452,8 @@ pub fn proximity(
     // zeroing and copies were about a tenth of a sphere–sphere call); anything else, and every
     // fallback, is the full query's.
     let plain = options.method == Method::Auto && options.smoothing == 0.0;
-    let bounded = shape1.kind() != ShapeKind::Halfspace && shape2.kind() != ShapeKind::Halfspace;
+    let bounded = shape1.solver_kind() != ShapeKind::Halfspace
+        && shape2.solver_kind() != ShapeKind::Halfspace;
     if plain && bounded && options.validate().is_ok() {
         let dist = robust_norm(&(pose2.position() - pose1.position()));
         if dist > 0.0 && dist.is_finite() {

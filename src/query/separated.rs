@@ -78,7 +78,7 @@ pub(crate) fn separated(
     let d = (r2 - r1) * inv;
     let polyhedral = [shape1, shape2]
         .iter()
-        .all(|s| s.kind() == ShapeKind::Polytope);
+        .all(|s| s.solver_kind() == ShapeKind::Polytope);
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     let cutoff = cutoff.map(|c| c * inv);
     // GJK's tetrahedron, when asked for.
@@ -105,7 +105,7 @@ pub(crate) fn separated(
     // Newton's method on the sphere of normals first where the witnesses are mostly on smooth
     // pieces (not against a cutoff, which GJK decides early).
     let newton = || {
-        (cutoff.is_none() && newton_first([shape1.kind(), shape2.kind()]))
+        (cutoff.is_none() && newton_first([shape1.solver_kind(), shape2.solver_kind()]))
             .then(|| gjk::direct::distance(&pair, &d, tol))
             .flatten()
     };
@@ -200,7 +200,7 @@ pub(crate) fn witness_gradient(
         .tr_mul(&(closest2 - poses[1].position()));
     let d1 = rotation_derivatives(poses[0].quaternion());
     let d2 = rotation_derivatives(poses[1].quaternion());
-    let round = shapes.map(|sh| sh.kind() == ShapeKind::Sphere);
+    let round = shapes.map(|sh| sh.solver_kind() == ShapeKind::Sphere);
     for k in 0..4 {
         if !round[0] {
             grad[3 + k] = -n.dot(&(d1[k] * beta1));

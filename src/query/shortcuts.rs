@@ -164,7 +164,7 @@ pub(super) fn ellipsoid_and_polytope(
     tol: Real,
     stop: Option<Stop>,
 ) -> Option<Solved> {
-    let polytope = |posed: &Posed<'_, Shape>| posed.shape.kind() == ShapeKind::Polytope;
+    let polytope = |posed: &Posed<'_, Shape>| posed.shape.solver_kind() == ShapeKind::Polytope;
     let (ell, poly, first) = if polytope(&pair.two) {
         (&pair.one, &pair.two, true)
     } else if polytope(&pair.one) {
@@ -240,7 +240,7 @@ pub(super) fn flat_first(
     tol: Real,
 ) -> Option<Answer> {
     use ShapeKind::*;
-    let kinds = [pair.one.shape.kind(), pair.two.shape.kind()];
+    let kinds = [pair.one.shape.solver_kind(), pair.two.shape.solver_kind()];
     let revolution = |k: ShapeKind| matches!(k, Cylinder | Cone);
     let against = |k: ShapeKind| matches!(k, Polytope | Cylinder | Cone | Ellipsoid);
     if !((revolution(kinds[0]) && against(kinds[1])) || (revolution(kinds[1]) && against(kinds[0])))

@@ -120,7 +120,7 @@ fn solve(
     // which hands a separated pair back to the distance query.
     let rounded = [shape1, shape2].iter().any(|s| {
         matches!(
-            s.kind(),
+            s.solver_kind(),
             ShapeKind::Ellipsoid | ShapeKind::Cylinder | ShapeKind::Cone
         )
     });
@@ -149,7 +149,7 @@ fn solve(
     }
     let curved = [shape1, shape2]
         .iter()
-        .any(|s| s.kind() != ShapeKind::Polytope);
+        .any(|s| s.solver_kind() != ShapeKind::Polytope);
     let tol = (options.tolerance * MARGIN).max(TOL_FLOOR);
     // The path, where it is not told by the penetration's own record.
     let (end, path) = match segments(&pair, &d) {
@@ -346,7 +346,7 @@ fn cored(
     // cone (flat caps and rims) it fails more often than not and costs more than it saves.
     let smooth = [&pair.one, &pair.two]
         .iter()
-        .any(|s| s.shape.kind() == ShapeKind::Ellipsoid);
+        .any(|s| s.shape.solver_kind() == ShapeKind::Ellipsoid);
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
     // The cores' EPA; polyhedral cores start from GJK's tetrahedron where there is one (on
     // curved pieces, measured, GJK's thin tetrahedron starts EPA no better than four fresh

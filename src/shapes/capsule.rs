@@ -75,13 +75,13 @@ impl ConicShape for Capsule {
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         let half = 0.5 * self.length * inv_scale;
         sink.soc(&[
-            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 2]),
-            BodyRow::new([1.0, 0.0, 0.0], 0.0, [-1.0, 0.0]),
-            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 2]),
-            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 3]),
+            BodyRow::new([1.0, 0.0, 0.0], 0.0, [-1.0, 0.0, 0.0]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 3]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 3]),
         ]);
-        sink.lp(BodyRow::new([0.0; 3], half, [-1.0, 0.0]));
-        sink.lp(BodyRow::new([0.0; 3], half, [1.0, 0.0]));
+        sink.lp(BodyRow::new([0.0; 3], half, [-1.0, 0.0, 0.0]));
+        sink.lp(BodyRow::new([0.0; 3], half, [1.0, 0.0, 0.0]));
     }
 }
 
@@ -93,7 +93,7 @@ mod tests {
     #[test]
     fn membership() {
         let c = Capsule::new(0.5, 2.0).unwrap();
-        assert!(member(&c, [1.4, 0.0, 0.0], 1.0, [1.0, 0.0]));
+        assert!(member(&c, [1.4, 0.0, 0.0], 1.0, [1.0, 0.0, 0.0]));
         assert!(member(&c, [0.3, 0.45, 0.0], 1.0, [0.3, 0.0]));
         assert!(!member(&c, [0.3, 0.55, 0.0], 1.0, [0.3, 0.0]));
         assert!(!member(&c, [0.0, 0.0, 0.0], 1.0, [1.1, 0.0]));

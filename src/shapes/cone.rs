@@ -128,11 +128,11 @@ impl ConicShape for Cone {
         let h = self.height * inv_scale;
         let t = self.tan_beta;
         sink.soc(&[
-            BodyRow::new([t, 0.0, 0.0], t * 0.75 * h, [0.0; 2]),
-            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 2]),
-            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+            BodyRow::new([t, 0.0, 0.0], t * 0.75 * h, [0.0; 3]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 3]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 3]),
         ]);
-        sink.lp(BodyRow::new([-1.0, 0.0, 0.0], 0.25 * h, [0.0; 2]));
+        sink.lp(BodyRow::new([-1.0, 0.0, 0.0], 0.25 * h, [0.0; 3]));
     }
 }
 

@@ -78,12 +78,12 @@ impl ConicShape for Cylinder {
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         let half = 0.5 * self.length * inv_scale;
         sink.soc(&[
-            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 2]),
-            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 2]),
-            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 3]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 3]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 3]),
         ]);
-        sink.lp(BodyRow::new([-1.0, 0.0, 0.0], half, [0.0; 2]));
-        sink.lp(BodyRow::new([1.0, 0.0, 0.0], half, [0.0; 2]));
+        sink.lp(BodyRow::new([-1.0, 0.0, 0.0], half, [0.0; 3]));
+        sink.lp(BodyRow::new([1.0, 0.0, 0.0], half, [0.0; 3]));
     }
 }
 

@@ -163,10 +163,10 @@ impl ConicShape for Ellipsoid {
         let u = &self.u;
         let r = |i: usize| [u[(i, 0)] * k, u[(i, 1)] * k, u[(i, 2)] * k];
         sink.soc(&[
-            BodyRow::new([0.0; 3], 1.0, [0.0; 2]),
-            BodyRow::new(r(0), 0.0, [0.0; 2]),
-            BodyRow::new(r(1), 0.0, [0.0; 2]),
-            BodyRow::new(r(2), 0.0, [0.0; 2]),
+            BodyRow::new([0.0; 3], 1.0, [0.0; 3]),
+            BodyRow::new(r(0), 0.0, [0.0; 3]),
+            BodyRow::new(r(1), 0.0, [0.0; 3]),
+            BodyRow::new(r(2), 0.0, [0.0; 3]),
         ]);
     }
 }

@@ -105,7 +105,7 @@ impl ConicShape for Halfspace {
         sink.lp(BodyRow::new(
             [0.0, 0.0, -1.0],
             self.depth * inv_scale,
-            [0.0; 2],
+            [0.0; 3],
         ));
     }
 }

@@ -14,8 +14,10 @@ mod cone;
 mod cylinder;
 mod ellipsoid;
 mod halfspace;
+mod hull;
 mod polygon;
 mod polytope;
+mod quickhull;
 mod sphere;
 mod support;
 
@@ -24,6 +26,7 @@ pub use cone::Cone;
 pub use cylinder::Cylinder;
 pub use ellipsoid::Ellipsoid;
 pub use halfspace::Halfspace;
+pub use hull::ConvexHull;
 pub use polygon::Polygon;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
@@ -32,8 +35,18 @@ pub(crate) use support::{turned, PieceEval, SupportMap};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
 
-/// The most facets a polytope or polygon may have (construction is O(m³) in the facet count).
-pub const MAX_FACETS: usize = 256;
+/// The most facets a polytope may have (a bound on memory; construction is O(m log m)).
+pub const MAX_FACETS: usize = 1 << 20;
+
+/// The most edges a padded polygon may have (construction is O(m³) in the edge count).
+pub const MAX_POLYGON_EDGES: usize = 256;
+
+/// The most points a convex hull may be given.
+pub const MAX_HULL_POINTS: usize = 1 << 22;
+
+/// The most facets a polytope may have for the shortcuts that scan every facet (a sphere deep
+/// inside, a capsule lying on a facet, a facet against a cylinder or cone).
+pub(crate) const SCAN_FACETS: usize = 64;
 
 /// The largest ratio of bounding to inscribed radius a shape may have.
 pub const MAX_ASPECT_RATIO: Real = 1e12;
@@ -44,11 +57,11 @@ pub const MAX_ASPECT_RATIO: Real = 1e12;
 pub(crate) struct BodyRow {
     pub fu: [Real; 3],
     pub fa: Real,
-    pub fw: [Real; 2],
+    pub fw: [Real; 3],
 }
 
 impl BodyRow {
-    pub(crate) const fn new(fu: [Real; 3], fa: Real, fw: [Real; 2]) -> Self {
+    pub(crate) const fn new(fu: [Real; 3], fa: Real, fw: [Real; 3]) -> Self {
         BodyRow { fu, fa, fw }
     }
 }
@@ -95,6 +108,8 @@ pub enum ShapeKind {
     /// The half-space `u_z ≤ depth` (outward normal `+e_z`, boundary plane `depth` above the
     /// origin): unbounded, answered in closed form against every other kind.
     Halfspace,
+    /// The convex hull of points, padded by a radius `R ≥ 0`.
+    ConvexHull,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -107,6 +122,7 @@ enum Geometry {
     Cone(Cone),
     Polygon(Polygon),
     Halfspace(Halfspace),
+    Hull(ConvexHull),
 }
 
 /// A validated convex primitive, ready for queries. Immutable and `Send + Sync`.
@@ -180,6 +196,45 @@ impl Shape {
         let p = Polytope::new(a, b)?;
         let (rho, iota) = (p.bounding_radius(), p.inscribed_radius());
         Shape::wrap(Geometry::Polytope(p), rho, iota)
+    }
+
+    /// A polytope already built (the core of a hull).
+    pub(crate) fn polytope_shape(p: Polytope) -> Result<Shape, Error> {
+        let (rho, iota) = (p.bounding_radius(), p.inscribed_radius());
+        Shape::wrap(Geometry::Polytope(p), rho, iota)
+    }
+
+    /// The convex hull of `points` (body frame), padded by a ball of `radius ≥ 0`: the points
+    /// within `radius` of the hull. Duplicate, interior and coplanar points are allowed; the
+    /// points must be finite, include four affinely independent ones, and surround the origin
+    /// strictly (the error says by how much to shift them otherwise).
+    ///
+    /// ```
+    /// use dcol::{proximity, Options, Pose, Shape, ShapeKind};
+    /// let corners: Vec<[f64; 3]> = (0..8)
+    ///     .map(|i| [0, 1, 2].map(|k| if i >> k & 1 == 1 { 0.5 } else { -0.5 }))
+    ///     .collect();
+    /// let rounded = Shape::convex_hull(&corners, 0.1).unwrap(); // a rounded unit box
+    /// assert_eq!(rounded.kind(), ShapeKind::ConvexHull);
+    /// let ball = Shape::sphere(0.4).unwrap();
+    /// let p1 = Pose::from_position([0.0, 0.0, 0.0]).unwrap();
+    /// let p2 = Pose::from_position([2.0, 0.0, 0.0]).unwrap();
+    /// let p = proximity(&rounded, &p1, &ball, &p2, &Options::default()).unwrap();
+    /// assert!((p.alpha - 2.0).abs() < 1e-12); // 2 / (0.6 + 0.4)
+    /// let off: Vec<[f64; 3]> = corners.iter().map(|c| [c[0] + 1.0, c[1], c[2]]).collect();
+    /// assert!(Shape::convex_hull(&off, 0.0).is_err()); // the origin is on a facet
+    /// ```
+    pub fn convex_hull(points: &[[Real; 3]], radius: Real) -> Result<Shape, Error> {
+        if points.len() > MAX_HULL_POINTS {
+            return Err(Error::InvalidShape(ErrorDetail::new(
+                "n",
+                points.len() as Real,
+                "exceeds the maximum of 4194304 points",
+            )));
+        }
+        let h = ConvexHull::new(points, radius)?;
+        let (rho, iota) = (h.bounding_radius(), h.inscribed_radius());
+        Shape::wrap(Geometry::Hull(h), rho, iota)
     }
 
     /// A box with half-extents `(hx, hy, hz)`: the polytope with rows `±e_i`.
@@ -281,7 +336,19 @@ impl Shape {
     pub(crate) fn flat_vertices(&self) -> Option<(&[Vec3], Real)> {
         match &self.geometry {
             Geometry::Polytope(p) => Some((p.vertices(), 0.0)),
+            Geometry::Hull(h) => Some((h.corners(), h.radius())),
             Geometry::Polygon(p) => Some((p.vertices(), p.radius())),
+            _ => None,
+        }
+    }
+
+    /// The corners (indices into [`Shape::flat_vertices`]) of a hull's facet of outward unit
+    /// normal `normal` (as [`SupportMap::flat_face`] gives it), counter-clockwise seen from
+    /// outside, without the padding.
+    pub(crate) fn facet_corners(&self, normal: &Vec3) -> Option<&[u32]> {
+        match &self.geometry {
+            Geometry::Polytope(p) => p.facet_corners(normal),
+            Geometry::Hull(h) => h.poly().facet_corners(normal),
             _ => None,
         }
     }
@@ -289,8 +356,36 @@ impl Shape {
     /// Half extents when the shape is a box centred at its origin and aligned with its axes
     /// (a polytope with the rows `±e_i` and equal opposite offsets): the sphere–box closed form.
     pub(crate) fn centred_box(&self) -> Option<Vec3> {
+        self.as_polytope()?.half_extents()
+    }
+
+    /// The polytope this shape is, when it is one (a polytope, a box, an unpadded hull).
+    pub(crate) fn as_polytope(&self) -> Option<&Polytope> {
         match &self.geometry {
-            Geometry::Polytope(p) => p.half_extents(),
+            Geometry::Polytope(p) => Some(p),
+            Geometry::Hull(h) if h.radius() == 0.0 => Some(h.poly()),
+            _ => None,
+        }
+    }
+
+    /// Whether the shape is a polytope (a polytope, a box, an unpadded hull): flat facets and
+    /// corners only.
+    pub(crate) fn is_polytope(&self) -> bool {
+        self.as_polytope().is_some()
+    }
+
+    /// A padded hull's core (the unpadded hull, as a polytope shape) and its radius.
+    pub(crate) fn padded_core(&self) -> Option<(&Shape, Real)> {
+        match &self.geometry {
+            Geometry::Hull(h) if h.radius() > 0.0 => Some((h.core(), h.radius())),
+            _ => None,
+        }
+    }
+
+    /// The points and radius of a convex hull, as given.
+    pub fn hull_points(&self) -> Option<(&[[Real; 3]], Real)> {
+        match &self.geometry {
+            Geometry::Hull(h) => Some((h.points(), h.radius())),
             _ => None,
         }
     }
@@ -320,11 +415,12 @@ impl Shape {
     }
 
     /// A polytope's facets: outward unit normals and offsets (`n_i·u ≤ o_i`, body frame).
+    ///
+    /// Only for polytopes of at most [`SCAN_FACETS`] facets: the shortcuts that ask scan every
+    /// facet, which costs more than the general solvers beyond that.
     pub(crate) fn facets(&self) -> Option<(&[Vec3], &[Real])> {
-        match &self.geometry {
-            Geometry::Polytope(p) => Some(p.facets()),
-            _ => None,
-        }
+        let f = self.as_polytope()?.facets();
+        (f.0.len() <= SCAN_FACETS).then_some(f)
     }
 
     /// `(radius, half-length)` of a cylinder: the sphere–cylinder distance in closed form.
@@ -356,6 +452,16 @@ impl Shape {
         }
     }
 
+    /// The kind the solvers dispatch on: [`Shape::kind`], except that an unpadded hull is a
+    /// polytope to them.
+    #[inline]
+    pub(crate) fn solver_kind(&self) -> ShapeKind {
+        match &self.geometry {
+            Geometry::Hull(h) if h.radius() == 0.0 => ShapeKind::Polytope,
+            _ => self.kind(),
+        }
+    }
+
     /// Which primitive this is (a box reports [`ShapeKind::Polytope`]).
     pub fn kind(&self) -> ShapeKind {
         match &self.geometry {
@@ -367,6 +473,7 @@ impl Shape {
             Geometry::Cone(_) => ShapeKind::Cone,
             Geometry::Polygon(_) => ShapeKind::Polygon,
             Geometry::Halfspace(_) => ShapeKind::Halfspace,
+            Geometry::Hull(_) => ShapeKind::ConvexHull,
         }
     }
 
@@ -395,6 +502,7 @@ macro_rules! dispatch {
             Geometry::Cone($s) => $e,
             Geometry::Polygon($s) => $e,
             Geometry::Halfspace($s) => $e,
+            Geometry::Hull($s) => $e,
         }
     };
 }
@@ -460,12 +568,13 @@ pub(crate) fn positive_finite(name: &'static str, v: Real) -> Result<(), Error> 
 }
 
 /// Validates a halfspace system `rows · y ≤ rhs` (rows of dimension `D`): non-empty, at most
-/// [`MAX_FACETS`], finite, no zero row, every right-hand side positive and finite.
+/// `max`, finite, no zero row, every right-hand side positive and finite.
 pub(crate) fn check_halfspaces<const D: usize>(
     rows_name: &'static str,
     rhs_name: &'static str,
     rows: &[[Real; D]],
     rhs: &[Real],
+    max: usize,
 ) -> Result<(), Error> {
     if rows.is_empty() {
         return Err(Error::InvalidShape(ErrorDetail::new(
@@ -474,11 +583,15 @@ pub(crate) fn check_halfspaces<const D: usize>(
             "must be at least 1 (no facets given)",
         )));
     }
-    if rows.len() > MAX_FACETS {
+    if rows.len() > max {
         return Err(Error::InvalidShape(ErrorDetail::new(
             "m",
             rows.len() as Real,
-            "exceeds the maximum of 256 facets",
+            if max == MAX_POLYGON_EDGES {
+                "exceeds the maximum of 256 edges for a polygon"
+            } else {
+                "exceeds the maximum of 1048576 facets"
+            },
         )));
     }
     if rows.len() != rhs.len() {
@@ -541,7 +654,12 @@ pub(crate) mod test_util {
     }
 
     /// Evaluates whether body point `u` (with slacks `w`) at scale `alpha` satisfies all rows.
-    pub fn member(shape: &impl ConicShape, u: [Real; 3], alpha: Real, w: [Real; 2]) -> bool {
+    pub fn member<const K: usize>(
+        shape: &impl ConicShape,
+        u: [Real; 3],
+        alpha: Real,
+        w: [Real; K],
+    ) -> bool {
         let mut c = Collect::default();
         shape.rows(1.0, &mut c);
         let ev = |r: &BodyRow| {
@@ -549,8 +667,7 @@ pub(crate) mod test_util {
                 + r.fu[1] * u[1]
                 + r.fu[2] * u[2]
                 + r.fa * alpha
-                + r.fw[0] * w[0]
-                + r.fw[1] * w[1]
+                + (0..K).map(|k| r.fw[k] * w[k]).sum::<Real>()
         };
         let lp_ok = c.lp.iter().all(|r| ev(r) >= -1e-12);
         let soc_ok = c.soc.iter().all(|rows| {

@@ -21,7 +21,7 @@ impl Polygon {
     /// Validates `C` (m×2, rows non-zero, finite), `d` (positive, finite), boundedness, and
     /// `radius` (positive, finite).
     pub fn new(c: &[[Real; 2]], d: &[Real], radius: Real) -> Result<Polygon, Error> {
-        check_halfspaces("C", "d", c, d)?;
+        check_halfspaces("C", "d", c, d, super::MAX_POLYGON_EDGES)?;
         positive_finite("radius", radius)?;
         let m = c.len();
         let norms: Vec<Real> = c.iter().map(|r| r[0].hypot(r[1])).collect();
@@ -163,13 +163,13 @@ impl ConicShape for Polygon {
     }
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         sink.soc(&[
-            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 2]),
-            BodyRow::new([1.0, 0.0, 0.0], 0.0, [-1.0, 0.0]),
-            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0, -1.0]),
-            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 3]),
+            BodyRow::new([1.0, 0.0, 0.0], 0.0, [-1.0, 0.0, 0.0]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0, -1.0, 0.0]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 3]),
         ]);
         for (c, d) in self.c.iter().zip(&self.d) {
-            sink.lp(BodyRow::new([0.0; 3], d * inv_scale, [-c[0], -c[1]]));
+            sink.lp(BodyRow::new([0.0; 3], d * inv_scale, [-c[0], -c[1], 0.0]));
         }
     }
 }
@@ -185,7 +185,7 @@ mod tests {
     fn square_radii_and_membership() {
         let p = Polygon::new(&SQ, &[1.0; 4], 0.1).unwrap();
         assert!((p.bounding_radius() - (2f64.sqrt() + 0.1)).abs() < 1e-14);
-        assert!(member(&p, [1.05, 0.0, 0.05], 1.0, [1.0, 0.0]));
+        assert!(member(&p, [1.05, 0.0, 0.05], 1.0, [1.0, 0.0, 0.0]));
         assert!(!member(&p, [0.5, 0.0, 0.11], 1.0, [0.5, 0.0]));
         assert!(!member(&p, [0.5, 0.0, 0.0], 1.0, [1.2, 0.0]));
     }

@@ -55,10 +55,10 @@ impl ConicShape for Sphere {
     }
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         sink.soc(&[
-            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 2]),
-            BodyRow::new([1.0, 0.0, 0.0], 0.0, [0.0; 2]),
-            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 2]),
-            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 2]),
+            BodyRow::new([0.0; 3], self.radius * inv_scale, [0.0; 3]),
+            BodyRow::new([1.0, 0.0, 0.0], 0.0, [0.0; 3]),
+            BodyRow::new([0.0, 1.0, 0.0], 0.0, [0.0; 3]),
+            BodyRow::new([0.0, 0.0, 1.0], 0.0, [0.0; 3]),
         ]);
     }
 }

@@ -558,7 +558,7 @@ pub(crate) fn sphere_solid(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<SphereSol
             };
             (c, (axes * u, near.dist))
         }
-    } else if solid.shape.kind() == ShapeKind::Cone {
+    } else if solid.shape.solver_kind() == ShapeKind::Cone {
         let (v, m) = solid.shape.revolution_section()?;
         let (p, (u, depth)) = closest_on_section(&c, &v[..m]);
         (p, (u, depth))

@@ -1,7 +1,7 @@
 //! α* by Newton's method on the support function itself, before (and mostly instead of) a ray
 //! cast.
 //!
-//! By duality (`../shared/ALGORITHMS.md` §1), `1/α' = min { h_K(n) : n·r = 1 }`, a convex
+//! By duality (`docs/maths.md` §1), `1/α' = min { h_K(n) : n·r = 1 }`, a convex
 //! problem: `h_K(n) = h₁(n) + h₂(−n)` is convex, and so is its restriction to the plane
 //! `n·r = 1`. Where the support points at the optimum lie on one smooth piece of each shape
 //! (`crate::shapes::SupportMap`: a ball or ellipsoid patch, a rim point, a vertex against a

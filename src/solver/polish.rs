@@ -1,6 +1,6 @@
 //! Newton polish of a ray cast on the contact features it identified, with a certificate.
 //!
-//! By duality (`../shared/ALGORITHMS.md` §1), `1/α' = min { h_K(n) : n·r = 1 }` with
+//! By duality (`docs/maths.md` §1), `1/α' = min { h_K(n) : n·r = 1 }` with
 //! `h_K(n) = h₁(n) + h₂(−n)`, and every shape's support function is the maximum of a few
 //! smooth pieces (`crate::shapes::SupportMap`). Once the cast has identified which pieces are
 //! active (a vertex, an edge's two vertices, a rim, a smooth patch, ...), the optimum solves the

@@ -1,6 +1,6 @@
 //! α* as a ray cast on support maps (Minkowski portal refinement, MPR).
 //!
-//! α* is the gauge of `K = K₁ ⊕ (−K₂)` at `d = r₂ − r₁` (`../shared/ALGORITHMS.md` §1): the ray
+//! α* is the gauge of `K = K₁ ⊕ (−K₂)` at `d = r₂ − r₁` (`docs/maths.md` §1): the ray
 //! from K's interior point 0 along `d` leaves K at `d/α*`. Portal refinement keeps a triangle of
 //! support points of K (a *portal*) through which the ray passes, and replaces one vertex at a
 //! time by the support point in the portal's normal direction. Every step certifies a bracket:

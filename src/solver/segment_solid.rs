@@ -62,7 +62,7 @@ impl Nearest {
         if let Some(h) = shape.centred_box() {
             return Some(Nearest::Box(h));
         }
-        match shape.kind() {
+        match shape.solver_kind() {
             ShapeKind::Cylinder => {
                 let (r, h) = shape.cylinder_dims()?;
                 Some(Nearest::Cylinder(r, h))

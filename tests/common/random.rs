@@ -1,4 +1,5 @@
-//! Random numbers (SplitMix64) and random shapes of the eight kinds, for the property tests.
+//! Random numbers (SplitMix64) and random shapes of the ten kinds (the eight primitives and
+//! convex hulls of points, unpadded and padded), for the property tests.
 
 use dcol::Shape;
 
@@ -66,9 +67,13 @@ pub enum Kind {
     Cylinder,
     Cone,
     Polygon,
+    /// The convex hull of 8 to 40 points (some inside, some repeated).
+    Hull,
+    /// The same, padded by a radius.
+    RoundedHull,
 }
 
-pub const KINDS: [Kind; 8] = [
+pub const KINDS: [Kind; 10] = [
     Kind::Sphere,
     Kind::Ellipsoid,
     Kind::Box,
@@ -77,7 +82,33 @@ pub const KINDS: [Kind; 8] = [
     Kind::Cylinder,
     Kind::Cone,
     Kind::Polygon,
+    Kind::Hull,
+    Kind::RoundedHull,
 ];
+
+/// The hull of `n` points on an ellipsoid of semi-axes `axes` (a quarter of them inside, some
+/// repeated), shifted so that their mean is the origin (strictly inside), padded by `radius`.
+pub fn hull_of(rng: &mut Rng, n: usize, axes: [f64; 3], radius: f64) -> Shape {
+    let mut pts: Vec<[f64; 3]> = Vec::with_capacity(n);
+    while pts.len() < n {
+        let u = rng.unit::<3>();
+        let p = [0, 1, 2].map(|k| u[k] * axes[k]);
+        // The first four on the surface: affinely independent (with probability one).
+        match if pts.len() < 4 { 7 } else { rng.next_u64() % 8 } {
+            0 | 1 => {
+                let t = rng.range(0.0, 0.9);
+                pts.push(p.map(|c| c * t))
+            }
+            2 if !pts.is_empty() => pts.push(pts[rng.next_u64() as usize % pts.len()]),
+            _ => pts.push(p),
+        }
+    }
+    let mean = [0, 1, 2].map(|k| pts.iter().map(|p| p[k]).sum::<f64>() / n as f64);
+    for p in pts.iter_mut() {
+        *p = [0, 1, 2].map(|k| p[k] - mean[k]);
+    }
+    Shape::convex_hull(&pts, radius).expect("a random hull")
+}
 
 impl Kind {
     pub fn name(self) -> &'static str {
@@ -90,6 +121,8 @@ impl Kind {
             Kind::Cylinder => "cylinder",
             Kind::Cone => "cone",
             Kind::Polygon => "polygon",
+            Kind::Hull => "hull",
+            Kind::RoundedHull => "rounded-hull",
         }
     }
 
@@ -158,6 +191,16 @@ impl Kind {
                 let d: Vec<f64> = (0..m).map(|_| rng.range(0.3, 0.9)).collect();
                 Shape::polygon(&c, &d, rng.range(0.05, 0.3))
             }
+            Kind::Hull | Kind::RoundedHull => {
+                let n = 8 + (rng.next_u64() % 33) as usize;
+                let axes = [0; 3].map(|_| rng.range(0.3, 1.0));
+                let radius = if self == Kind::Hull {
+                    0.0
+                } else {
+                    rng.range(0.05, 0.3)
+                };
+                return hull_of(rng, n, axes, radius);
+            }
         }
         .expect("valid random shape")
     }
@@ -186,8 +229,8 @@ impl Scaled {
     }
 }
 
-/// A random shape of kind `k` (0..8: sphere, ellipsoid, polytope, capsule, cylinder, cone,
-/// padded polygon, box) with size `size`.
+/// A random shape of kind `k` (0..10: sphere, ellipsoid, polytope, capsule, cylinder, cone,
+/// padded polygon, box, hull, padded hull) with size `size`.
 pub fn random_shape(rng: &mut Scaled, k: usize, size: f64) -> dcol::Shape {
     use dcol::Shape;
     let u = |rng: &mut Scaled| size * rng.range(0.3, 1.0);
@@ -219,6 +262,15 @@ pub fn random_shape(rng: &mut Scaled, k: usize, size: f64) -> dcol::Shape {
         4 => Shape::cylinder(u(rng), u(rng)).unwrap(),
         5 => Shape::cone(u(rng) * 2.0, rng.range(0.2, 1.2)).unwrap(),
         7 => Shape::cuboid(u(rng), u(rng), u(rng)).unwrap(),
+        8 | 9 => {
+            // 8 to 40 points on an ellipsoid (some inside, some repeated), padded for kind 9.
+            let mut r = Rng::new(rng.0);
+            rng.next();
+            let n = 8 + (r.next_u64() % 33) as usize;
+            let axes = [0; 3].map(|_| u(rng));
+            let radius = if k == 9 { 0.3 * u(rng) } else { 0.0 };
+            hull_of(&mut r, n, axes, radius)
+        }
         _ => {
             let c = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [0.7, 0.7]];
             let d: Vec<f64> = (0..5).map(|_| u(rng)).collect();
@@ -227,12 +279,12 @@ pub fn random_shape(rng: &mut Scaled, k: usize, size: f64) -> dcol::Shape {
     }
 }
 
-/// The shapes of random pair `i` (the kinds cycle over the 64 ordered pairs of the eight kinds,
-/// the box included), sizes within a factor 3 of `scale`.
+/// The shapes of random pair `i` (the kinds cycle over the 100 ordered pairs of the ten kinds,
+/// the box and the hulls included), sizes within a factor 3 of `scale`.
 pub fn random_shapes(rng: &mut Scaled, i: usize, scale: f64) -> (dcol::Shape, dcol::Shape) {
     let (z1, z2) = (scale * rng.log(-0.5, 0.5), scale * rng.log(-0.5, 0.5));
-    let s1 = random_shape(rng, (i / 8) % 8, z1);
-    let s2 = random_shape(rng, i % 8, z2);
+    let s1 = random_shape(rng, (i / 10) % 10, z1);
+    let s2 = random_shape(rng, i % 10, z2);
     (s1, s2)
 }
 

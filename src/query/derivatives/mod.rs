@@ -289,7 +289,7 @@ fn homogeneous_in_offset(full: &mut Full, ctx: &Context<'_>) {
 /// depends on its quaternion.
 #[inline]
 fn attitude_free(shape: &Shape) -> bool {
-    shape.kind() == ShapeKind::Sphere
+    shape.solver_kind() == ShapeKind::Sphere
 }
 
 /// ρ = ∂(gᵀz − h)/∂θ for one row of shape `i` and pose parameter `p` (0..3 position, 3..7

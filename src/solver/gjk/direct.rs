@@ -1,7 +1,7 @@
 //! The distance by Newton's method on the support function, before (and mostly instead of)
 //! GJK.
 //!
-//! `d* = max over unit n of g(n)`, `g(n) = n·d − h₁(n) − h₂(−n)` (`../shared/ALGORITHMS.md`
+//! `d* = max over unit n of g(n)`, `g(n) = n·d − h₁(n) − h₂(−n)` (`docs/maths.md`
 //! §5). Where the witness points lie on one smooth piece of each shape, `g` is smooth near the
 //! optimum, and Newton's method on the unit sphere (tangent coordinates at the iterate, the
 //! Riemannian Hessian `tᵢᵀ∇²h_K tⱼ + g·δᵢⱼ`, positive definite for separated shapes near the

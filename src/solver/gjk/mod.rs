@@ -1,5 +1,5 @@
 //! Exact distance between separated shapes by GJK on their support maps, with a certificate
-//! (`../shared/ALGORITHMS.md` §5), then a Newton polish on the features GJK identified.
+//! (`docs/maths.md` §5), then a Newton polish on the features GJK identified.
 //!
 //! The frame is the normalised one of the ray cast (`super::raycast`): origin at shape 1's
 //! origin, lengths over ℓ, `d = (r₂ − r₁)/ℓ`. GJK finds the point of

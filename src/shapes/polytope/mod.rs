@@ -1,11 +1,15 @@
 //! Polytope: `A b ≤ b`, every `b_i > 0` (origin strictly inside), bounded. Scaled: the rows
 //! `α b_i − a_i·u ≥ 0`.
 
+mod build;
+
 use super::climb::Climb;
+use super::quickhull::Lists;
 use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
-use super::{check_halfspaces, BodyRow, ConicShape, RowSink};
-use crate::error::{Error, ErrorDetail};
+use super::{BodyRow, ConicShape, RowSink};
 use crate::math::{Real, Vec3};
+
+pub(crate) use build::add_vertex;
 
 /// Polytopes with this many vertices or more find their support vertex by hill climbing
 /// (`super::climb`) rather than a dot product per vertex. Measured (proximity, 200 poses,
@@ -14,6 +18,15 @@ use crate::math::{Real, Vec3};
 /// 1 101 -> 641 at 256; on benches/proximity's 12-facet polytope (20 vertices) the search
 /// stays ahead for spheres, capsules and ellipsoids (by 5-9 %).
 const CLIMB_MIN: usize = 24;
+
+/// Polytopes given by more planes than this find their vertices as the polar polytope's
+/// facets (the convex hull of the points `a_i/b_i`, O(m log m)) rather than by trying every
+/// triple of planes (O(m³) triples, each checked against every plane).
+const ENUMERATE_MAX: usize = 64;
+
+/// Polytopes with this many facets or more find their gauge (and the facet facing a
+/// direction) by climbing the facet graph rather than by a dot product per facet.
+const GAUGE_CLIMB_MIN: usize = 24;
 
 /// A bounded convex polytope in halfspace form.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,127 +48,27 @@ pub struct Polytope {
     /// The vertex graph and start table of the support map's hill climb (`super::climb`), for
     /// polytopes with [`CLIMB_MIN`] vertices or more.
     climb: Option<Climb>,
+    /// The facets' corner loops and the polar climb, for polytopes built from a hull.
+    faces: Option<Box<Faces>>,
     bounding_radius: Real,
     inscribed_radius: Real,
 }
 
-impl Polytope {
-    /// Validates `A` (m×3, rows non-zero, finite) and `b` (m, positive, finite), m ≤
-    /// [`super::MAX_FACETS`], and that the set is bounded. Computes its vertices' largest norm.
-    pub fn new(a: &[[Real; 3]], b: &[Real]) -> Result<Polytope, Error> {
-        check_halfspaces("A", "b", a, b)?;
-        let rows: Vec<Vec3> = a.iter().map(|r| Vec3::from(*r)).collect();
-        // Scale-free copies: unit normals n_i and offsets b_i/|a_i|.
-        let norms: Vec<Real> = rows.iter().map(|r| r.norm()).collect();
-        let n: Vec<Vec3> = rows.iter().zip(&norms).map(|(r, k)| r / *k).collect();
-        let off: Vec<Real> = b.iter().zip(&norms).map(|(v, k)| v / k).collect();
-        let m = n.len();
-        // Bounded ⇔ no d ≠ 0 with n_i·d ≤ 0 ∀i. If one exists, an extreme ray of that cone
-        // lies on two independent facet planes (or A has rank < 3).
-        let unbounded = || {
-            Error::InvalidShape(ErrorDetail::new(
-                "A",
-                m as Real,
-                "rows must describe a bounded polytope (found a direction d with A d ≤ 0)",
-            ))
-        };
-        let mut rank3 = false;
-        'outer: for i in 0..m {
-            for j in (i + 1)..m {
-                let c = n[i].cross(&n[j]);
-                if c.norm() < 1e-12 {
-                    continue;
-                }
-                for k in (j + 1)..m {
-                    if c.dot(&n[k]).abs() > 1e-12 {
-                        rank3 = true;
-                        break 'outer;
-                    }
-                }
-            }
-        }
-        if !rank3 {
-            return Err(unbounded());
-        }
-        for i in 0..m {
-            for j in (i + 1)..m {
-                let c = n[i].cross(&n[j]);
-                let cn = c.norm();
-                if cn < 1e-12 {
-                    continue;
-                }
-                let d = c / cn;
-                for sign in [1.0, -1.0] {
-                    if n.iter().all(|nk| sign * nk.dot(&d) <= 1e-12) {
-                        return Err(unbounded());
-                    }
-                }
-            }
-        }
-        let min_off = off.iter().cloned().fold(Real::INFINITY, Real::min);
-        // Vertices: intersections of three planes that satisfy all constraints.
-        let mut rho: Real = 0.0;
-        let mut vertices: Vec<Vec3> = Vec::new();
-        // The facets through each vertex (of every triple that gave it).
-        let mut incident: Vec<Vec<u16>> = Vec::new();
-        for i in 0..m {
-            for j in (i + 1)..m {
-                let cij = n[i].cross(&n[j]);
-                if cij.norm() < 1e-12 {
-                    continue;
-                }
-                for k in (j + 1)..m {
-                    let det = cij.dot(&n[k]);
-                    if det.abs() < 1e-12 {
-                        continue;
-                    }
-                    // Cramer: v = (off_i (n_j×n_k) + off_j (n_k×n_i) + off_k (n_i×n_j)) / det
-                    let v =
-                        (n[j].cross(&n[k]) * off[i] + n[k].cross(&n[i]) * off[j] + cij * off[k])
-                            / det;
-                    let vn = crate::math::robust_norm(&v);
-                    let feasible = n
-                        .iter()
-                        .zip(&off)
-                        .all(|(nl, ol)| nl.dot(&v) <= ol + 1e-9 * ol.max(vn));
-                    if feasible {
-                        rho = rho.max(vn);
-                        let at = add_vertex(&mut vertices, v, min_off);
-                        if at == incident.len() {
-                            incident.push(Vec::new());
-                        }
-                        for f in [i, j, k] {
-                            if !incident[at].contains(&(f as u16)) {
-                                incident[at].push(f as u16);
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        let iota = off.iter().cloned().fold(Real::INFINITY, Real::min);
-        if !(rho.is_finite() && rho > 0.0) {
-            return Err(unbounded());
-        }
-        let half_extents = centred_box(&n, &off);
-        let box_support = half_extents.and_then(|_| box_support(&vertices));
-        let climb = (box_support.is_none() && vertices.len() >= CLIMB_MIN)
-            .then(|| Climb::new(&vertices, &incident, &n))
-            .flatten();
-        Ok(Polytope {
-            a: a.to_vec(),
-            b: b.to_vec(),
-            vertices,
-            half_extents,
-            box_support,
-            climb,
-            normals: n,
-            offsets: off,
-            bounding_radius: rho.max(iota),
-            inscribed_radius: iota,
-        })
-    }
+/// What a polytope built from a convex hull (of its points, or of its polar points) knows of
+/// its facets.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Faces {
+    /// Each facet's corners (indices into the vertices), counter-clockwise seen from outside.
+    loops: Lists,
+    /// The polar polytope's corners `n_i/o_i`, one per facet.
+    polar: Vec<Vec3>,
+    /// The climb on the facet graph (two facets joined when they share an edge) that finds the
+    /// largest `polar_i·p`, the gauge of `p`; for polytopes of [`GAUGE_CLIMB_MIN`] facets or
+    /// more.
+    gauge: Option<Climb>,
+}
 
+impl Polytope {
     /// The facet normals `A` (rows, as given).
     pub fn a(&self) -> &[[Real; 3]] {
         &self.a
@@ -188,71 +101,23 @@ impl Polytope {
     pub(crate) fn half_extents(&self) -> Option<Vec3> {
         self.half_extents
     }
-}
 
-/// The half extents when the six unit normals are exactly `±e_x, ±e_y, ±e_z` and opposite
-/// facets are equally far from the origin (a box centred at its origin).
-fn centred_box(normals: &[Vec3], offsets: &[Real]) -> Option<Vec3> {
-    if normals.len() != 6 {
-        return None;
+    /// The corners (indices into [`Polytope::vertices`]) of the facet whose outward unit
+    /// normal is `normal` (one of [`Polytope::facets`]'), counter-clockwise seen from outside,
+    /// when the polytope knows its facets' loops (built from a hull).
+    pub(crate) fn facet_corners(&self, normal: &Vec3) -> Option<&[u32]> {
+        let faces = self.faces.as_deref()?;
+        let k = self.normals.iter().position(|n| n == normal)?;
+        Some(faces.loops.get(k))
     }
-    let mut plus = [None; 3];
-    let mut minus = [None; 3];
-    for (nrm, off) in normals.iter().zip(offsets) {
-        let axis = (0..3).find(|&j| nrm[j].abs() == 1.0)?;
-        if (0..3).any(|j| j != axis && nrm[j] != 0.0) {
-            return None;
-        }
-        let slot = if nrm[axis] > 0.0 {
-            &mut plus
-        } else {
-            &mut minus
-        };
-        if slot[axis].replace(*off).is_some() {
-            return None;
-        }
-    }
-    let mut h = Vec3::zeros();
-    for j in 0..3 {
-        let (p, m) = (plus[j]?, minus[j]?);
-        if p != m {
-            return None;
-        }
-        h[j] = p;
-    }
-    Some(h)
-}
 
-/// Adds `v` unless a vertex within rounding of it is already there (several facets through one
-/// vertex give it once per triple of facets). `scale` is the smallest facet offset: two
-/// vertices closer than 1e-9 of it are one, however far from the origin (relative to `‖v‖`
-/// alone, the two faces of a box 1e10 times wider than thick merged into one).
-pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3, scale: Real) -> usize {
-    let tol = 1e-9 * v.norm().min(scale).max(Real::MIN_POSITIVE);
-    match vertices.iter().position(|w| (w - v).norm() <= tol) {
-        Some(k) => k,
-        None => {
-            vertices.push(v);
-            vertices.len() - 1
-        }
+    /// The index of the facet whose polar corner `n_i/o_i` is largest along `p` (its gauge is
+    /// that value), by the climb when there is one.
+    fn gauge_facet(&self, p: &Vec3) -> Option<usize> {
+        let faces = self.faces.as_deref()?;
+        let climb = faces.gauge.as_ref()?;
+        Some(climb.support(&faces.polar, p))
     }
-}
-
-/// The table of `Polytope::box_support` for a centred box's eight vertices; `None` if they are
-/// not one vertex per octant.
-fn box_support(vertices: &[Vec3]) -> Option<[u8; 27]> {
-    if vertices.len() != 8 {
-        return None;
-    }
-    let mut table = [0u8; 27];
-    for (p, entry) in table.iter_mut().enumerate() {
-        let signs = [p / 9, (p / 3) % 3, p % 3].map(|d| d as i32 - 1);
-        let k = vertices.iter().position(|v| {
-            (0..3).all(|i| signs[i] == 0 || (v[i] > 0.0) == (signs[i] > 0) && v[i] != 0.0)
-        })?;
-        *entry = k as u8;
-    }
-    Some(table)
 }
 
 impl SupportMap for Polytope {
@@ -276,9 +141,36 @@ impl SupportMap for Polytope {
         Round::Flat.eval(self.vertices.get(id as usize)?, m)
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
-        nearest_normal(&self.normals, m, cos_min)
+        let Some(mut k) = self.gauge_facet(m) else {
+            return nearest_normal(&self.normals, m, cos_min);
+        };
+        // From the facet whose polar corner is best along m, the best aligned normal by
+        // steepest ascent on the facet graph.
+        let graph = self.faces.as_deref()?.gauge.as_ref()?.graph();
+        let mut c = self.normals[k].dot(m);
+        loop {
+            let mut next = k;
+            for &j in graph.get(k) {
+                let cj = self.normals[j as usize].dot(m);
+                if cj > c {
+                    (c, next) = (cj, j as usize);
+                }
+            }
+            if next == k {
+                break;
+            }
+            k = next;
+        }
+        let n = m.norm();
+        (n > 0.0 && c >= cos_min * n).then(|| self.normals[k])
     }
     fn gauge(&self, p: &Vec3) -> Real {
+        if let Some(k) = self.gauge_facet(p) {
+            return self
+                .faces
+                .as_deref()
+                .map_or(0.0, |f| f.polar[k].dot(p).max(0.0));
+        }
         self.a.iter().zip(&self.b).fold(0.0, |g: Real, (a, b)| {
             g.max((a[0] * p.x + a[1] * p.y + a[2] * p.z) / b)
         })
@@ -300,7 +192,7 @@ impl ConicShape for Polytope {
     }
     fn rows(&self, inv_scale: Real, sink: &mut impl RowSink) {
         for (a, b) in self.a.iter().zip(&self.b) {
-            sink.lp(BodyRow::new([-a[0], -a[1], -a[2]], b * inv_scale, [0.0; 2]));
+            sink.lp(BodyRow::new([-a[0], -a[1], -a[2]], b * inv_scale, [0.0; 3]));
         }
     }
 }
