@@ -79,6 +79,10 @@ pub enum DistancePath {
     /// Signed distance of an overlapping sphere or capsule pair: the closest points of their
     /// segments.
     Segments,
+    /// Signed distance of two overlapping polytopes of few facets (boxes, small hulls; padded
+    /// hulls whose hulls overlap): the separating-axis theorem, exact over the finite set of
+    /// candidate normals (`crate::solver::sat`).
+    SeparatingAxes,
 }
 
 /// The result of a signed-distance query.

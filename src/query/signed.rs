@@ -19,6 +19,7 @@ use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self as gjk, penetration, EpaEnd, GjkEnd, Penetration, Route};
 use crate::solver::raycast::{Pair, Vertex};
+use crate::solver::sat;
 use crate::solver::segment_solid::segment_solid;
 use crate::solver::SolveStatus;
 
@@ -111,6 +112,11 @@ fn solve(
         path: d.path,
     };
     let inscribed = len < shape1.inscribed_radius() + shape2.inscribed_radius();
+    // Two polytopes of few facets (boxes, small hulls; padded hulls by their hulls): the
+    // separating axes decide, and answer an overlap exactly.
+    if let Some(sd) = separating_axes(shape1, pose1, shape2, pose2, ell) {
+        return Ok(sd);
+    }
     // GJK's tetrahedron where it certified an overlap: EPA's start (polyhedral pairs), and
     // the overlap of the cores settled.
     let mut start = None;
@@ -440,5 +446,43 @@ fn capsule_and_solid(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Pene
         b,
         polished: false,
         supports: 2,
+    })
+}
+
+/// The separating-axis penetration (`crate::solver::sat`) of two overlapping polytopes of few
+/// facets, or of padded hulls whose hulls overlap (the padding adds its radius to the depth and
+/// moves the witnesses along the normal); `None` when the shapes are not such polytopes, are
+/// separated, or the witnesses are the general path's to find.
+fn separating_axes(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    ell: Real,
+) -> Option<SignedDistance> {
+    fn core(s: &Shape) -> Option<(&crate::shapes::Polytope, Real)> {
+        match s.padded_core() {
+            Some((c, r)) => Some((c.as_polytope()?, r)),
+            None => Some((s.as_polytope()?, 0.0)),
+        }
+    }
+    fn placed<'a>(poly: &'a crate::shapes::Polytope, pose: &'a Pose) -> sat::Placed<'a> {
+        sat::Placed {
+            poly,
+            rot: pose.rotation(),
+            pos: *pose.position(),
+        }
+    }
+    let ((c1, pad1), (c2, pad2)) = (core(shape1)?, core(shape2)?);
+    let o = sat::overlap(&placed(c1, pose1), &placed(c2, pose2), ell)?.ok()?;
+    let n = o.normal;
+    Some(SignedDistance {
+        distance: -(o.depth + pad1 + pad2),
+        normal: n,
+        closest1: o.closest1 + n * pad1,
+        closest2: o.closest2 - n * pad2,
+        iterations: 0,
+        status: SolveStatus::Converged,
+        path: DistancePath::SeparatingAxes,
     })
 }

@@ -24,6 +24,7 @@ pub(crate) mod gjk;
 mod ipm;
 pub(crate) mod polish;
 pub(crate) mod raycast;
+pub(crate) mod sat;
 pub(crate) mod segment_solid;
 pub(crate) mod sensitivity;
 mod status;

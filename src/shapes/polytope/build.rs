@@ -1,7 +1,9 @@
 //! A polytope's construction: from its planes (every triple of planes for a few, the polar
 //! hull for many), or from the hull of its points; the parts every construction shares.
 
-use super::{Climb, Faces, Polytope, CLIMB_MIN, ENUMERATE_MAX, GAUGE_CLIMB_MIN};
+use super::{
+    Climb, Faces, Polytope, CLIMB_MIN, ENUMERATE_MAX, GAUGE_CLIMB_MIN, SAT_DIRECTIONS, SAT_FACETS,
+};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
 use crate::shapes::check_halfspaces;
@@ -28,7 +30,13 @@ impl Polytope {
             return Err(least);
         }
         let a: Vec<[Real; 3]> = mesh.normals.iter().map(|n| [n.x, n.y, n.z]).collect();
-        let faces = Faces::new(mesh.loops, &mesh.normals, &mesh.offsets, &mesh.facet_graph);
+        let faces = Faces::new(
+            mesh.loops,
+            &mesh.vertices,
+            &mesh.normals,
+            &mesh.offsets,
+            Some(&mesh.facet_graph),
+        );
         Ok(Polytope::finish(
             a,
             mesh.offsets.clone(),
@@ -105,7 +113,13 @@ impl Polytope {
             loops.items.extend(ring);
             loops.first.push(loops.items.len() as u32);
         }
-        let faces = Faces::new(loops, &normals, &offsets, &mesh.vertex_graph);
+        let faces = Faces::new(
+            loops,
+            &vertices,
+            &normals,
+            &offsets,
+            Some(&mesh.vertex_graph),
+        );
         Ok(Polytope::finish(
             a.to_vec(),
             b.to_vec(),
@@ -251,6 +265,8 @@ impl Polytope {
         let climb = (box_support.is_none() && vertices.len() >= CLIMB_MIN)
             .then(|| Climb::new(&vertices, &incident, &n))
             .flatten();
+        let loops = facet_loops(&vertices, &incident, &n);
+        let faces = Faces::new(loops, &vertices, &n, &off, None);
         Ok(Polytope {
             a: a.to_vec(),
             b: b.to_vec(),
@@ -258,7 +274,7 @@ impl Polytope {
             half_extents,
             box_support,
             climb,
-            faces: None,
+            faces: Some(Box::new(faces)),
             normals: n,
             offsets: off,
             bounding_radius: rho.max(iota),
@@ -268,16 +284,87 @@ impl Polytope {
 }
 
 impl Faces {
-    fn new(loops: Lists, normals: &[Vec3], offsets: &[Real], facet_graph: &Lists) -> Faces {
+    /// The facets' data from their corner loops; the gauge's climb when the facet graph is
+    /// given (the hulls' and the polar construction's, whose facets are all irredundant).
+    fn new(
+        loops: Lists,
+        vertices: &[Vec3],
+        normals: &[Vec3],
+        offsets: &[Real],
+        facet_graph: Option<&Lists>,
+    ) -> Faces {
         let polar: Vec<Vec3> = normals.iter().zip(offsets).map(|(n, o)| n / *o).collect();
-        let gauge = (normals.len() >= GAUGE_CLIMB_MIN)
-            .then(|| Climb::from_graph(&polar, facet_graph.clone()));
+        let gauge = facet_graph
+            .filter(|_| normals.len() >= GAUGE_CLIMB_MIN)
+            .map(|g| Climb::from_graph(&polar, g.clone()));
+        let edge_directions = (normals.len() <= SAT_FACETS)
+            .then(|| edge_directions(&loops, vertices))
+            .flatten();
         Faces {
             loops,
+            edge_directions,
             polar,
             gauge,
         }
     }
+}
+
+/// The distinct edge directions of the facets' loops (unit; the largest component positive),
+/// `None` past [`SAT_DIRECTIONS`].
+fn edge_directions(loops: &Lists, vertices: &[Vec3]) -> Option<Vec<Vec3>> {
+    let mut dirs: Vec<Vec3> = Vec::new();
+    for k in 0..loops.first.len().saturating_sub(1) {
+        let l = loops.get(k);
+        for i in 0..l.len() {
+            let e = vertices[l[(i + 1) % l.len()] as usize] - vertices[l[i] as usize];
+            let Some(mut u) = e.try_normalize(0.0) else {
+                continue;
+            };
+            let big = (0..3)
+                .max_by(|&x, &y| u[x].abs().total_cmp(&u[y].abs()))
+                .unwrap_or(0);
+            if u[big] < 0.0 {
+                u = -u;
+            }
+            if dirs.iter().all(|d| d.cross(&u).norm() > 1e-9) {
+                if dirs.len() == SAT_DIRECTIONS {
+                    return None;
+                }
+                dirs.push(u);
+            }
+        }
+    }
+    Some(dirs)
+}
+
+/// Each facet's vertices (from the facets through each vertex), counter-clockwise about its
+/// outward normal.
+fn facet_loops(vertices: &[Vec3], incident: &[Vec<u16>], normals: &[Vec3]) -> Lists {
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (v, fs) in incident.iter().enumerate() {
+        for &f in fs {
+            pairs.push((f as u32, v as u32));
+        }
+    }
+    let mut lists = Lists::from_pairs(normals.len(), &pairs);
+    for (k, n) in normals.iter().enumerate() {
+        let (a, b) = (lists.first[k] as usize, lists.first[k + 1] as usize);
+        let ring = &mut lists.items[a..b];
+        if ring.len() < 3 {
+            continue;
+        }
+        let c = ring.iter().map(|&v| vertices[v as usize]).sum::<Vec3>() / ring.len() as Real;
+        let u = (vertices[ring[0] as usize] - c)
+            .try_normalize(0.0)
+            .unwrap_or_else(Vec3::x);
+        let w = n.cross(&u);
+        let angle = |v: &u32| {
+            let d = vertices[*v as usize] - c;
+            d.dot(&w).atan2(d.dot(&u))
+        };
+        ring.sort_by(|x, y| angle(x).total_cmp(&angle(y)));
+    }
+    lists
 }
 
 /// The half extents when the six unit normals are exactly `±e_x, ±e_y, ±e_z` and opposite

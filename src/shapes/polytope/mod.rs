@@ -54,12 +54,22 @@ pub struct Polytope {
     inscribed_radius: Real,
 }
 
-/// What a polytope built from a convex hull (of its points, or of its polar points) knows of
-/// its facets.
+/// Polytopes with at most this many facets and edge directions give the separating-axis
+/// penetration (`crate::solver::sat`) their edge directions: a box has 6 and 3 (two boxes: 30
+/// candidate normals), a 12-facet polytope about 15 directions (a pair: 474 candidates, more
+/// than EPA costs).
+const SAT_FACETS: usize = 16;
+const SAT_DIRECTIONS: usize = 8;
+
+/// What a polytope knows of its facets beyond their planes.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Faces {
-    /// Each facet's corners (indices into the vertices), counter-clockwise seen from outside.
+    /// Each facet's corners (indices into the vertices), counter-clockwise seen from outside
+    /// (a redundant plane's list is empty).
     loops: Lists,
+    /// The directions of the edges (unit, body frame, one of each pair of opposite ones) when
+    /// there are at most [`SAT_DIRECTIONS`] of them and [`SAT_FACETS`] facets.
+    edge_directions: Option<Vec<Vec3>>,
     /// The polar polytope's corners `n_i/o_i`, one per facet.
     polar: Vec<Vec3>,
     /// The climb on the facet graph (two facets joined when they share an edge) that finds the
@@ -109,6 +119,25 @@ impl Polytope {
         let faces = self.faces.as_deref()?;
         let k = self.normals.iter().position(|n| n == normal)?;
         Some(faces.loops.get(k))
+    }
+
+    /// The corners of facet `k` (as [`Polytope::facet_corners`]).
+    pub(crate) fn facet_loop(&self, k: usize) -> Option<&[u32]> {
+        let faces = self.faces.as_deref()?;
+        (k < faces.loops.first.len().saturating_sub(1)).then(|| faces.loops.get(k))
+    }
+
+    /// The unit edge directions (body frame, one per pair of opposite ones) of a polytope of
+    /// few facets and edge directions (a box: its three axes), for the separating-axis
+    /// penetration.
+    pub(crate) fn edge_directions(&self) -> Option<&[Vec3]> {
+        self.faces.as_deref()?.edge_directions.as_deref()
+    }
+
+    /// The support function `max over the vertices of m·v`.
+    #[inline]
+    pub(crate) fn support_value(&self, m: &Vec3) -> Real {
+        self.support(m).0.dot(m)
     }
 
     /// The index of the facet whose polar corner `n_i/o_i` is largest along `p` (its gauge is

@@ -1,0 +1,280 @@
+//! The penetration of two overlapping polytopes of few facets by the separating-axis theorem.
+//!
+//! For overlapping shapes the depth is `min over unit n of f(n)`, `f(n) = h₁(n) + h₂(−n) − n·d`
+//! with `d = r₂ − r₁` (`docs/maths.md` §5): the distance from `d` to the boundary of the
+//! Minkowski difference `K`. For two polytopes `K` is a polytope whose facet normals are among
+//! the facet normals of shape 1, the negated facet normals of shape 2 and the cross products of
+//! an edge direction of each: `f` over that finite set of candidates is exactly the depth (its
+//! minimum is the distance from `d` to the nearest facet plane of `K`, and that plane's nearest
+//! point lies on the facet), and any candidate with `f < 0` separates the shapes. A box has six
+//! facets and three edge directions: 6 + 6 + 2·9 evaluations, each a few dot products, where
+//! GJK and EPA take tens of support calls.
+//!
+//! The witness points come from the winning candidate: for a facet of one shape, the other's
+//! support feature (a corner, an edge or a facet) clipped to that facet's prism, its deepest
+//! point and that point moved onto the facet by the depth; for two edges, their closest points.
+//! Where the witnesses cannot be found within rounding (the contact on a feature's boundary to
+//! the last bits, or edges that are nearly parallel deciding the depth), the caller takes EPA.
+
+use crate::math::{Mat3, Real, Vec3};
+use crate::shapes::Polytope;
+
+/// Candidate edge cross products shorter than this (their edges parallel to rounding) are left
+/// out: they are no facet normal of the difference.
+const PARALLEL: Real = 1e-9;
+/// An edge cross product shorter than this that wins makes the answer EPA's (its normal is
+/// known only to `ε/|c|`).
+const ILL_CONDITIONED: Real = 1e-6;
+/// Feature and clipping tolerance, relative to the shapes' size.
+const TOL: Real = 1e-11;
+/// The most points a clipped feature holds.
+const MAX_POINTS: usize = 48;
+
+/// A polytope in world axes.
+#[derive(Clone, Copy)]
+pub(crate) struct Placed<'a> {
+    pub poly: &'a Polytope,
+    pub rot: &'a Mat3,
+    pub pos: Vec3,
+}
+
+impl Placed<'_> {
+    /// `h(n) = max n·x` over the polytope (world).
+    #[inline]
+    fn h(&self, n: &Vec3) -> Real {
+        let m = self.rot.tr_mul(n);
+        let body = match self.poly.half_extents() {
+            Some(h) => h.x * m.x.abs() + h.y * m.y.abs() + h.z * m.z.abs(),
+            None => self.poly.support_value(&m),
+        };
+        body + n.dot(&self.pos)
+    }
+
+    fn world(&self, v: &Vec3) -> Vec3 {
+        self.pos + self.rot * v
+    }
+}
+
+/// The overlap of two polytopes: depth `≥ 0`, the unit normal from shape 1 to shape 2 and the
+/// witness points (`closest2 − closest1 = −depth·normal`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Overlap {
+    pub depth: Real,
+    pub normal: Vec3,
+    pub closest1: Vec3,
+    pub closest2: Vec3,
+}
+
+/// Which candidate decided.
+#[derive(Clone, Copy)]
+enum Axis {
+    Face1(usize),
+    Face2(usize),
+    Edges(Real),
+}
+
+/// `Some(Ok(overlap))` for overlapping polytopes, `Some(Err(()))` when a candidate separates
+/// them, `None` when the answer is not this method's (too many edge directions, or witnesses
+/// that rounding hides): the caller takes the general path. `scale` is the shapes' size.
+pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Result<Overlap, ()>> {
+    let (da, db) = (a.poly.edge_directions()?, b.poly.edge_directions()?);
+    // World support functions: the positions are in them, so that f(n) = h₁(n) + h₂(−n)
+    // (= h_K₁(n) + h_K₂(−n) − n·d).
+    let f = |n: &Vec3| a.h(n) + b.h(&-n);
+    let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
+    let (na, _) = a.poly.facets();
+    for (i, nb) in na.iter().enumerate() {
+        let n = a.rot * nb;
+        let v = f(&n);
+        if v < 0.0 {
+            return Some(Err(()));
+        }
+        if v < best.0 {
+            best = (v, n, Axis::Face1(i));
+        }
+    }
+    let (nb, _) = b.poly.facets();
+    for (j, m) in nb.iter().enumerate() {
+        let n = -(b.rot * m);
+        let v = f(&n);
+        if v < 0.0 {
+            return Some(Err(()));
+        }
+        if v < best.0 {
+            best = (v, n, Axis::Face2(j));
+        }
+    }
+    for ea in da {
+        let ea = a.rot * ea;
+        for eb in db {
+            let c = ea.cross(&(b.rot * eb));
+            let len = c.norm();
+            if !(len > PARALLEL) {
+                continue;
+            }
+            let c = c / len;
+            for n in [c, -c] {
+                let v = f(&n);
+                if v < 0.0 {
+                    return Some(Err(()));
+                }
+                if v < best.0 {
+                    best = (v, n, Axis::Edges(len));
+                }
+            }
+        }
+    }
+    let (depth, n, axis) = best;
+    if !depth.is_finite() {
+        return None;
+    }
+    let tol = TOL * scale;
+    let (p1, p2) = match axis {
+        Axis::Face1(i) => {
+            let p2 = deepest_in_prism(b, &-n, a, i, &n, tol)?;
+            (p2 + n * depth, p2)
+        }
+        Axis::Face2(j) => {
+            let p1 = deepest_in_prism(a, &n, b, j, &-n, tol)?;
+            (p1, p1 - n * depth)
+        }
+        Axis::Edges(len) => {
+            if len < ILL_CONDITIONED {
+                return None;
+            }
+            let p1 = edge_witness(a, b, &n, tol)?;
+            (p1, p1 - n * depth)
+        }
+    };
+    Some(Ok(Overlap {
+        depth,
+        normal: n,
+        closest1: p1,
+        closest2: p2,
+    }))
+}
+
+/// The points of `s` whose value along `m` is within `tol` of its largest (world).
+fn support_feature(s: &Placed<'_>, m: &Vec3, tol: Real, out: &mut [Vec3; MAX_POINTS]) -> usize {
+    let mb = s.rot.tr_mul(m);
+    let verts = s.poly.vertices();
+    let top = verts
+        .iter()
+        .map(|v| v.dot(&mb))
+        .fold(Real::NEG_INFINITY, Real::max);
+    let mut k = 0;
+    for v in verts {
+        if v.dot(&mb) >= top - tol && k < MAX_POINTS {
+            out[k] = s.world(v);
+            k += 1;
+        }
+    }
+    k
+}
+
+/// The support feature of `s` in direction `m` (its points deepest below facet `face` of `f`,
+/// whose outward world normal is `n`), clipped to that facet's prism: its deepest point (the
+/// one farthest along `m`), or `None` when nothing of it lies in the prism.
+fn deepest_in_prism(
+    s: &Placed<'_>,
+    m: &Vec3,
+    f: &Placed<'_>,
+    face: usize,
+    n: &Vec3,
+    tol: Real,
+) -> Option<Vec3> {
+    let mut pts = [Vec3::zeros(); MAX_POINTS];
+    let mut k = support_feature(s, m, tol, &mut pts);
+    // A face of three points or more: in order round its centroid (for clipping as a polygon).
+    if k >= 3 {
+        order(&mut pts[..k], m);
+    }
+    let corners = f.poly.facet_loop(face).filter(|l| l.len() >= 3)?;
+    let mut buf = [Vec3::zeros(); MAX_POINTS];
+    for (e, &c) in corners.iter().enumerate() {
+        let q = f.world(&f.poly.vertices()[c as usize]);
+        let q_next = f.world(&f.poly.vertices()[corners[(e + 1) % corners.len()] as usize]);
+        let side = (q_next - q).cross(n);
+        k = clip(&pts[..k], &side, side.dot(&q) + tol * side.norm(), &mut buf);
+        pts[..k].copy_from_slice(&buf[..k]);
+        if k == 0 {
+            return None;
+        }
+    }
+    pts[..k]
+        .iter()
+        .copied()
+        .max_by(|x, y| x.dot(m).total_cmp(&y.dot(m)))
+}
+
+/// Orders points of a planar face counter-clockwise about `axis`.
+fn order(pts: &mut [Vec3], axis: &Vec3) {
+    let c = pts.iter().sum::<Vec3>() / pts.len() as Real;
+    let u = (pts[0] - c).try_normalize(0.0).unwrap_or_else(Vec3::x);
+    let v = axis.cross(&u);
+    pts.sort_by(|x, y| {
+        let (dx, dy) = (x - c, y - c);
+        dx.dot(&v)
+            .atan2(dx.dot(&u))
+            .total_cmp(&dy.dot(&v).atan2(dy.dot(&u)))
+    });
+}
+
+/// Keeps the part of the polygon (or segment, or point) `pts` where `side·x ≤ limit`
+/// (Sutherland–Hodgman), into `out`; the number of points.
+fn clip(pts: &[Vec3], side: &Vec3, limit: Real, out: &mut [Vec3; MAX_POINTS]) -> usize {
+    let k = pts.len();
+    let mut n = 0;
+    let mut push = |p: Vec3| {
+        if n < MAX_POINTS {
+            out[n] = p;
+            n += 1;
+        }
+    };
+    if k == 1 {
+        if side.dot(&pts[0]) <= limit {
+            push(pts[0]);
+        }
+        return n;
+    }
+    let edges = if k == 2 { 1 } else { k };
+    for i in 0..edges {
+        let (p, q) = (pts[i], pts[(i + 1) % k]);
+        let (sp, sq) = (side.dot(&p) - limit, side.dot(&q) - limit);
+        if sp <= 0.0 {
+            push(p);
+        }
+        if (sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0) {
+            push(p + (q - p) * (sp / (sp - sq)));
+        }
+        if k == 2 && sq <= 0.0 {
+            push(q);
+        }
+    }
+    n
+}
+
+/// The closest points of shape 1's supporting edge at `n` and shape 2's at `−n`: shape 1's
+/// point, when both features are edges and the points lie on them.
+fn edge_witness(a: &Placed<'_>, b: &Placed<'_>, n: &Vec3, tol: Real) -> Option<Vec3> {
+    let mut ea = [Vec3::zeros(); MAX_POINTS];
+    let mut eb = [Vec3::zeros(); MAX_POINTS];
+    if support_feature(a, n, tol, &mut ea) != 2 || support_feature(b, &-n, tol, &mut eb) != 2 {
+        return None;
+    }
+    let (p, u) = (ea[0], ea[1] - ea[0]);
+    let (q, v) = (eb[0], eb[1] - eb[0]);
+    let w = p - q;
+    let (uu, uv, vv, uw, vw) = (u.dot(&u), u.dot(&v), v.dot(&v), u.dot(&w), v.dot(&w));
+    let den = uu * vv - uv * uv;
+    if !(den > 0.0) {
+        return None;
+    }
+    let s = (uv * vw - vv * uw) / den;
+    let t = (uu * vw - uv * uw) / den;
+    let slack = tol / (uu.sqrt().min(vv.sqrt()));
+    if !((-slack..=1.0 + slack).contains(&s) && (-slack..=1.0 + slack).contains(&t)) {
+        return None;
+    }
+    Some(p + u * s.clamp(0.0, 1.0))
+}
