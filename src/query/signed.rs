@@ -170,7 +170,7 @@ fn solve(
                         _ => None,
                     };
                     (
-                        penetration(&pair, &d, tol, BUDGET, curved, tet.as_ref()),
+                        penetration(&pair, &d, tol, BUDGET, curved, tet.as_ref(), true),
                         None,
                     )
                 }
@@ -179,7 +179,12 @@ fn solve(
     };
     let (p, status) = match end {
         EpaEnd::Closed(p) => (p, SolveStatus::Converged),
-        EpaEnd::Open(p) => (p, SolveStatus::MaxIterations),
+        // A K too thin for EPA (relative thickness near rounding) can stop it far from the
+        // optimum: the slab through its plane may be the better lower bound.
+        EpaEnd::Open(p) => {
+            let s = slab(&pair, &d);
+            (if s.sd > p.sd { s } else { p }, SolveStatus::MaxIterations)
+        }
         EpaEnd::Separated => {
             return distance(shape1, pose1, shape2, pose2, options).map(from_distance);
         }
@@ -192,7 +197,10 @@ fn solve(
                     return Ok(from_distance(d));
                 }
             }
-            return Err(Error::Internal("signed_distance: degenerate polytope"));
+            // K flatter than a double resolves (relative thickness below 1e-14: shapes of
+            // aspect ratio near the constructors' 1e12 limit, thin the same way): the best
+            // slab of a few directions, its support points, and the status says so.
+            (slab(&pair, &d), SolveStatus::NumericalFailure)
         }
     };
     // Touching: within rounding of 0.
@@ -357,12 +365,19 @@ fn cored(
     // The cores' EPA; polyhedral cores start from GJK's tetrahedron where there is one (on
     // curved pieces, measured, GJK's thin tetrahedron starts EPA no better than four fresh
     // support calls in the directions of a regular one).
-    let epa =
-        |tet: Option<&[Vertex; 4]>| match penetration(&posed, d, tol, BUDGET, !polyhedral, tet) {
-            EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
-            EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
-            EpaEnd::Separated | EpaEnd::Failed => None,
-        };
+    let epa = |tet: Option<&[Vertex; 4]>| match penetration(
+        &posed,
+        d,
+        tol,
+        BUDGET,
+        !polyhedral,
+        tet,
+        false,
+    ) {
+        EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
+        EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
+        EpaEnd::Separated | EpaEnd::Failed => None,
+    };
     // GJK on these cores (those of `Cores::of`: no polygon) certified their overlap already,
     // or found them apart by less than the radii (and the tolerance).
     let mut tet = [Vertex::default(); 4];
@@ -485,4 +500,73 @@ fn separating_axes(
         status: SolveStatus::Converged,
         path: DistancePath::SeparatingAxes,
     })
+}
+
+/// The best lower bound `L(n) = n·d − h_K(n)` over the directions across K's long axis (the
+/// line through its two support points along `(1, 1, 1)`: 36 angles, then a bisection about the
+/// best), the axes, the offset, and their opposites, with the support points there as
+/// witnesses: an answer for a K too thin for EPA (a needle or a sheet, from shapes of aspect
+/// ratio near the constructors' limit), each witness on its shape's support plane (the identity
+/// `d + b − a = L·n` does not hold).
+fn slab(pair: &Pair<'_, Shape>, d: &Vec3) -> Penetration {
+    let u = Vec3::new(1.0, 1.0, 1.0) / (3.0 as Real).sqrt();
+    let (v0, v1) = (pair.support(&u), pair.support(&-u));
+    let e = (v1.w - v0.w).try_normalize(0.0).unwrap_or(u);
+    let o = if e.x.abs() < 0.6 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let m = (o - e * e.dot(&o)).normalize();
+    let k = e.cross(&m);
+    let mut supports = 2;
+    let mut best: Option<(Real, Vec3, Vertex)> = None;
+    let mut try_n = |n: Vec3, best: &mut Option<(Real, Vec3, Vertex)>| {
+        let v = pair.support(&n);
+        supports += 1;
+        let lo = n.dot(&(d - v.w));
+        if best.as_ref().map_or(true, |b| lo > b.0) {
+            *best = Some((lo, n, v));
+        }
+        lo
+    };
+    let across = |t: Real| m * t.cos() + k * t.sin();
+    let step = std::f64::consts::TAU / 36.0;
+    let mut top = (Real::NEG_INFINITY, 0.0);
+    for i in 0..36 {
+        let t = i as Real * step;
+        let lo = try_n(across(t), &mut best);
+        if lo > top.0 {
+            top = (lo, t);
+        }
+    }
+    // Bisection of the angle about the best sample.
+    let (mut t, mut h) = (top.1, step);
+    for _ in 0..30 {
+        h *= 0.5;
+        let (a, b) = (
+            try_n(across(t - h), &mut best),
+            try_n(across(t + h), &mut best),
+        );
+        if a > top.0 && a >= b {
+            (top.0, t) = (a, t - h);
+        } else if b > top.0 {
+            (top.0, t) = (b, t + h);
+        }
+    }
+    let along = d.try_normalize(0.0).unwrap_or(Vec3::x());
+    for n in [Vec3::x(), Vec3::y(), Vec3::z(), along] {
+        try_n(n, &mut best);
+        try_n(-n, &mut best);
+    }
+    let (sd, normal, v) = best.expect("directions tried");
+    Penetration {
+        sd,
+        upper: 0.0,
+        normal,
+        a: v.a,
+        b: v.b,
+        polished: false,
+        supports,
+    }
 }

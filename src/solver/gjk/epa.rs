@@ -56,6 +56,12 @@ const HANDOVER_ABS: Real = 1e-8;
 /// Measured on benches/proximity's overlapping poses (150 per pair, default tolerance): the
 /// class median 4110 -> 3500 ns with the answers within 2e-14 of those polished to rounding.
 const FINE: Real = 0.1;
+/// The least volume of a start tetrahedron, relative to the product of its edges from one
+/// vertex; [`THIN_VOLUME`] where K is known to be full-dimensional (a thinner one is the
+/// rounding of a flat set: cores in one plane, which the caller answers otherwise). Shapes of
+/// aspect ratio 1e11 (a box 1e-7 by 1e4) make K thinner than the first.
+const START_VOLUME: Real = 1e-9;
+const THIN_VOLUME: Real = 1e-14;
 /// Barycentric weights down to this count as inside a face (rounding).
 const BARY_SLACK: Real = 1e-12;
 
@@ -445,7 +451,9 @@ thread_local! {
 /// The signed distance of an overlapping (or touching) pair at offset `d` (normalised),
 /// closing the bracket to `tol` within `budget` support calls. `curved`: run the polish.
 /// `tet`: support vertices of the pair to start from (GJK's last simplex), when they span a
-/// tetrahedron; otherwise EPA starts from four support calls of its own.
+/// tetrahedron; otherwise EPA starts from four support calls of its own. `thin`: K is known to
+/// be full-dimensional (two shapes, not cores that may be flat), so a start tetrahedron as
+/// thin as [`THIN_VOLUME`] is taken.
 ///
 /// The first [`STACK_BUDGET`] calls refine a polytope on the stack. A pair that needs more
 /// (deep overlaps of curved shapes whose boundary nearly follows the sphere about `d` of the
@@ -459,6 +467,7 @@ pub(crate) fn penetration<S: SupportMap>(
     budget: u32,
     curved: bool,
     tet: Option<&[Vertex; 4]>,
+    thin: bool,
 ) -> EpaEnd {
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
     let mut run = Run {
@@ -478,7 +487,8 @@ pub(crate) fn penetration<S: SupportMap>(
         eps: floor,
     };
     let mut poly = Poly::new(d);
-    if !tet.is_some_and(|t| start_from(&mut poly, t)) && !start(pair, &mut poly, &mut run.supports)
+    if !tet.is_some_and(|t| start_from(&mut poly, t, START_VOLUME))
+        && !start(pair, &mut poly, &mut run.supports, thin)
     {
         return EpaEnd::Failed;
     }
@@ -648,6 +658,7 @@ fn start<S: SupportMap, T: Store>(
     pair: &Pair<'_, S>,
     poly: &mut Poly<T>,
     supports: &mut u32,
+    thin: bool,
 ) -> bool {
     let s = 1.0 / (3.0 as Real).sqrt();
     let dirs = [
@@ -659,11 +670,12 @@ fn start<S: SupportMap, T: Store>(
     for sign in [1.0, -1.0] {
         let tet = dirs.map(|dir| pair.support(&(dir * sign)));
         *supports += 4;
-        if start_from(poly, &tet) {
+        if start_from(poly, &tet, START_VOLUME) {
             return true;
         }
     }
-    spanning(pair, poly, supports)
+    let least = if thin { THIN_VOLUME } else { START_VOLUME };
+    spanning(pair, poly, supports, least)
 }
 
 /// A tetrahedron of support points chosen one dimension at a time: the two ends of K along a
@@ -675,6 +687,7 @@ fn spanning<S: SupportMap, T: Store>(
     pair: &Pair<'_, S>,
     poly: &mut Poly<T>,
     supports: &mut u32,
+    least: Real,
 ) -> bool {
     let mut call = |n: &Vec3| {
         *supports += 1;
@@ -707,12 +720,12 @@ fn spanning<S: SupportMap, T: Store>(
     } else {
         q
     };
-    start_from(poly, &[v0, v1, v2, v3])
+    start_from(poly, &[v0, v1, v2, v3], least)
 }
 
 /// The polytope of the four vertices `tet`, its faces oriented outward; false when they do
-/// not span a tetrahedron (relative volume 1e-9).
-fn start_from<T: Store>(poly: &mut Poly<T>, tet: &[Vertex; 4]) -> bool {
+/// not span a tetrahedron (relative volume `least`).
+fn start_from<T: Store>(poly: &mut Poly<T>, tet: &[Vertex; 4], least: Real) -> bool {
     poly.verts.clear_slots();
     poly.faces.clear_slots();
     poly.keys.clear_slots();
@@ -723,7 +736,7 @@ fn start_from<T: Store>(poly: &mut Poly<T>, tet: &[Vertex; 4]) -> bool {
     let w = tet.map(|v| v.w);
     let vol = (w[1] - w[0]).cross(&(w[2] - w[0])).dot(&(w[3] - w[0]));
     let scale = (w[1] - w[0]).norm() * (w[2] - w[0]).norm() * (w[3] - w[0]).norm();
-    if !(vol.abs() > 1e-9 * scale) {
+    if !(vol.abs() > least * scale) {
         return false;
     }
     // With vol > 0, (0,1,2) has 3 on its positive side: orient it the other way.
