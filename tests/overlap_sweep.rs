@@ -1,5 +1,6 @@
 //! Every overlapping contact query answers: `signed_distance` and `contact_manifold` on random
-//! overlapping poses of all 36 unordered pairs of the 8 bounded kinds (random sizes over two
+//! overlapping poses of all 55 unordered pairs of the 10 bounded kinds (the 8 primitives, the
+//! convex hull and the rounded hull of 8 to 24 points; random sizes over two
 //! decades, aspect ratios up to 10, random attitudes, depths from grazing to nearly coincident
 //! origins) end `Converged`, never with the certificate open, and with the witness points on
 //! their shapes.
@@ -10,7 +11,7 @@
 //! out independently (`common::oracle`): each witness lies on its shape's support plane at the
 //! normal and not outside the shape (within 1e-9·ℓ), and `closest2 − closest1 = sd·n`.
 //! Checked against a brute-force maximum over normals: every case that needed more support
-//! calls than EPA's polytope on the stack holds (250), and one case in 2 000.
+//! calls than EPA's polytope on the stack holds (250), and one case in 1 000.
 
 mod common;
 
@@ -23,7 +24,7 @@ use dcol::{
 use nalgebra::Matrix3;
 use std::collections::BTreeMap;
 
-const NAMES: [&str; 8] = [
+const NAMES: [&str; 10] = [
     "sphere",
     "ellipsoid",
     "box",
@@ -32,6 +33,8 @@ const NAMES: [&str; 8] = [
     "cylinder",
     "cone",
     "polygon",
+    "hull",
+    "rounded-hull",
 ];
 
 /// Support calls EPA makes on its stack polytope; answers that needed more are all checked.
@@ -107,6 +110,33 @@ fn shape(rng: &mut Rng, k: usize, s: f64) -> (Shape, Oracle) {
         6 => {
             let (h, b) = (len(rng), rng.range(0.1, 1.45));
             (Shape::cone(h, b), Oracle::Cone(h, b))
+        }
+        8 | 9 => {
+            // 8 to 24 points on a stretched sphere (a fifth inside, some repeated), centred.
+            let n = 8 + (rng.next_u64() % 17) as usize;
+            let axes = Vec3::new(len(rng), len(rng), len(rng));
+            let mut pts: Vec<Vec3> = Vec::with_capacity(n);
+            while pts.len() < n {
+                let p = Vec3::from(rng.unit::<3>()).component_mul(&axes);
+                match if pts.len() < 4 {
+                    9
+                } else {
+                    rng.next_u64() % 10
+                } {
+                    0 | 1 => pts.push(p * rng.range(0.0, 0.9)),
+                    2 => pts.push(pts[rng.next_u64() as usize % pts.len()]),
+                    _ => pts.push(p),
+                }
+            }
+            let mean = pts.iter().sum::<Vec3>() / n as f64;
+            let pts: Vec<Vec3> = pts.iter().map(|p| p - mean).collect();
+            let r = if k == 8 {
+                0.0
+            } else {
+                s * rng.range(0.05, 0.3)
+            };
+            let raw: Vec<[f64; 3]> = pts.iter().map(|p| [p.x, p.y, p.z]).collect();
+            (Shape::convex_hull(&raw, r), Oracle::hull(pts, r))
         }
         _ => {
             let m = 3 + (rng.next_u64() % 6) as usize;
@@ -244,7 +274,7 @@ fn sweep(k1: usize, k2: usize, n: usize, seed: u64, notes: &mut Vec<String>) -> 
                 &what,
             );
         }
-        if sd.iterations > STACK_SUPPORTS || case % 2000 == 0 {
+        if sd.iterations > STACK_SUPPORTS || case % 1000 == 0 {
             t.checked += 1;
             let b = brute(&o1, &o2, &sd.normal, 4000);
             let at_n = lower(&o1, &o2, &sd.normal);
@@ -279,7 +309,9 @@ fn every_overlap_certifies() {
     };
     let total = var("DCOL_OVERLAP_CASES", 1_000_000) as usize;
     let seed = var("DCOL_OVERLAP_SEED", 0x0E7A_5EED);
-    let mut pairs: Vec<(usize, usize)> = (0..8).flat_map(|i| (i..8).map(move |j| (i, j))).collect();
+    let mut pairs: Vec<(usize, usize)> = (0..NAMES.len())
+        .flat_map(|i| (i..NAMES.len()).map(move |j| (i, j)))
+        .collect();
     let per = total.div_ceil(pairs.len());
     // `DCOL_OVERLAP_PAIR=2,5` replays one pair type's cases (box-cylinder) alone.
     if let Ok(v) = std::env::var("DCOL_OVERLAP_PAIR") {

@@ -90,8 +90,8 @@ pub unsafe extern "C" fn dcol_distance(
 ///
 /// `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
 /// DCOL_ERROR_NOT_CONVERGED fills *result with the best answer found and writes its gradient
-/// only if all 14 entries are finite. On any other status nothing is written. Does not
-/// allocate.
+/// only if all 14 entries are finite. On any other status nothing is written. Allocates as
+/// dcol_signed_distance (at most once per thread).
 ///
 /// # Safety
 /// As dcol_signed_distance; `gradient` must be NULL or valid for writing 14 doubles.
@@ -207,7 +207,9 @@ impl From<&SignedDistance> for dcol_signed_distance_result {
 /// `options` may be NULL (defaults). Returns DCOL_OK and fills *result; or
 /// DCOL_ERROR_NOT_CONVERGED (the certified bracket did not close) and fills *result with the
 /// best answer found; or an error status, the last error message set, and *result untouched.
-/// Does not allocate.
+/// Does not allocate, except once per thread: the first overlap on a thread whose certificate
+/// needs more than 250 support points (about 3 in 10000 random deep overlaps of curved shapes)
+/// reserves a buffer of about 0.9 MB that the thread's later queries reuse.
 ///
 /// # Safety
 /// `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;

@@ -89,7 +89,8 @@ impl Manifold {
 /// The contact manifold of two posed shapes: the points where their signed distance is at most
 /// `margin`, at most `max_points` of them (and at most [`MAX_CONTACTS`]), with the signed
 /// distance's normal. Curved contacts give one point; face-to-face and segment-to-face contacts
-/// give the corners of the clipped overlap. Does not allocate.
+/// give the corners of the clipped overlap. Allocates as [`crate::signed_distance`] does (at
+/// most once per thread).
 ///
 /// ```
 /// use dcol::{contact_manifold, Options, Pose, Shape};

@@ -21,6 +21,73 @@ pub enum Oracle {
     Cone(f64, f64),
     /// The plane polygon's vertices in order round it, and the radius.
     Polygon(Vec<[f64; 2]>, f64),
+    /// A convex hull padded by a radius: its points, its facets' triangles (every triple of
+    /// points on a facet's plane) with their outward unit normals, and the radius.
+    Hull(Vec<Vec3>, Vec<([Vec3; 3], Vec3)>, f64),
+}
+
+impl Oracle {
+    /// The hull of `points` (surrounding the origin) padded by `radius`, its facets found by
+    /// brute force over triples.
+    pub fn hull(points: Vec<Vec3>, radius: f64) -> Oracle {
+        let scale = points.iter().map(|p| p.norm()).fold(0.0, f64::max);
+        let eps = 1e-12 * scale;
+        let n = points.len();
+        let mut tris = Vec::new();
+        for i in 0..n {
+            for j in i + 1..n {
+                for k in j + 1..n {
+                    let (a, b, c) = (points[i], points[j], points[k]);
+                    let Some(nrm) = (b - a).cross(&(c - a)).try_normalize(1e-300) else {
+                        continue;
+                    };
+                    let side = |p: &Vec3| nrm.dot(&(p - a));
+                    if points.iter().all(|p| side(p) <= eps) {
+                        tris.push(([a, b, c], nrm));
+                    } else if points.iter().all(|p| side(p) >= -eps) {
+                        tris.push(([a, b, c], -nrm));
+                    }
+                }
+            }
+        }
+        Oracle::Hull(points, tris, radius)
+    }
+}
+
+/// The distance from `p` to the triangle `t` (Ericson, *Real-Time Collision Detection* 5.1.5).
+fn triangle_distance(p: &Vec3, t: &[Vec3; 3]) -> f64 {
+    let [a, b, c] = *t;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return ap.norm();
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return bp.norm();
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return (p - (a + ab * (d1 / (d1 - d3)))).norm();
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return cp.norm();
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return (p - (a + ac * (d2 / (d2 - d6)))).norm();
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (p - (b + (c - b) * w)).norm();
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    (p - (a + ab * v + ac * w)).norm()
 }
 
 /// The vertices of `A x ≤ b` by brute force over triples of planes.
@@ -108,13 +175,17 @@ impl Oracle {
                     .fold(f64::MIN, f64::max)
                     + r * m.norm()
             }
+            Oracle::Hull(p, _, r) => {
+                p.iter().map(|v| v.dot(m)).fold(f64::MIN, f64::max) + r * m.norm()
+            }
         }
     }
 
     /// How far the body point `x` lies outside the shape (about; ≤ 0 inside): the distance to
     /// the shape for spheres, capsules and padded polygons, the largest violation of a bounding
     /// plane (or of the cone's slant line) for the flat kinds, and for an ellipsoid the
-    /// distance to its boundary point on the ray through `x`.
+    /// distance to its boundary point on the ray through `x`; for a hull the distance to it
+    /// outside, its largest plane violation inside, less the radius.
     pub fn excess(&self, x: &Vec3) -> f64 {
         let yz = x.y.hypot(x.z);
         match self {
@@ -156,6 +227,20 @@ impl Oracle {
                         .fold(f64::INFINITY, f64::min)
                 };
                 planar.hypot(x.z) - r
+            }
+            Oracle::Hull(_, tris, r) => {
+                let plane = tris
+                    .iter()
+                    .map(|(t, n)| n.dot(&(x - t[0])))
+                    .fold(f64::MIN, f64::max);
+                if plane <= 0.0 {
+                    plane - r
+                } else {
+                    tris.iter()
+                        .map(|(t, _)| triangle_distance(x, t))
+                        .fold(f64::INFINITY, f64::min)
+                        - r
+                }
             }
         }
     }
