@@ -20,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 REST = {"sphere": 0.2, "box": 0.1, "capsule": 0.1, "cylinder": 0.15, "cone": 0.1, "ellipsoid": 0.12}
-ENGINES = [("ODE", "examples/ode/ode_scenes"), ("Bullet", "examples/bullet/bullet_scenes")]
+ENGINES = [("ODE", "examples/ode/ode_scenes"), ("Bullet", "integrations/bullet/tests/bullet_scenes")]
 
 
 def run(program, csv_path):

@@ -161,3 +161,66 @@ fn rounded_boxes_are_their_hulls_less_the_radii() {
     println!("{sat} overlapping rounded-box pairs by the separating axes");
     assert!(sat > 1000);
 }
+
+/// The closed-form manifold of two boxes (`query::contact_boxes`) against the general path's on
+/// the same boxes given with redundant planes: the same normal, the same points and depths (as
+/// sets), on overlapping, touching and nearly touching pairs, with and without a margin.
+#[test]
+fn box_manifolds_agree_with_the_general_path() {
+    use dcol::contact_manifold;
+    let mut rng = Rng::new(7);
+    let o = Options::default();
+    let (mut compared, mut points) = (0, 0);
+    for i in 0..4000 {
+        let h1 = [0; 3].map(|_| rng.range(0.1, 1.0));
+        let h2 = [0; 3].map(|_| rng.range(0.1, 1.0));
+        let (b1, r1) = boxes(h1, &mut rng);
+        let (b2, r2) = boxes(h2, &mut rng);
+        let q1 = rng.quat();
+        let q2 = if i % 2 == 0 { q1 } else { rng.quat() };
+        let p1 = Pose::new([0.0; 3], q1).unwrap();
+        let dir = rng.unit::<3>();
+        let len = rng.range(0.3, 1.3) * (h1.iter().sum::<f64>() + h2.iter().sum::<f64>()) / 3.0;
+        let p2 = Pose::new(dir.map(|c| c * len), q2).unwrap();
+        let margin = if i % 3 == 0 { 0.0 } else { rng.range(0.0, 0.1) };
+        let a = contact_manifold(&b1, &p1, &b2, &p2, margin, 16, &o).unwrap();
+        let b = contact_manifold(&r1, &p1, &r2, &p2, margin, 16, &o).unwrap();
+        let ell = b1.bounding_radius().max(b2.bounding_radius());
+        assert!(
+            (a.signed_distance - b.signed_distance).abs() <= 1e-9 * ell,
+            "case {i}: {} vs {}",
+            a.signed_distance,
+            b.signed_distance
+        );
+        if a.is_empty() && b.is_empty() {
+            continue;
+        }
+        assert!((a.normal - b.normal).norm() <= 1e-6, "case {i}: normals");
+        // Every point of each is one of the other's (up to rounding).
+        let near = |x: &dcol::Contact, ys: &[dcol::Contact]| {
+            ys.iter().any(|y| {
+                (x.position - y.position).norm() <= 1e-8 * ell
+                    && (x.depth - y.depth).abs() <= 1e-9 * ell
+            })
+        };
+        assert_eq!(
+            a.len(),
+            b.len(),
+            "case {i}: {:?} vs {:?}",
+            a.contacts(),
+            b.contacts()
+        );
+        assert!(
+            a.contacts().iter().all(|x| near(x, b.contacts())),
+            "case {i}"
+        );
+        assert!(
+            b.contacts().iter().all(|x| near(x, a.contacts())),
+            "case {i}"
+        );
+        compared += 1;
+        points += a.len();
+    }
+    println!("{compared} box manifolds ({points} points) equal to the general path's");
+    assert!(compared > 1500);
+}

@@ -76,8 +76,10 @@ pub unsafe extern "C" fn dcol_contacts(
         check_out(count, "count")?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let m = query::contact_manifold(
-            q.shape1, &q.pose1, q.shape2, &q.pose2, margin, capacity, &q.options,
+        // Only the points leave: a pair apart by more than the margin need not know by how
+        // much (`exact_distance` false).
+        let m = query::manifold(
+            q.shape1, &q.pose1, q.shape2, &q.pose2, margin, capacity, &q.options, false,
         )
         .map_err(Failure::api)?;
         for (i, c) in m.contacts().iter().enumerate() {

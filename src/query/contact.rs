@@ -21,6 +21,7 @@ use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, SupportMap};
 use crate::solver::SolveStatus;
+use arrayvec::ArrayVec;
 use nalgebra::Vector2;
 
 /// The most contacts a manifold holds.
@@ -110,6 +111,63 @@ pub fn contact_manifold(
     max_points: usize,
     options: &Options,
 ) -> Result<Manifold, Error> {
+    manifold(
+        shape1, pose1, shape2, pose2, margin, max_points, options, true,
+    )
+}
+
+/// [`contact_manifold`]; with `exact_distance` false, a manifold without points may carry a
+/// lower bound above the margin as its signed distance (a separating axis decided, without the
+/// distance), for callers that read only the points (the C function). Its numbers are finite:
+/// an answer beyond the largest double (shapes within their size of it) is `InvalidPose`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn manifold(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    margin: Real,
+    max_points: usize,
+    options: &Options,
+    exact_distance: bool,
+) -> Result<Manifold, Error> {
+    let out = unchecked(
+        shape1,
+        pose1,
+        shape2,
+        pose2,
+        margin,
+        max_points,
+        options,
+        exact_distance,
+    )?;
+    let finite = out.signed_distance.is_finite()
+        && out.normal.iter().all(|v| v.is_finite())
+        && out.contacts().iter().all(|c| {
+            c.depth.is_finite()
+                && c.position
+                    .iter()
+                    .chain(c.normal.iter())
+                    .all(|v| v.is_finite())
+        });
+    if !finite {
+        return Err(not_representable(pose1.position(), pose2.position()));
+    }
+    Ok(out)
+}
+
+/// [`manifold`] before the check that its numbers are finite.
+#[allow(clippy::too_many_arguments)]
+fn unchecked(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    margin: Real,
+    max_points: usize,
+    options: &Options,
+    exact_distance: bool,
+) -> Result<Manifold, Error> {
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(Error::InvalidOptions(ErrorDetail::new(
             "margin",
@@ -117,18 +175,24 @@ pub fn contact_manifold(
             "must be finite and nonnegative",
         )));
     }
-    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
-    let mut out = Manifold {
-        normal: sd.normal,
-        signed_distance: sd.distance,
-        status: sd.status,
-        iterations: sd.iterations,
-        contacts: [Contact::default(); MAX_CONTACTS],
-        count: 0,
-    };
     let cap = max_points.min(MAX_CONTACTS);
+    // Two boxes: the closed form (`super::contact_boxes`).
+    if let (Some(h1), Some(h2)) = (shape1.centred_box(), shape2.centred_box()) {
+        options.validate()?;
+        let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+        if let Some(b) = super::contact_boxes::boxes(&h1, pose1, &h2, pose2, margin, ell) {
+            if !b.points.is_empty() || !exact_distance {
+                let mut pts = Points::new();
+                for (p, d) in &b.points {
+                    pts.push(*p, *d);
+                }
+                return Ok(finish(&b.sd, &pts, cap));
+            }
+        }
+    }
+    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
     if sd.distance > margin || cap == 0 {
-        return Ok(out);
+        return Ok(finish(&sd, &Points::new(), 0));
     }
     let mut pts = Points::new();
     let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
@@ -146,14 +210,29 @@ pub fn contact_manifold(
     // The deepest point is the signed distance's witness pair: when the clipped features miss
     // it (a capsule or padded polygon tilted against a face, whose surface line is not where
     // it is deepest), it is added, so that the manifold's largest depth is always −sd.
-    let deepest = pts.depth[..pts.n]
-        .iter()
-        .fold(Real::NEG_INFINITY, |m, d| m.max(*d));
+    let deepest = pts.depth.iter().fold(Real::NEG_INFINITY, |m, d| m.max(*d));
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
+    Ok(finish(&sd, &pts, cap))
+}
+
+/// The manifold of the candidate points `pts` for the signed distance `sd`: at most `cap` of
+/// them (`reduce`).
+fn finish(sd: &SignedDistance, pts: &Points, cap: usize) -> Manifold {
+    let mut out = Manifold {
+        normal: sd.normal,
+        signed_distance: sd.distance,
+        status: sd.status,
+        iterations: sd.iterations,
+        contacts: [Contact::default(); MAX_CONTACTS],
+        count: 0,
+    };
+    if cap == 0 {
+        return out;
+    }
     let mut chosen = [0usize; MAX_CONTACTS];
-    let k = reduce(&pts, cap, &mut chosen);
+    let k = reduce(pts, cap, &mut chosen);
     for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
         *slot = Contact {
             position: pts.pos[i],
@@ -162,42 +241,29 @@ pub fn contact_manifold(
         };
     }
     out.count = k;
-    // Points of shapes within their size of the largest double can pass it.
-    let finite = out.signed_distance.is_finite()
-        && out.normal.iter().all(|v| v.is_finite())
-        && out.contacts().iter().all(|c| {
-            c.depth.is_finite()
-                && c.position
-                    .iter()
-                    .chain(c.normal.iter())
-                    .all(|v| v.is_finite())
-        });
-    if !finite {
-        return Err(not_representable(pose1.position(), pose2.position()));
-    }
-    Ok(out)
+    out
 }
 
-/// Candidate contacts.
+/// Candidate contacts (no zeroed buffers: a query fills only what it uses).
 struct Points {
-    pos: [Vec3; BUF],
-    depth: [Real; BUF],
-    n: usize,
+    pos: ArrayVec<Vec3, BUF>,
+    depth: ArrayVec<Real, BUF>,
 }
 
 impl Points {
     fn new() -> Self {
         Points {
-            pos: [Vec3::zeros(); BUF],
-            depth: [0.0; BUF],
-            n: 0,
+            pos: ArrayVec::new(),
+            depth: ArrayVec::new(),
         }
     }
+    fn len(&self) -> usize {
+        self.pos.len()
+    }
     fn push(&mut self, pos: Vec3, depth: Real) {
-        if self.n < BUF {
-            self.pos[self.n] = pos;
-            self.depth[self.n] = depth;
-            self.n += 1;
+        if !self.pos.is_full() {
+            self.pos.push(pos);
+            self.depth.push(depth);
         }
     }
     fn push_witness(&mut self, sd: &SignedDistance) {
@@ -214,35 +280,34 @@ fn midpoint(a: &Vec3, b: &Vec3) -> Vec3 {
 /// A feature in world coordinates: 1 point, a segment (2) or a convex face polygon (≥ 3, in
 /// order) with its outward unit normal.
 struct Feature {
-    pts: [Vec3; MAX_FACE],
-    k: usize,
+    pts: ArrayVec<Vec3, MAX_FACE>,
     face: Vec3,
 }
 
 impl Feature {
     fn empty() -> Self {
         Feature {
-            pts: [Vec3::zeros(); MAX_FACE],
-            k: 0,
+            pts: ArrayVec::new(),
             face: Vec3::zeros(),
         }
     }
+    fn k(&self) -> usize {
+        self.pts.len()
+    }
     fn push(&mut self, p: Vec3) {
-        if self.k < MAX_FACE {
-            self.pts[self.k] = p;
-            self.k += 1;
-        }
+        let _ = self.pts.try_push(p);
     }
 }
 
 /// The feature of `shape` at `pose` facing the world direction `dir` (unit); `window` is how
 /// far below the support value a piece's support point may lie to count.
-fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
+fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real, f: &mut Feature) {
     let rot = pose.rotation();
     let r = pose.position();
     let m = rot.transpose() * dir;
     let world = |b: &Vec3| r + rot * b;
-    let mut f = Feature::empty();
+    f.pts.clear();
+    f.face = Vec3::zeros();
     // Flat faces.
     if let Some((verts, pad)) = shape.flat_vertices() {
         let cos_min = if pad > 0.0 { COS_CURVED } else { COS_FACET };
@@ -251,11 +316,14 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
             // when there are more than the feature holds); other polytopes' are the vertices
             // on the facet's plane.
             let planar = shape.kind() == crate::shapes::ShapeKind::Polygon;
+            // A facet's corner loop is in order already (counter-clockwise seen from outside).
+            let mut ordered = false;
             if let Some(corners) = shape.facet_corners(&nrm).filter(|_| !planar) {
                 let step = corners.len().div_ceil(MAX_FACE).max(1);
                 for &k in corners.iter().step_by(step) {
                     f.push(world(&(verts[k as usize] + nrm * pad)));
                 }
+                ordered = true;
             } else {
                 let top = verts
                     .iter()
@@ -269,29 +337,35 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
                 }
             }
             f.face = rot * nrm;
-            if f.k >= 3 {
-                order(&mut f);
-                return f;
+            if f.k() >= 3 {
+                if !ordered {
+                    order(f);
+                }
+                return;
             }
-            f.k = 0;
+            f.pts.clear();
         }
     } else if let Some((centre, radius)) = shape.disc(&m, COS_CURVED) {
-        // A regular polygon with a vertex at the rim's support point.
+        // A regular polygon with a vertex at the rim's support point, each vertex the last
+        // turned by 2π/DISC_POINTS.
         let myz = m.y.hypot(m.z);
-        let phase = if myz > 0.0 { m.z.atan2(m.y) } else { 0.0 };
-        for i in 0..DISC_POINTS {
-            let t = phase + std::f64::consts::TAU * i as Real / DISC_POINTS as Real;
-            f.push(world(
-                &(centre + Vec3::new(0.0, radius * t.cos(), radius * t.sin())),
-            ));
+        let (mut c, mut s) = if myz > 0.0 {
+            (m.y / myz, m.z / myz)
+        } else {
+            (1.0, 0.0)
+        };
+        let (sn, cs) = (std::f64::consts::TAU / DISC_POINTS as Real).sin_cos();
+        for _ in 0..DISC_POINTS {
+            f.push(world(&(centre + Vec3::new(0.0, radius * c, radius * s))));
+            (c, s) = (c * cs - s * sn, s * cs + c * sn);
         }
         f.face = rot * Vec3::new(centre.x.signum(), 0.0, 0.0);
-        return f;
+        return;
     }
     if shape.flat_vertices().is_some_and(|(_, pad)| pad == 0.0) {
         // A polytope without a facet facing m: its corner.
         f.push(world(&shape.support(&m).0));
-        return f;
+        return;
     }
     // Pieces: the support point, and the piece point farthest from it within the window.
     let (s, _) = shape.support(&m);
@@ -324,7 +398,6 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real) -> Feature {
             None => f.push(world(&p)),
         }
     }
-    f
 }
 
 /// The radius of the balls a capsule or padded polygon is made of.
@@ -340,7 +413,7 @@ fn ball_radius(shape: &Shape) -> Option<Real> {
 
 /// Orders a face's points counter-clockwise about its normal.
 fn order(f: &mut Feature) {
-    let k = f.k;
+    let k = f.k();
     // The centroid, from the first point (a sum of far points can overflow).
     let p0 = f.pts[0];
     let c = p0 + f.pts[..k].iter().map(|p| p - p0).sum::<Vec3>() / k as Real;
@@ -381,7 +454,7 @@ fn cross2(a: &V2, b: &V2) -> Real {
 /// feature: onto a face's plane, or onto a segment's line.
 fn lift(f: &Feature, q: &V2, o: &Vec3, (u, v): (&Vec3, &Vec3), n: &Vec3) -> Vec3 {
     let x = o + u * q.x + v * q.y;
-    match f.k {
+    match f.k() {
         1 => f.pts[0],
         2 => {
             let (p0, p1) = (f.pts[0], f.pts[1]);
@@ -415,9 +488,10 @@ fn build(
 ) {
     let n = sd.normal;
     let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
-    let f1 = feature(shape1, pose1, &n, window);
-    let f2 = feature(shape2, pose2, &(-n), window);
-    if f1.k == 1 || f2.k == 1 {
+    let (mut f1, mut f2) = (Feature::empty(), Feature::empty());
+    feature(shape1, pose1, &n, window, &mut f1);
+    feature(shape2, pose2, &(-n), window, &mut f2);
+    if f1.k() == 1 || f2.k() == 1 {
         return;
     }
     let (u, v) = basis(&n);
@@ -425,10 +499,9 @@ fn build(
     // overflow in the dot products).
     let o = sd.closest1;
     let proj = |p: &Vec3| V2::new((p - o).dot(&u), (p - o).dot(&v));
-    let mut q = [V2::zeros(); BUF];
-    let nq;
-    if f1.k == 2 && f2.k == 2 {
-        nq = segments(
+    let mut q: ArrayVec<V2, BUF> = ArrayVec::new();
+    if f1.k() == 2 && f2.k() == 2 {
+        segments(
             &[proj(&f1.pts[0]), proj(&f1.pts[1])],
             &[proj(&f2.pts[0]), proj(&f2.pts[1])],
             SEP_TOL * ell,
@@ -437,7 +510,7 @@ fn build(
     } else {
         // The reference face: a face better aligned with n (a face beats a segment).
         let score = |f: &Feature, s: Real| {
-            if f.k >= 3 {
+            if f.k() >= 3 {
                 (f.face.dot(&n) * s).abs()
             } else {
                 -1.0
@@ -448,21 +521,15 @@ fn build(
         } else {
             (&f2, &f1)
         };
-        let mut r2 = [V2::zeros(); MAX_FACE];
-        for (o, p) in r2.iter_mut().zip(&reference.pts[..reference.k]) {
-            *o = proj(p);
-        }
-        let mut i2 = [V2::zeros(); BUF];
-        for (o, p) in i2.iter_mut().zip(&incident.pts[..incident.k]) {
-            *o = proj(p);
-        }
-        nq = if incident.k == 2 {
-            clip_segment(&r2[..reference.k], &[i2[0], i2[1]], &mut q)
+        let r2: ArrayVec<V2, MAX_FACE> = reference.pts.iter().map(proj).collect();
+        let i2: ArrayVec<V2, BUF> = incident.pts.iter().map(proj).collect();
+        if incident.k() == 2 {
+            clip_segment(&r2, &[i2[0], i2[1]], &mut q)
         } else {
-            clip_polygon(&r2[..reference.k], &mut i2, incident.k, &mut q)
-        };
+            clip_polygon(&r2, i2, &mut q)
+        }
     }
-    for qi in &q[..nq] {
+    for qi in &q {
         let a = lift(&f1, qi, &o, (&u, &v), &n);
         let b = lift(&f2, qi, &o, (&u, &v), &n);
         let depth = (a - b).dot(&n);
@@ -484,9 +551,10 @@ fn on_halfspace(
 ) {
     let n = pair.normal;
     let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
-    let f = feature(pair.other, pair.pose_b, &(-n), window);
+    let mut f = Feature::empty();
+    feature(pair.other, pair.pose_b, &(-n), window, &mut f);
     let origin = pair.pose_h.position();
-    for q in &f.pts[..f.k] {
+    for q in &f.pts[..f.k()] {
         // Below the plane `n·x = n·r + depth`, from its origin (`n·q` alone can overflow).
         let depth = pair.depth - n.dot(&(q - origin));
         if -depth <= margin + SEP_TOL * ell {
@@ -510,43 +578,39 @@ fn orientation(poly: &[V2]) -> Real {
     }
 }
 
-/// Sutherland–Hodgman: clips the polygon `inc[..k]` against the convex polygon `reference`;
-/// writes the result to `out` and returns its length.
-fn clip_polygon(reference: &[V2], inc: &mut [V2; BUF], k: usize, out: &mut [V2; BUF]) -> usize {
+/// Sutherland–Hodgman: clips the polygon `inc` against the convex polygon `reference`, into
+/// `out`.
+fn clip_polygon(reference: &[V2], mut inc: ArrayVec<V2, BUF>, out: &mut ArrayVec<V2, BUF>) {
     let s = orientation(reference);
-    let mut len = k;
-    let mut tmp = [V2::zeros(); BUF];
+    let mut tmp: ArrayVec<V2, BUF> = ArrayVec::new();
     for e in 0..reference.len() {
         let a = reference[e];
         let d = reference[(e + 1) % reference.len()] - a;
         let side = |p: &V2| s * cross2(&d, &(p - a));
-        let mut m = 0;
+        tmp.clear();
+        let len = inc.len();
         for i in 0..len {
             let p = inc[i];
             let c = inc[(i + 1) % len];
             let (sp, sc) = (side(&p), side(&c));
-            if sp >= 0.0 && m < BUF {
-                tmp[m] = p;
-                m += 1;
+            if sp >= 0.0 {
+                let _ = tmp.try_push(p);
             }
-            if (sp >= 0.0) != (sc >= 0.0) && m < BUF {
+            if (sp >= 0.0) != (sc >= 0.0) {
                 let t = sp / (sp - sc);
-                tmp[m] = p + (c - p) * t;
-                m += 1;
+                let _ = tmp.try_push(p + (c - p) * t);
             }
         }
-        inc[..m].copy_from_slice(&tmp[..m]);
-        len = m;
-        if len == 0 {
+        std::mem::swap(&mut inc, &mut tmp);
+        if inc.is_empty() {
             break;
         }
     }
-    out[..len].copy_from_slice(&inc[..len]);
-    len
+    out.extend(inc);
 }
 
-/// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`.
-fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut [V2; BUF]) -> usize {
+/// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`, into `out`.
+fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut ArrayVec<V2, BUF>) {
     let s = orientation(reference);
     let (p, d) = (seg[0], seg[1] - seg[0]);
     let (mut lo, mut hi) = (0.0, 1.0);
@@ -558,7 +622,7 @@ fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut [V2; BUF]) -> usize {
         let f1 = s * cross2(&ed, &d);
         if f1 == 0.0 {
             if f0 < 0.0 {
-                return 0;
+                return;
             }
         } else {
             let t = -f0 / f1;
@@ -570,57 +634,54 @@ fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut [V2; BUF]) -> usize {
         }
     }
     if lo > hi {
-        return 0;
+        return;
     }
-    out[0] = p + d * lo;
+    out.push(p + d * lo);
     if hi > lo {
-        out[1] = p + d * hi;
-        2
-    } else {
-        1
+        out.push(p + d * hi);
     }
 }
 
-/// Two segments in the plane: their overlap if parallel, else their crossing point.
-fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut [V2; BUF]) -> usize {
+/// Two segments in the plane: their overlap if parallel, else their crossing point, into
+/// `out`.
+fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut ArrayVec<V2, BUF>) {
     let (da, db) = (a[1] - a[0], b[1] - b[0]);
     let (la, lb) = (da.norm(), db.norm());
     if !(la > 0.0 && lb > 0.0) {
-        return 0;
+        return;
     }
     let c = cross2(&da, &db);
     if c.abs() <= 1e-6 * la * lb {
         // Parallel: unless the lines coincide (to rounding) the normal does not join them and
         // the witness point answers; else the overlap of b with a, as parameters along a.
         if cross2(&da, &(b[0] - a[0])).abs() > tol * la {
-            return 0;
+            return;
         }
         let ta = |p: &V2| (p - a[0]).dot(&da) / (la * la);
         let (t0, t1) = (ta(&b[0]), ta(&b[1]));
         let lo = t0.min(t1).max(0.0);
         let hi = t0.max(t1).min(1.0);
         if lo > hi {
-            return 0;
+            return;
         }
-        out[0] = a[0] + da * lo;
-        out[1] = a[0] + da * hi;
-        return if hi > lo { 2 } else { 1 };
+        out.push(a[0] + da * lo);
+        if hi > lo {
+            out.push(a[0] + da * hi);
+        }
+        return;
     }
     let w = b[0] - a[0];
     let s = cross2(&w, &db) / c;
     let t = cross2(&w, &da) / c;
     if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
-        out[0] = a[0] + da * s;
-        1
-    } else {
-        0
+        out.push(a[0] + da * s);
     }
 }
 
 /// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
 /// largest triangle with those two, then each time the one farthest from those chosen.
 fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize {
-    let n = pts.n;
+    let n = pts.len();
     if n <= cap {
         for (i, c) in chosen.iter_mut().enumerate().take(n) {
             *c = i;

@@ -3,6 +3,7 @@
 
 mod assemble;
 mod contact;
+mod contact_boxes;
 mod context;
 mod cores;
 mod derivatives;
@@ -16,6 +17,7 @@ mod separated;
 mod shortcuts;
 mod signed;
 
+pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
 pub(crate) use context::Want;
 pub use context::{Distance, DistancePath, Options, Proximity, SignedDistance};

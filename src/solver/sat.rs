@@ -39,19 +39,32 @@ pub(crate) struct Placed<'a> {
 }
 
 impl Placed<'_> {
-    /// `h(n) = max n·x` over the polytope (world).
-    #[inline]
-    fn h(&self, n: &Vec3) -> Real {
-        let m = self.rot.tr_mul(n);
-        let body = match self.poly.half_extents() {
-            Some(h) => h.x * m.x.abs() + h.y * m.y.abs() + h.z * m.z.abs(),
-            None => self.poly.support_value(&m),
-        };
-        body + n.dot(&self.pos)
-    }
-
     fn world(&self, v: &Vec3) -> Vec3 {
         self.pos + self.rot * v
+    }
+}
+
+/// A polytope's body support function: a centred box's in closed form.
+#[derive(Clone, Copy)]
+enum Body<'a> {
+    Box(Vec3),
+    Poly(&'a Polytope),
+}
+
+impl<'a> Body<'a> {
+    fn of(p: &'a Polytope) -> Body<'a> {
+        match p.half_extents() {
+            Some(h) => Body::Box(h),
+            None => Body::Poly(p),
+        }
+    }
+
+    #[inline]
+    fn h(&self, m: &Vec3) -> Real {
+        match self {
+            Body::Box(h) => h.x * m.x.abs() + h.y * m.y.abs() + h.z * m.z.abs(),
+            Body::Poly(p) => p.support_value(m),
+        }
     }
 }
 
@@ -65,9 +78,10 @@ pub(crate) struct Overlap {
     pub closest2: Vec3,
 }
 
-/// Which candidate decided.
-#[derive(Clone, Copy)]
-enum Axis {
+/// Which candidate decided: a facet of shape 1 or 2 (its index), or two edges (the length of
+/// their unit directions' cross product).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Axis {
     Face1(usize),
     Face2(usize),
     Edges(Real),
@@ -78,52 +92,146 @@ enum Axis {
 /// that rounding hides): the caller takes the general path. `scale` is the shapes' size.
 pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Result<Overlap, ()>> {
     let (da, db) = (a.poly.edge_directions()?, b.poly.edge_directions()?);
-    // World support functions: the positions are in them, so that f(n) = h₁(n) + h₂(−n)
-    // (= h_K₁(n) + h_K₂(−n) − n·d).
-    let f = |n: &Vec3| a.h(n) + b.h(&-n);
+    // In shape 1's body frame: shape 2 turned by C = R₁ᵀR₂ at t = R₁ᵀ(r₂ − r₁), and
+    // f(n) = h₁(n) + h₂(−Cᵀn) − n·t with the body support functions.
+    let c = a.rot.tr_mul(b.rot);
+    let t = a.rot.tr_mul(&(b.pos - a.pos));
+    let (ha, hb) = (Body::of(a.poly), Body::of(b.poly));
+    if let (Body::Box(ea), Body::Box(eb)) = (ha, hb) {
+        let (v, n, axis) = match two_boxes(&ea, &eb, &c, &t) {
+            Ok(best) => best,
+            Err(_) => return Some(Err(())),
+        };
+        // The facets' indices in the boxes' own lists.
+        let axis = match axis {
+            Axis::Face1(k) => {
+                let want = Vec3::ith(k % 3, if k < 3 { 1.0 } else { -1.0 });
+                Axis::Face1(a.poly.facets().0.iter().position(|m| *m == want)?)
+            }
+            Axis::Face2(k) => {
+                let want = Vec3::ith(k % 3, if k < 3 { 1.0 } else { -1.0 });
+                Axis::Face2(b.poly.facets().0.iter().position(|m| *m == want)?)
+            }
+            e => e,
+        };
+        return witnesses(a, b, v, a.rot * n, axis, scale);
+    }
     let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
-    let (na, _) = a.poly.facets();
-    for (i, nb) in na.iter().enumerate() {
-        let n = a.rot * nb;
-        let v = f(&n);
-        if v < 0.0 {
-            return Some(Err(()));
-        }
+    let mut keep = |v: Real, n: Vec3, axis: Axis| {
         if v < best.0 {
-            best = (v, n, Axis::Face1(i));
+            best = (v, n, axis);
+        }
+        v < 0.0
+    };
+    let (na, oa) = a.poly.facets();
+    for (i, (n, o)) in na.iter().zip(oa).enumerate() {
+        if keep(o + hb.h(&-c.tr_mul(n)) - n.dot(&t), *n, Axis::Face1(i)) {
+            return Some(Err(()));
         }
     }
-    let (nb, _) = b.poly.facets();
-    for (j, m) in nb.iter().enumerate() {
-        let n = -(b.rot * m);
-        let v = f(&n);
-        if v < 0.0 {
+    let (nb, ob) = b.poly.facets();
+    for (j, (m, o)) in nb.iter().zip(ob).enumerate() {
+        let n = -(c * m);
+        if keep(ha.h(&n) + o - n.dot(&t), n, Axis::Face2(j)) {
             return Some(Err(()));
-        }
-        if v < best.0 {
-            best = (v, n, Axis::Face2(j));
         }
     }
     for ea in da {
-        let ea = a.rot * ea;
         for eb in db {
-            let c = ea.cross(&(b.rot * eb));
-            let len = c.norm();
+            let n = ea.cross(&(c * eb));
+            let len = n.norm();
             if !(len > PARALLEL) {
                 continue;
             }
-            let c = c / len;
-            for n in [c, -c] {
-                let v = f(&n);
-                if v < 0.0 {
-                    return Some(Err(()));
-                }
-                if v < best.0 {
-                    best = (v, n, Axis::Edges(len));
-                }
+            let n = n / len;
+            let m = c.tr_mul(&n);
+            let nt = n.dot(&t);
+            // Both signs: f(n) and f(−n).
+            let (hap, han) = (ha.h(&n), ha.h(&-n));
+            let (hbp, hbn) = (hb.h(&m), hb.h(&-m));
+            if keep(hap + hbn - nt, n, Axis::Edges(len))
+                || keep(han + hbp + nt, -n, Axis::Edges(len))
+            {
+                return Some(Err(()));
             }
         }
     }
+    witnesses(a, b, best.0, a.rot * best.1, best.2, scale)
+}
+
+/// Two centred boxes of half extents `ea`, `eb` in shape 1's frame, shape 2 turned by `c` at
+/// `t`: the least `f` over the 15 axes (the 3 + 3 face axes, signed towards shape 2, and the 9
+/// edge cross products), its unit normal (shape 1's frame) and axis (`Face1(k)`/`Face2(k)`:
+/// the body normal `±e_{k mod 3}`, `k < 3` positive); `Err(gap)` when an axis separates the
+/// boxes by `gap > 0` (a lower bound on their distance).
+pub(crate) fn two_boxes(
+    ea: &Vec3,
+    eb: &Vec3,
+    c: &Mat3,
+    t: &Vec3,
+) -> Result<(Real, Vec3, Axis), Real> {
+    let abs = c.abs();
+    let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
+    let mut keep = |v: Real, n: Vec3, axis: Axis| {
+        if v < best.0 {
+            best = (v, n, axis);
+        }
+        v < 0.0
+    };
+    for k in 0..3 {
+        let rb = eb.x * abs[(k, 0)] + eb.y * abs[(k, 1)] + eb.z * abs[(k, 2)];
+        let s = if t[k] < 0.0 { -1.0 } else { 1.0 };
+        let v = ea[k] + rb - t[k].abs();
+        if keep(
+            v,
+            Vec3::ith(k, s),
+            Axis::Face1(k + if s < 0.0 { 3 } else { 0 }),
+        ) {
+            return Err(-v);
+        }
+    }
+    for j in 0..3 {
+        let col = c.column(j).into_owned();
+        let ra = ea.x * abs[(0, j)] + ea.y * abs[(1, j)] + ea.z * abs[(2, j)];
+        let tj = col.dot(t);
+        let s = if tj < 0.0 { -1.0 } else { 1.0 };
+        // Shape 2's facet facing shape 1 has the body normal −s·e_j.
+        let v = ra + eb[j] - tj.abs();
+        if keep(v, col * s, Axis::Face2(j + if s > 0.0 { 3 } else { 0 })) {
+            return Err(-v);
+        }
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            let l = Vec3::ith(i, 1.0).cross(&c.column(j));
+            let len = l.norm();
+            if !(len > PARALLEL) {
+                continue;
+            }
+            let m = c.tr_mul(&l);
+            let ra = ea.x * l.x.abs() + ea.y * l.y.abs() + ea.z * l.z.abs();
+            let rb = eb.x * m.x.abs() + eb.y * m.y.abs() + eb.z * m.z.abs();
+            let lt = l.dot(t);
+            let s = if lt < 0.0 { -1.0 } else { 1.0 };
+            let v = (ra + rb - lt.abs()) / len;
+            if keep(v, l * (s / len), Axis::Edges(len)) {
+                return Err(-v);
+            }
+        }
+    }
+    Ok(best)
+}
+
+/// The witness points of the winning candidate (`n` world, from shape 1 to shape 2).
+fn witnesses(
+    a: &Placed<'_>,
+    b: &Placed<'_>,
+    depth: Real,
+    n: Vec3,
+    axis: Axis,
+    scale: Real,
+) -> Option<Result<Overlap, ()>> {
+    let best = (depth, n, axis);
     let (depth, n, axis) = best;
     if !depth.is_finite() {
         return None;

@@ -300,9 +300,11 @@ impl Faces {
         let edge_directions = (normals.len() <= SAT_FACETS)
             .then(|| edge_directions(&loops, vertices))
             .flatten();
+        let redundant = (0..normals.len()).any(|k| loops.get(k).len() < 3);
         Faces {
             loops,
             edge_directions,
+            redundant,
             polar,
             gauge,
         }

@@ -70,6 +70,9 @@ pub(crate) struct Faces {
     /// The directions of the edges (unit, body frame, one of each pair of opposite ones) when
     /// there are at most [`SAT_DIRECTIONS`] of them and [`SAT_FACETS`] facets.
     edge_directions: Option<Vec<Vec3>>,
+    /// Whether some plane bounds no facet (a redundant row: its loop has fewer than three
+    /// corners).
+    redundant: bool,
     /// The polar polytope's corners `n_i/o_i`, one per facet.
     polar: Vec<Vec3>,
     /// The climb on the facet graph (two facets joined when they share an edge) that finds the
@@ -171,6 +174,17 @@ impl SupportMap for Polytope {
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
         let Some(mut k) = self.gauge_facet(m) else {
+            // Planes that bound no facet (redundant rows) are no face.
+            if let Some(f) = self.faces.as_deref().filter(|f| f.redundant) {
+                let n = m.norm();
+                let best = (0..self.normals.len())
+                    .filter(|&i| f.loops.get(i).len() >= 3)
+                    .map(|i| (self.normals[i].dot(m), i))
+                    .max_by(|a, b| a.0.total_cmp(&b.0));
+                return best
+                    .filter(|(c, _)| n > 0.0 && *c >= cos_min * n)
+                    .map(|(_, i)| self.normals[i]);
+            }
             return nearest_normal(&self.normals, m, cos_min);
         };
         // From the facet whose polar corner is best along m, the best aligned normal by

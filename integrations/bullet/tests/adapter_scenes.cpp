@@ -1,4 +1,5 @@
-// Bullet scenes with dcol shapes (and the same scenes with Bullet's native shapes), run by ctest.
+// Bullet scenes with dcol shapes (dcol_bullet::Shape, register_algorithms) and the same scenes with
+// Bullet's native shapes and colliders, run by ctest (the adapter's tests from before use_dcol).
 //
 //   bullet_scenes normal          the algorithm's normal/depth convention against Bullet's own
 //                                 sphere-box algorithm
@@ -27,7 +28,7 @@
 #include <vector>
 
 #include "dcol_bullet.hpp"
-#include "../engine_scenes.hpp"
+#include "engine_scenes.hpp"
 
 namespace {
 

@@ -1,0 +1,194 @@
+//! The contact manifold of two boxes in closed form, the pair rigid-body scenes meet most (a
+//! stack, a pyramid, a wall): the separating axes (`crate::solver::sat`) give the depth and
+//! the normal; when a facet's axis wins, the other box's face most opposed to the normal is
+//! clipped to that facet's rectangle in the facet's own frame (four axis-aligned edges), each
+//! clipped point with its depth below the facet. The same manifold as the general path (the
+//! signed distance, then the faces facing each other clipped in the plane orthogonal to the
+//! normal, which for a facet's axis is the facet's plane), without its generality.
+//!
+//! Answers only overlapping or touching boxes whose winning axis is a facet's; separated boxes
+//! within the margin and edge-against-edge contacts are the general path's.
+
+use super::context::DistancePath;
+use super::context::SignedDistance;
+use crate::math::{Mat3, Pose, Real, Vec3};
+use crate::solver::sat::{two_boxes, Axis};
+use crate::solver::SolveStatus;
+use arrayvec::ArrayVec;
+
+/// Clipped points: an incident quadrilateral clipped by four edges has at most 8.
+const MAX: usize = 8;
+/// The incident box's face is used when its normal is within about 72 degrees of the
+/// reference facet's (as the general path's `COS_FACET`).
+const COS_FACET: Real = 0.3;
+
+/// A closed-form manifold: the signed distance and the candidate points (world position
+/// midway between the surfaces, depth).
+pub(crate) struct Boxes {
+    pub sd: SignedDistance,
+    pub points: ArrayVec<(Vec3, Real), MAX>,
+}
+
+/// Two centred boxes of half extents `h1`, `h2` at `pose1`, `pose2`: their manifold within
+/// `margin`, or `None` where the general path answers (`scale`: the boxes' size).
+pub(crate) fn boxes(
+    h1: &Vec3,
+    pose1: &Pose,
+    h2: &Vec3,
+    pose2: &Pose,
+    margin: Real,
+    scale: Real,
+) -> Option<Boxes> {
+    let (r1, r2) = (pose1.rotation(), pose2.rotation());
+    let c = r1.tr_mul(r2);
+    let t = r1.tr_mul(&(pose2.position() - pose1.position()));
+    let (depth, _, axis) = match two_boxes(h1, h2, &c, &t) {
+        Ok(best) => best,
+        // Separated along an axis: apart by more than the margin there, no contact at all;
+        // within it, the distance is GJK's.
+        Err(gap) => return (gap > margin).then(|| apart(gap)),
+    };
+    // The reference facet's box, frame and facet, and the incident box in that frame.
+    let (k, s, first) = match axis {
+        Axis::Face1(k) => (k % 3, if k < 3 { 1.0 } else { -1.0 }, true),
+        Axis::Face2(k) => (k % 3, if k < 3 { 1.0 } else { -1.0 }, false),
+        Axis::Edges(_) => return None,
+    };
+    let (href, hinc, pref, cinc, tinc) = if first {
+        (h1, h2, pose1, c, t)
+    } else {
+        (h2, h1, pose2, c.transpose(), -c.tr_mul(&t))
+    };
+    let pts = clip_to_facet(href, hinc, &cinc, &tinc, k, s, margin);
+    // The deepest clipped point is the overlap's depth (the facet's axis won: the nearest
+    // facet of the difference, whose nearest point lies on it); to rounding, else the general
+    // path decides.
+    let deepest = pts.iter().map(|p| p.1).fold(Real::NEG_INFINITY, Real::max);
+    if !(deepest >= depth - 1e-9 * scale) {
+        return None;
+    }
+    // World: the reference facet's outward normal, from shape 1 to shape 2 when the facet is
+    // shape 1's.
+    let rot = pref.rotation();
+    let facet = rot.column(k) * s;
+    let normal = if first { facet } else { -facet };
+    let world = |p: &Vec3| pref.position() + rot * p;
+    let mut points = ArrayVec::new();
+    let (mut w_ref, mut w_inc) = (Vec3::zeros(), Vec3::zeros());
+    for (p, d) in &pts {
+        // `p` on the incident box's face; its foot on the reference facet's plane is `p + d·e`.
+        let mid = world(&(p + Vec3::ith(k, s) * (0.5 * d)));
+        points.push((mid, *d));
+        if *d == deepest {
+            w_inc = world(p);
+            w_ref = world(&(p + Vec3::ith(k, s) * *d));
+        }
+    }
+    let (closest1, closest2) = if first {
+        (w_ref, w_inc)
+    } else {
+        (w_inc, w_ref)
+    };
+    Some(Boxes {
+        sd: SignedDistance {
+            distance: -depth,
+            normal,
+            closest1,
+            closest2: closest1 - normal * depth,
+            iterations: 0,
+            status: SolveStatus::Converged,
+            path: DistancePath::SeparatingAxes,
+        },
+        points,
+    })
+    .filter(|_| (closest2 - closest1 + normal * depth).norm() <= 1e-9 * scale)
+}
+
+/// No contact: the boxes are apart by `gap` (more than the margin) along an axis.
+fn apart(gap: Real) -> Boxes {
+    Boxes {
+        sd: SignedDistance {
+            distance: gap,
+            normal: Vec3::zeros(),
+            closest1: Vec3::zeros(),
+            closest2: Vec3::zeros(),
+            iterations: 0,
+            status: SolveStatus::Converged,
+            path: DistancePath::SeparatingAxes,
+        },
+        points: ArrayVec::new(),
+    }
+}
+
+/// In the reference box's frame: the incident box (half extents `hinc`, axes the columns of
+/// `c`, centre `t`)'s face most opposed to the reference facet `s·e_k`, clipped to the facet's
+/// rectangle; each point (on the incident face) with its depth below the facet's plane, kept
+/// when the depth is at least `−margin`.
+fn clip_to_facet(
+    href: &Vec3,
+    hinc: &Vec3,
+    c: &Mat3,
+    t: &Vec3,
+    k: usize,
+    s: Real,
+    margin: Real,
+) -> ArrayVec<(Vec3, Real), MAX> {
+    // The incident face: the axis j most aligned with the facet's normal, on the side facing it.
+    let j = (0..3)
+        .max_by(|&a, &b| c[(k, a)].abs().total_cmp(&c[(k, b)].abs()))
+        .unwrap_or(0);
+    let sign = if c[(k, j)] * s > 0.0 { -1.0 } else { 1.0 };
+    let plane = href[k];
+    if c[(k, j)].abs() < COS_FACET {
+        // No face of the incident box within about 72 degrees of the normal: its corner (the
+        // general path's feature too).
+        let corner = (0..3).fold(*t, |p, a| {
+            let side = if c[(k, a)] * s > 0.0 { -1.0 } else { 1.0 };
+            p + c.column(a) * (side * hinc[a])
+        });
+        let d = plane - s * corner[k];
+        let mut one = ArrayVec::new();
+        if d >= -margin {
+            one.push((corner, d));
+        }
+        return one;
+    }
+    let centre = t + c.column(j) * (sign * hinc[j]);
+    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+    let (u, v) = (c.column(j1) * hinc[j1], c.column(j2) * hinc[j2]);
+    let mut poly: ArrayVec<Vec3, MAX> = ArrayVec::new();
+    for p in [
+        centre + u + v,
+        centre - u + v,
+        centre - u - v,
+        centre + u - v,
+    ] {
+        poly.push(p);
+    }
+    // Clip to |p_i| ≤ href_i for the two in-plane axes.
+    let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
+    for i in [(k + 1) % 3, (k + 2) % 3] {
+        for side in [1.0, -1.0] {
+            tmp.clear();
+            let n = poly.len();
+            for a in 0..n {
+                let (p, q) = (poly[a], poly[(a + 1) % n]);
+                let (fp, fq) = (side * p[i] - href[i], side * q[i] - href[i]);
+                if fp <= 0.0 {
+                    let _ = tmp.try_push(p);
+                }
+                if (fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0) {
+                    let _ = tmp.try_push(p + (q - p) * (fp / (fp - fq)));
+                }
+            }
+            std::mem::swap(&mut poly, &mut tmp);
+            if poly.is_empty() {
+                return ArrayVec::new();
+            }
+        }
+    }
+    poly.iter()
+        .map(|p| (*p, plane - s * p[k]))
+        .filter(|(_, d)| *d >= -margin)
+        .collect()
+}
