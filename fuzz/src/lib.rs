@@ -1049,7 +1049,17 @@ pub fn queries(data: &[u8]) {
         Some(m) => answered(m.status),
         None => {
             let e = contact_manifold(&s1, &p1, &s2, &p2, margin, 16, &options).unwrap_err();
-            status_of(&e)
+            // Two boxes proven apart by more than the margin along an axis: the C function
+            // answers "no contact" without the exact distance, which Rust's manifold computes
+            // and which may be refused (origins more than 1e100 sizes apart, or overflowing).
+            let skipped = matches!(e, Error::InvalidPose(_))
+                && c.contacts == dcol_status::DCOL_OK
+                && c.contact_count == 0;
+            if skipped {
+                dcol_status::DCOL_OK
+            } else {
+                status_of(&e)
+            }
         }
     };
     assert_eq!(
