@@ -131,43 +131,6 @@ pub(crate) fn manifold(
     options: &Options,
     exact_distance: bool,
 ) -> Result<Manifold, Error> {
-    let out = unchecked(
-        shape1,
-        pose1,
-        shape2,
-        pose2,
-        margin,
-        max_points,
-        options,
-        exact_distance,
-    )?;
-    let finite = out.signed_distance.is_finite()
-        && out.normal.iter().all(|v| v.is_finite())
-        && out.contacts().iter().all(|c| {
-            c.depth.is_finite()
-                && c.position
-                    .iter()
-                    .chain(c.normal.iter())
-                    .all(|v| v.is_finite())
-        });
-    if !finite {
-        return Err(not_representable(pose1.position(), pose2.position()));
-    }
-    Ok(out)
-}
-
-/// [`manifold`] before the check that its numbers are finite.
-#[allow(clippy::too_many_arguments)]
-fn unchecked(
-    shape1: &Shape,
-    pose1: &Pose,
-    shape2: &Shape,
-    pose2: &Pose,
-    margin: Real,
-    max_points: usize,
-    options: &Options,
-    exact_distance: bool,
-) -> Result<Manifold, Error> {
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(Error::InvalidOptions(ErrorDetail::new(
             "margin",
@@ -186,13 +149,13 @@ fn unchecked(
                 for (p, d) in &b.points {
                     pts.push(*p, *d);
                 }
-                return Ok(finish(&b.sd, &pts, cap));
+                return finish(&b.sd, &pts, cap, (pose1, pose2));
             }
         }
     }
     let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
     if sd.distance > margin || cap == 0 {
-        return Ok(finish(&sd, &Points::new(), 0));
+        return finish(&sd, &Points::new(), 0, (pose1, pose2));
     }
     let mut pts = Points::new();
     let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
@@ -214,12 +177,18 @@ fn unchecked(
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
-    Ok(finish(&sd, &pts, cap))
+    finish(&sd, &pts, cap, (pose1, pose2))
 }
 
 /// The manifold of the candidate points `pts` for the signed distance `sd`: at most `cap` of
-/// them (`reduce`).
-fn finish(sd: &SignedDistance, pts: &Points, cap: usize) -> Manifold {
+/// them (`reduce`); `InvalidPose` (naming the poses' largest coordinate) when one of its
+/// numbers is not finite.
+fn finish(
+    sd: &SignedDistance,
+    pts: &Points,
+    cap: usize,
+    (pose1, pose2): (&Pose, &Pose),
+) -> Result<Manifold, Error> {
     let mut out = Manifold {
         normal: sd.normal,
         signed_distance: sd.distance,
@@ -228,20 +197,29 @@ fn finish(sd: &SignedDistance, pts: &Points, cap: usize) -> Manifold {
         contacts: [Contact::default(); MAX_CONTACTS],
         count: 0,
     };
-    if cap == 0 {
-        return out;
+    if cap > 0 {
+        let mut chosen = [0usize; MAX_CONTACTS];
+        let k = reduce(pts, cap, &mut chosen);
+        for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
+            *slot = Contact {
+                position: pts.pos[i],
+                normal: sd.normal,
+                depth: pts.depth[i],
+            };
+        }
+        out.count = k;
     }
-    let mut chosen = [0usize; MAX_CONTACTS];
-    let k = reduce(pts, cap, &mut chosen);
-    for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
-        *slot = Contact {
-            position: pts.pos[i],
-            normal: sd.normal,
-            depth: pts.depth[i],
-        };
+    // Points of shapes within their size of the largest double can pass it.
+    let finite = out.signed_distance.is_finite()
+        && out.normal.iter().all(|v| v.is_finite())
+        && out
+            .contacts()
+            .iter()
+            .all(|c| c.depth.is_finite() && c.position.iter().all(|v| v.is_finite()));
+    if !finite {
+        return Err(not_representable(pose1.position(), pose2.position()));
     }
-    out.count = k;
-    out
+    Ok(out)
 }
 
 /// Candidate contacts (no zeroed buffers: a query fills only what it uses).

@@ -73,6 +73,7 @@ pub fn signed_distance(
 }
 
 /// [`signed_distance`] before the check that its numbers are finite.
+#[inline]
 fn solve(
     shape1: &Shape,
     pose1: &Pose,

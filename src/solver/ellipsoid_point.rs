@@ -54,14 +54,9 @@ pub(crate) fn nearest(y: &Vec3, e: &Vec3) -> Option<Nearest> {
     } else {
         (0.0, e2)
     };
-    // The terms of F, zero where `yᵢ = 0` (whatever `s + gᵢ`).
-    let term = |i: usize, s: Real| {
-        if ez[i] == 0.0 {
-            0.0
-        } else {
-            ez[i] / (s + g[i])
-        }
-    };
+    // The terms of F, nonnegative; zero where `yᵢ = 0` also at `s + gᵢ = 0` (`max` takes the
+    // number over the NaN of 0/0, without a branch).
+    let term = |i: usize, s: Real| (ez[i] / (s + g[i])).max(0.0);
     let f = |s: Real| (0..3).map(|i| term(i, s).powi(2)).sum::<Real>() - 1.0;
     let df = |s: Real| {
         -2.0 * (0..3)
@@ -71,18 +66,18 @@ pub(crate) fn nearest(y: &Vec3, e: &Vec3) -> Option<Nearest> {
     // `xᵢ = eᵢ²yᵢ/(s + gᵢ)`, 0 where `yᵢ = 0`.
     let point = |s: Real| {
         Vec3::from_fn(|i, _| {
-            if y[i] == 0.0 {
+            let x = e2[i] * y[i] / (s + g[i]);
+            if x.is_nan() {
                 0.0
             } else {
-                e2[i] * y[i] / (s + g[i])
+                x
             }
         })
     };
-    // `q = t(Σ yᵢ²/(t + eᵢ²) − 1)`, `t = s − c`.
+    // `q = t(Σ yᵢ²/(t + eᵢ²) − 1)`, `t = s − c` (a term is 0 where `yᵢ = 0`, as above).
     let dual = |s: Real| {
         let sum = (0..3)
-            .filter(|&i| z[i] > 0.0)
-            .map(|i| z[i] * z[i] / (s + g[i]))
+            .map(|i| (z[i] * z[i] / (s + g[i])).max(0.0))
             .sum::<Real>();
         (s - c) * (sum - 1.0)
     };
