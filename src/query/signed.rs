@@ -63,27 +63,20 @@ pub fn signed_distance(
     pose2: &Pose,
     options: &Options,
 ) -> Result<SignedDistance, Error> {
-    let sd = solve(shape1, pose1, shape2, pose2, options)?;
-    // The witnesses `r + ℓa` (a half-space's: the other's projection onto the plane) pass the
-    // largest double when the shapes sit within their size of it.
-    if !finite(&sd) {
-        return Err(not_representable(pose1.position(), pose2.position()));
-    }
-    Ok(sd)
-}
-
-/// [`signed_distance`] before the check that its numbers are finite.
-#[inline]
-fn solve(
-    shape1: &Shape,
-    pose1: &Pose,
-    shape2: &Shape,
-    pose2: &Pose,
-    options: &Options,
-) -> Result<SignedDistance, Error> {
     options.validate()?;
+    // Every answer is checked at its return: the witnesses `r + ℓa` (a half-space's: the other's
+    // projection onto the plane) pass the largest double when the shapes sit within their size
+    // of it. (A wrapper around the whole function cost 50 instructions a query, moving the
+    // result twice.)
+    let checked = |sd: SignedDistance| {
+        if finite(&sd) {
+            Ok(sd)
+        } else {
+            Err(not_representable(pose1.position(), pose2.position()))
+        }
+    };
     if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
-        return pair.signed_distance();
+        return pair.signed_distance().and_then(checked);
     }
     let r1 = *pose1.position();
     let r2 = *pose2.position();
@@ -118,7 +111,7 @@ fn solve(
     // Two polytopes of few facets (boxes, small hulls; padded hulls by their hulls): the
     // separating axes decide, and answer an overlap exactly.
     if let Some(sd) = separating_axes(shape1, pose1, shape2, pose2, ell) {
-        return Ok(sd);
+        return checked(sd);
     }
     // GJK's tetrahedron where it certified an overlap: EPA's start (polyhedral pairs), and
     // the overlap of the cores settled.
@@ -153,7 +146,7 @@ fn solve(
             None,
             Some(&mut start),
         ) {
-            return Ok(from_distance(d));
+            return checked(from_distance(d));
         }
     }
     let curved = [shape1, shape2]
@@ -189,7 +182,9 @@ fn solve(
             (if s.sd > p.sd { s } else { p }, SolveStatus::MaxIterations)
         }
         EpaEnd::Separated => {
-            return distance(shape1, pose1, shape2, pose2, options).map(from_distance);
+            return distance(shape1, pose1, shape2, pose2, options)
+                .map(from_distance)
+                .and_then(checked);
         }
         EpaEnd::Failed => {
             // A pair sent here by the probe without the distance query's try: a separated one
@@ -197,7 +192,7 @@ fn solve(
             if probed {
                 let d = distance(shape1, pose1, shape2, pose2, options)?;
                 if d.distance > 0.0 {
-                    return Ok(from_distance(d));
+                    return checked(from_distance(d));
                 }
             }
             // K flatter than a double resolves (relative thickness below 1e-14: shapes of
@@ -213,7 +208,9 @@ fn solve(
     // answer separated pairs too): the distance query's answer, bit for bit, as for every
     // separated pair.
     if probed && sd > 0.0 {
-        return distance(shape1, pose1, shape2, pose2, options).map(from_distance);
+        return distance(shape1, pose1, shape2, pose2, options)
+            .map(from_distance)
+            .and_then(checked);
     }
     let out = SignedDistance {
         distance: sd * ell,
@@ -232,7 +229,7 @@ fn solve(
             DistancePath::Epa
         },
     };
-    Ok(out)
+    checked(out)
 }
 
 /// The error of an answer a double cannot hold (shapes placed within their size of the largest
