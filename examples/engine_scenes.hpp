@@ -1,6 +1,6 @@
-// What the ODE and Bullet scene programs (examples/ode/ode_scenes.cpp,
-// examples/bullet/bullet_scenes.cpp) share: the scene constants, the check counter, a clock, the
-// six dcol primitives of the drop scenes and the floor (a dcol half-space).
+// What the Bullet scene program (examples/bullet/bullet_scenes.cpp) uses: the scene constants, the
+// check counter, a clock, the six dcol primitives of the drop scenes and the floor (a dcol
+// half-space). (The ODE scene programs moved to integrations/ode/tests, with their own copy.)
 #pragma once
 
 #include <dcol.h>

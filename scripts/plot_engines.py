@@ -3,7 +3,7 @@
 
     python3 scripts/plot_engines.py [BUILD_DIR] [OUT_PNG]
 
-Runs `ode_scenes drop halfspace --csv` and `bullet_scenes drop halfspace --csv` from BUILD_DIR
+Runs `ode_adapter_tests drop halfspace --csv` and `bullet_scenes drop halfspace --csv` from BUILD_DIR
 (default build/cmake; the adapters are built when CMake finds ODE and Bullet) and draws each body's
 height over time, one panel per engine, with its analytic rest height dashed. OUT_PNG defaults
 to docs/img/engines_drop.png. Needs matplotlib. An engine whose program is missing is skipped.
@@ -20,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 REST = {"sphere": 0.2, "box": 0.1, "capsule": 0.1, "cylinder": 0.15, "cone": 0.1, "ellipsoid": 0.12}
-ENGINES = [("ODE", "examples/ode/ode_scenes"), ("Bullet", "integrations/bullet/tests/bullet_scenes")]
+ENGINES = [("ODE", "integrations/ode/tests/ode_adapter_tests"), ("Bullet", "integrations/bullet/tests/bullet_scenes")]
 
 
 def run(program, csv_path):

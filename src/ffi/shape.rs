@@ -388,8 +388,10 @@ mod tests {
         assert_eq!(st, dcol_status::DCOL_ERROR_NULL_POINTER);
         let a = [1.0, 0.0, 0.0];
         let b = [1.0];
-        // SAFETY: `a` has 3 doubles and `b` 1; m exceeds the maximum and is rejected first.
-        let st = unsafe { dcol_shape_new_polytope(a.as_ptr(), b.as_ptr(), 100_000, &mut out) };
+        let too_many = crate::shapes::MAX_FACETS + 1;
+        // SAFETY: `a` has 3 doubles and `b` 1; m exceeds the maximum (MAX_FACETS) and is
+        // rejected before any element is read.
+        let st = unsafe { dcol_shape_new_polytope(a.as_ptr(), b.as_ptr(), too_many, &mut out) };
         assert_eq!(st, dcol_status::DCOL_ERROR_INVALID_SHAPE);
         assert!(out.is_null());
     }

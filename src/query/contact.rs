@@ -19,7 +19,7 @@ use super::halfspace::HalfspacePair;
 use super::signed::{not_representable, signed_distance};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
-use crate::shapes::{Shape, SupportMap};
+use crate::shapes::{Shape, ShapeKind, SupportMap};
 use crate::solver::SolveStatus;
 use arrayvec::ArrayVec;
 use nalgebra::Vector2;
@@ -73,6 +73,18 @@ pub struct Manifold {
 }
 
 impl Manifold {
+    /// A manifold without points (filled by `manifold`).
+    pub(crate) fn empty() -> Manifold {
+        Manifold {
+            normal: Vec3::zeros(),
+            signed_distance: Real::INFINITY,
+            status: SolveStatus::Converged,
+            iterations: 0,
+            contacts: [Contact::default(); MAX_CONTACTS],
+            count: 0,
+        }
+    }
+
     /// The contact points (empty when the signed distance exceeds the margin).
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts[..self.count]
@@ -111,9 +123,11 @@ pub fn contact_manifold(
     max_points: usize,
     options: &Options,
 ) -> Result<Manifold, Error> {
+    let mut out = Manifold::empty();
     manifold(
-        shape1, pose1, shape2, pose2, margin, max_points, options, true,
-    )
+        shape1, pose1, shape2, pose2, margin, max_points, options, true, &mut out,
+    )?;
+    Ok(out)
 }
 
 /// [`contact_manifold`]; with `exact_distance` false, a manifold without points may carry a
@@ -130,7 +144,8 @@ pub(crate) fn manifold(
     max_points: usize,
     options: &Options,
     exact_distance: bool,
-) -> Result<Manifold, Error> {
+    out: &mut Manifold,
+) -> Result<(), Error> {
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(Error::InvalidOptions(ErrorDetail::new(
             "margin",
@@ -149,15 +164,21 @@ pub(crate) fn manifold(
                 for (p, d) in &b.points {
                     pts.push(*p, *d);
                 }
-                return finish(&b.sd, &pts, cap, (pose1, pose2));
+                return finish(&b.sd, &pts, cap, out, (pose1, pose2));
             }
         }
     }
     let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
     if sd.distance > margin || cap == 0 {
-        return finish(&sd, &Points::new(), 0, (pose1, pose2));
+        return finish(&sd, &Points::new(), 0, out, (pose1, pose2));
     }
     let mut pts = Points::new();
+    // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
+    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
+    if strict(shape1) || strict(shape2) {
+        pts.push_witness(&sd);
+        return finish(&sd, &pts, cap, out, (pose1, pose2));
+    }
     let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
         Some(pair) => {
             let ell = pair.ell();
@@ -177,26 +198,24 @@ pub(crate) fn manifold(
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
-    finish(&sd, &pts, cap, (pose1, pose2))
+    finish(&sd, &pts, cap, out, (pose1, pose2))
 }
 
-/// The manifold of the candidate points `pts` for the signed distance `sd`: at most `cap` of
-/// them (`reduce`); `InvalidPose` (naming the poses' largest coordinate) when one of its
-/// numbers is not finite.
+/// Fills `out` with the manifold of the candidate points `pts` for the signed distance `sd`:
+/// at most `cap` of them (`reduce`); `InvalidPose` (naming the poses' largest coordinate) when
+/// one of its numbers is not finite.
 fn finish(
     sd: &SignedDistance,
     pts: &Points,
     cap: usize,
+    out: &mut Manifold,
     (pose1, pose2): (&Pose, &Pose),
-) -> Result<Manifold, Error> {
-    let mut out = Manifold {
-        normal: sd.normal,
-        signed_distance: sd.distance,
-        status: sd.status,
-        iterations: sd.iterations,
-        contacts: [Contact::default(); MAX_CONTACTS],
-        count: 0,
-    };
+) -> Result<(), Error> {
+    out.normal = sd.normal;
+    out.signed_distance = sd.distance;
+    out.status = sd.status;
+    out.iterations = sd.iterations;
+    out.count = 0;
     if cap > 0 {
         let mut chosen = [0usize; MAX_CONTACTS];
         let k = reduce(pts, cap, &mut chosen);
@@ -219,7 +238,7 @@ fn finish(
     if !finite {
         return Err(not_representable(pose1.position(), pose2.position()));
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Candidate contacts (no zeroed buffers: a query fills only what it uses).
@@ -657,7 +676,8 @@ fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut ArrayVec<V2, BUF>) {
 }
 
 /// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
-/// largest triangle with those two, then each time the one farthest from those chosen.
+/// largest triangle with those two, then each time the one farthest from those chosen (each
+/// candidate's distance to the chosen ones kept up to date, one pass per pick).
 fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize {
     let n = pts.len();
     if n <= cap {
@@ -667,32 +687,41 @@ fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize
         return n;
     }
     let mut used = [false; BUF];
-    let deepest = (0..n)
-        .max_by(|&i, &j| pts.depth[i].total_cmp(&pts.depth[j]))
-        .unwrap_or(0);
+    // The best unused candidate by `score`, each scored once.
+    let pick = |used: &[bool; BUF], score: &dyn Fn(usize) -> Real| {
+        let mut best: Option<(usize, Real)> = None;
+        for i in (0..n).filter(|&i| !used[i]) {
+            let s = score(i);
+            if best.map_or(true, |(_, b)| s > b) {
+                best = Some((i, s));
+            }
+        }
+        best.map(|(i, _)| i)
+    };
+    let deepest = pick(&used, &|i| pts.depth[i]).unwrap_or(0);
     chosen[0] = deepest;
     used[deepest] = true;
+    let p0 = pts.pos[deepest];
+    // Each candidate's distance to the nearest chosen point.
+    let mut near = [0.0; BUF];
+    for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
+        *d = (p - p0).norm();
+    }
     let mut k = 1;
     while k < cap {
-        let score = |i: usize| -> Real {
-            let p = pts.pos[i];
-            match k {
-                1 => (p - pts.pos[chosen[0]]).norm(),
-                2 => (pts.pos[chosen[1]] - pts.pos[chosen[0]])
-                    .cross(&(p - pts.pos[chosen[0]]))
-                    .norm(),
-                _ => chosen[..k]
-                    .iter()
-                    .map(|&c| (p - pts.pos[c]).norm())
-                    .fold(Real::INFINITY, Real::min),
-            }
+        let best = if k == 2 {
+            let (a, e) = (pts.pos[chosen[0]], pts.pos[chosen[1]] - pts.pos[chosen[0]]);
+            pick(&used, &|i| e.cross(&(pts.pos[i] - a)).norm_squared())
+        } else {
+            pick(&used, &|i| near[i])
         };
-        let best = (0..n)
-            .filter(|&i| !used[i])
-            .max_by(|&i, &j| score(i).total_cmp(&score(j)));
         let Some(b) = best else { break };
         chosen[k] = b;
         used[b] = true;
+        let pb = pts.pos[b];
+        for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
+            *d = d.min((p - pb).norm());
+        }
         k += 1;
     }
     k

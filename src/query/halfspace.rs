@@ -166,12 +166,18 @@ impl HalfspacePair<'_> {
             .filter(|(_, radius)| radius * m.y.hypot(m.z) <= tol * m.norm());
         let mut unique = own.is_some() && disc.is_none();
         let (mut sum, mut count) = (Vec3::zeros(), 0.0);
-        for k in 0..b.piece_count() {
-            if let Some(e) = b.piece(k, &m) {
-                if e.value >= h - tol {
-                    sum += e.grad;
-                    count += 1.0;
-                    unique &= (e.grad - s).norm() <= tol;
+        if let Some((tied, n)) = b.support_ties(id, &m, tol) {
+            // A polytope's or hull's tied corners, found on its vertex graph.
+            (sum, count) = (tied, n as Real);
+            unique &= n == 1;
+        } else {
+            for k in 0..b.piece_count() {
+                if let Some(e) = b.piece(k, &m) {
+                    if e.value >= h - tol {
+                        sum += e.grad;
+                        count += 1.0;
+                        unique &= (e.grad - s).norm() <= tol;
+                    }
                 }
             }
         }

@@ -359,6 +359,21 @@ impl Shape {
         self.as_polytope()?.half_extents()
     }
 
+    /// The pieces tied with piece `id` for the support in direction `m` (values within `tol`
+    /// of its, the best): the sum of their support points and their count, when the shape finds
+    /// them on its vertex graph (polytopes and hulls of many vertices); `None` otherwise (scan
+    /// the pieces).
+    pub(crate) fn support_ties(&self, id: u32, m: &Vec3, tol: Real) -> Option<(Vec3, usize)> {
+        let (poly, radius) = match &self.geometry {
+            Geometry::Polytope(p) => (p, 0.0),
+            Geometry::Hull(h) => (h.poly(), h.radius()),
+            _ => return None,
+        };
+        let (sum, count) = poly.tied(id as usize, m, tol)?;
+        let ball = support::Round::Ball(radius).point(m);
+        Some((sum + ball * count as Real, count))
+    }
+
     /// The polytope this shape is, when it is one (a polytope, a box, an unpadded hull).
     pub(crate) fn as_polytope(&self) -> Option<&Polytope> {
         match &self.geometry {

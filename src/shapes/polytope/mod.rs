@@ -5,7 +5,7 @@ mod build;
 
 use super::climb::Climb;
 use super::quickhull::Lists;
-use super::support::{argmax_dot, nearest_normal, PieceEval, Round, SupportMap};
+use super::support::{argmax_dot, PieceEval, Round, SupportMap};
 use super::{BodyRow, ConicShape, RowSink};
 use crate::math::{Real, Vec3};
 
@@ -137,6 +137,80 @@ impl Polytope {
         self.faces.as_deref()?.edge_directions.as_deref()
     }
 
+    /// The index of the facet whose outward unit normal is closest to `m`, when its cosine
+    /// with `m` is at least `cos_min` ([`SupportMap::flat_face`]).
+    pub(crate) fn facet_index(&self, m: &Vec3, cos_min: Real) -> Option<usize> {
+        let n = m.norm();
+        let Some(mut k) = self.gauge_facet(m) else {
+            // Planes that bound no facet (redundant rows) are no face.
+            let real = |i: &usize| {
+                self.faces
+                    .as_deref()
+                    .map_or(true, |f| !f.redundant || f.loops.get(*i).len() >= 3)
+            };
+            let best = (0..self.normals.len())
+                .filter(real)
+                .map(|i| (self.normals[i].dot(m), i))
+                .max_by(|a, b| a.0.total_cmp(&b.0));
+            return best
+                .filter(|(c, _)| n > 0.0 && *c >= cos_min * n)
+                .map(|(_, i)| i);
+        };
+        // From the facet whose polar corner is best along m, the best aligned normal by
+        // steepest ascent on the facet graph.
+        let graph = self.faces.as_deref()?.gauge.as_ref()?.graph();
+        let mut c = self.normals[k].dot(m);
+        loop {
+            let mut next = k;
+            for &j in graph.get(k) {
+                let cj = self.normals[j as usize].dot(m);
+                if cj > c {
+                    (c, next) = (cj, j as usize);
+                }
+            }
+            if next == k {
+                break;
+            }
+            k = next;
+        }
+        (n > 0.0 && c >= cos_min * n).then_some(k)
+    }
+
+    /// The vertices tied with vertex `k` for the support in direction `m` (value within `tol`
+    /// of `k`'s, the best): their sum and count, found on the vertex graph (a polytope's tied
+    /// vertices are a face of it, connected by its edges); `None` for a polytope without a
+    /// graph (a few vertices: scan them) or a face of more than 64 vertices.
+    pub(crate) fn tied(&self, k: usize, m: &Vec3, tol: Real) -> Option<(Vec3, usize)> {
+        let graph = self.climb.as_ref()?.graph();
+        let h = self.vertices[k].dot(m);
+        // A facet facing m whose corners all tie: the support set is that facet.
+        if let (Some(f), Some(faces)) = (self.facet_index(m, 0.0), self.faces.as_deref()) {
+            let l = faces.loops.get(f);
+            if l.len() >= 3
+                && l.contains(&(k as u32))
+                && l.iter()
+                    .all(|&v| self.vertices[v as usize].dot(m) >= h - tol)
+            {
+                let sum = l.iter().map(|&v| self.vertices[v as usize]).sum();
+                return Some((sum, l.len()));
+            }
+        }
+        let mut seen: arrayvec::ArrayVec<u32, 64> = arrayvec::ArrayVec::new();
+        seen.push(k as u32);
+        let mut at = 0;
+        while at < seen.len() {
+            let v = seen[at] as usize;
+            at += 1;
+            for &j in graph.get(v) {
+                if self.vertices[j as usize].dot(m) >= h - tol && !seen.contains(&j) {
+                    seen.try_push(j).ok()?;
+                }
+            }
+        }
+        let sum = seen.iter().map(|&v| self.vertices[v as usize]).sum();
+        Some((sum, seen.len()))
+    }
+
     /// The support function `max over the vertices of m·v`.
     #[inline]
     pub(crate) fn support_value(&self, m: &Vec3) -> Real {
@@ -173,39 +247,7 @@ impl SupportMap for Polytope {
         Round::Flat.eval(self.vertices.get(id as usize)?, m)
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
-        let Some(mut k) = self.gauge_facet(m) else {
-            // Planes that bound no facet (redundant rows) are no face.
-            if let Some(f) = self.faces.as_deref().filter(|f| f.redundant) {
-                let n = m.norm();
-                let best = (0..self.normals.len())
-                    .filter(|&i| f.loops.get(i).len() >= 3)
-                    .map(|i| (self.normals[i].dot(m), i))
-                    .max_by(|a, b| a.0.total_cmp(&b.0));
-                return best
-                    .filter(|(c, _)| n > 0.0 && *c >= cos_min * n)
-                    .map(|(_, i)| self.normals[i]);
-            }
-            return nearest_normal(&self.normals, m, cos_min);
-        };
-        // From the facet whose polar corner is best along m, the best aligned normal by
-        // steepest ascent on the facet graph.
-        let graph = self.faces.as_deref()?.gauge.as_ref()?.graph();
-        let mut c = self.normals[k].dot(m);
-        loop {
-            let mut next = k;
-            for &j in graph.get(k) {
-                let cj = self.normals[j as usize].dot(m);
-                if cj > c {
-                    (c, next) = (cj, j as usize);
-                }
-            }
-            if next == k {
-                break;
-            }
-            k = next;
-        }
-        let n = m.norm();
-        (n > 0.0 && c >= cos_min * n).then(|| self.normals[k])
+        Some(self.normals[self.facet_index(m, cos_min)?])
     }
     fn gauge(&self, p: &Vec3) -> Real {
         if let Some(k) = self.gauge_facet(p) {

@@ -1,16 +1,18 @@
-// ODE scenes with dcol geoms (and the same scenes with ODE's native colliders), run by ctest.
+// The dcol geom class (dcol_ode::create_geom: dcol shapes as ODE geoms) in ODE scenes, and the same
+// scenes with ODE's native colliders, run by ctest. (The scenes with ODE's own geoms and
+// dcol_ode::use_dcol() are ode_engine_scenes.cpp.)
 //
-//   ode_scenes normal          the adapter's normal/depth convention against ODE's own sphere-box
-//   ode_scenes drop GROUND     six primitives dropped on a ground; GROUND = halfspace (a dcol
+//   ode_adapter_tests normal          the adapter's normal/depth convention against ODE's own sphere-box
+//   ode_adapter_tests drop GROUND     six primitives dropped on a ground; GROUND = halfspace (a dcol
 //                              half-space geom), box (a large dcol box), plane (ODE's dCreatePlane
 //                              through the dcol collider, itself a half-space) or native
 //                              (ODE's own shapes and colliders, for the four it has)
-//   ode_scenes stack KIND      five boxes stacked for 10 s; KIND = dcol or native
-//   ode_scenes tumble          30 boxes, cylinders and capsules dropped with random attitudes and
+//   ode_adapter_tests stack KIND      five boxes stacked for 10 s; KIND = dcol or native
+//   ode_adapter_tests tumble          30 boxes, cylinders and capsules dropped with random attitudes and
 //                              spins come to rest on a face
-//   ode_scenes compare         the drop with dcol and with ODE's colliders (the four shapes ODE
+//   ode_adapter_tests compare         the drop with dcol and with ODE's colliders (the four shapes ODE
 //                              has): same rest heights, and the time per step of each
-//   ode_scenes drop GROUND --csv FILE   also write the heights over time
+//   ode_adapter_tests drop GROUND --csv FILE   also write the heights over time
 //
 // Exit status 0 when every check holds. Every check prints its numbers.
 #include <chrono>
@@ -22,7 +24,7 @@
 #include <vector>
 
 #include "dcol_ode.hpp"
-#include "../engine_scenes.hpp"
+#include "engine_scenes.hpp"
 
 namespace {
 

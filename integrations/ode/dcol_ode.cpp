@@ -1,0 +1,558 @@
+// dcol as ODE's narrow phase: see dcol_ode.hpp (the contract) and docs/ode.md (the mapping).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
+#include <vector>
+
+#include "dcol_ode_internal.hpp"
+
+namespace dcol_ode {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The adapter's state (one per process; see "Threads" in dcol_ode.hpp).
+
+enum Kind { kSphere, kBox, kCapsule, kCylinder };
+
+// A primitive's dcol shape is keyed by its kind and parameters (as ODE reports them), so geoms of
+// the same size share one shape, a geom whose sizes change (dGeomBoxSetLengths) finds the shape of
+// its new sizes, and no record has to follow a geom's lifetime.
+struct Key {
+  int kind;
+  double a, b;
+  double c;
+  bool operator==(const Key &o) const { return kind == o.kind && a == o.a && b == o.b && c == o.c; }
+};
+
+struct KeyHash {
+  std::size_t operator()(const Key &k) const {
+    std::uint64_t h = static_cast<std::uint64_t>(k.kind) * 0x9E3779B97F4A7C15ull;
+    const double v[3] = {k.a, k.b, k.c};
+    for (double x : v) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &x, sizeof bits);
+      h ^= bits + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    }
+    return static_cast<std::size_t>(h);
+  }
+};
+
+// A convex made by create_convex: its hull (about `shift`, a point strictly inside it, when the
+// geom's origin is not), its points (to check the record against ODE's bounding box of the geom)
+// and the last bounding box found to match.
+struct ConvexRecord {
+  dcol_shape *shape = nullptr;
+  double shift[3] = {0, 0, 0};
+  double radius = 0;  // the largest distance of a point from `shift`
+  std::vector<double> points;
+  dReal aabb[6] = {0, 0, 0, 0, 0, 0};
+  bool checked = false;
+};
+
+// What the collider remembers of a pair of geoms between calls: whether its last call found
+// contacts (a pair that had none is tested with dcol_alpha_below first, a far cheaper query when
+// the shapes are apart), and when it was last seen (to forget pairs no longer colliding).
+struct PairHint {
+  bool had_contacts = false;
+  unsigned long seen = 0;
+};
+
+struct PairHash {
+  std::size_t operator()(const std::pair<dGeomID, dGeomID> &p) const {
+    const std::uint64_t a = reinterpret_cast<std::uintptr_t>(p.first), b = reinterpret_cast<std::uintptr_t>(p.second);
+    return static_cast<std::size_t>((a * 0x9E3779B97F4A7C15ull) ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2)));
+  }
+};
+
+struct State {
+  std::unordered_map<Key, dcol_shape *, KeyHash> shapes;  // nullptr: sizes dcol rejects
+  std::unordered_map<std::pair<dGeomID, dGeomID>, PairHint, PairHash> pairs;
+  unsigned long pair_clock = 0;  // collider calls, for PairHint::seen
+  std::unordered_map<dGeomID, ConvexRecord> convexes;
+  dcol_shape *halfspace = nullptr;  // ODE's planes: a half-space of depth 1
+  bool halfspace_tried = false;
+  Stats stats = Stats();
+  int geom_class = -1;
+
+  void clear() {
+    for (auto &s : shapes) dcol_shape_free(s.second);
+    shapes.clear();
+    for (auto &c : convexes) dcol_shape_free(c.second.shape);
+    convexes.clear();
+    pairs.clear();
+  }
+  ~State() {
+    clear();
+    dcol_shape_free(halfspace);
+  }
+};
+State g;
+
+// ---------------------------------------------------------------------------------------------
+// Geoms as dcol shapes and poses.
+
+// The dcol geom class's per-geom data.
+struct GeomData {
+  const dcol_shape *shape;
+  double radius;
+};
+
+GeomData *geom_data(dGeomID geom) { return static_cast<GeomData *>(dGeomGetClassData(geom)); }
+
+struct Resolved {
+  const dcol_shape *shape;
+  dcol_pose pose;
+  double radius;  // bounding radius about pose.position
+};
+
+enum class Res { kOk, kRejected, kPlainConvex, kUnsupported };
+
+dcol_shape *make_shape(const Key &k) {
+  dcol_shape *s = nullptr;
+  switch (k.kind) {
+    case kSphere: dcol_shape_new_sphere(k.a, &s); break;
+    case kBox: dcol_shape_new_box(k.a, k.b, k.c, &s); break;
+    case kCapsule: dcol_shape_new_capsule(k.a, k.b, &s); break;
+    default: dcol_shape_new_cylinder(k.a, k.b, &s); break;
+  }
+  return s;  // nullptr when dcol rejects the sizes (its status and message are not needed)
+}
+
+const dcol_shape *cached_shape(const Key &k) {
+  auto it = g.shapes.find(k);
+  if (it != g.shapes.end()) return it->second;
+  dcol_shape *s = make_shape(k);
+  g.shapes.emplace(k, s);
+  return s;
+}
+
+void geom_pose(dGeomID geom, dcol_pose *pose) {
+  const dReal *p = dGeomGetPosition(geom);  // the geom's own frame: body pose and offset composed
+  dQuaternion q;
+  dGeomGetQuaternion(geom, q);  // (w, x, y, z), as dcol's
+  for (int i = 0; i < 3; ++i) pose->position[i] = p[i];
+  for (int i = 0; i < 4; ++i) pose->quaternion[i] = q[i];
+}
+
+// ODE's capsules and cylinders lie along their geom's z axis, dcol's along body x: the dcol body
+// frame is the geom's turned by -90 degrees about y (x to z), q' = q * (c, 0, -c, 0), c = sqrt(1/2).
+void x_axis_to_z(dcol_pose *pose) {
+  const double c = std::sqrt(0.5);
+  const double w = pose->quaternion[0], x = pose->quaternion[1], y = pose->quaternion[2], z = pose->quaternion[3];
+  pose->quaternion[0] = c * (w + y);
+  pose->quaternion[1] = c * (x + z);
+  pose->quaternion[2] = c * (y - w);
+  pose->quaternion[3] = c * (z - x);
+}
+
+bool check_record(dGeomID geom, ConvexRecord &rec);
+
+Res resolve(dGeomID geom, int cls, Resolved *r) {
+  switch (cls) {
+    case dSphereClass: {
+      const double radius = dGeomSphereGetRadius(geom);
+      r->shape = cached_shape(Key{kSphere, radius, 0, 0});
+      r->radius = radius;
+      geom_pose(geom, &r->pose);
+      break;
+    }
+    case dBoxClass: {
+      dVector3 l;
+      dGeomBoxGetLengths(geom, l);  // full side lengths
+      r->shape = cached_shape(Key{kBox, 0.5 * l[0], 0.5 * l[1], 0.5 * l[2]});
+      r->radius = 0.5 * std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+      geom_pose(geom, &r->pose);
+      break;
+    }
+    case dCapsuleClass:
+    case dCylinderClass: {
+      dReal radius = 0, length = 0;
+      if (cls == dCapsuleClass) {
+        dGeomCapsuleGetParams(geom, &radius, &length);  // length of the cylindrical part
+        r->radius = radius + 0.5 * length;
+      } else {
+        dGeomCylinderGetParams(geom, &radius, &length);
+        r->radius = std::sqrt(radius * radius + 0.25 * length * length);
+      }
+      // A capsule of length 0 is ODE's way to write a sphere (dcol's capsules need length > 0).
+      if (cls == dCapsuleClass && length == 0)
+        r->shape = cached_shape(Key{kSphere, radius, 0, 0});
+      else
+        r->shape = cached_shape(Key{cls == dCapsuleClass ? kCapsule : kCylinder, radius, length, 0});
+      geom_pose(geom, &r->pose);
+      x_axis_to_z(&r->pose);
+      break;
+    }
+    case dConvexClass: {
+      auto it = g.convexes.find(geom);
+      if (it == g.convexes.end() || !check_record(geom, it->second)) return Res::kPlainConvex;
+      const ConvexRecord &rec = it->second;
+      r->shape = rec.shape;
+      r->radius = rec.radius;
+      geom_pose(geom, &r->pose);
+      if (rec.shift[0] != 0 || rec.shift[1] != 0 || rec.shift[2] != 0) {
+        const dReal *R = dGeomGetRotation(geom);  // 3x4 row-major
+        for (int i = 0; i < 3; ++i)
+          r->pose.position[i] += R[4 * i] * rec.shift[0] + R[4 * i + 1] * rec.shift[1] + R[4 * i + 2] * rec.shift[2];
+      }
+      break;
+    }
+    default:
+      if (g.geom_class >= 0 && cls == g.geom_class) {
+        const GeomData *d = geom_data(geom);
+        r->shape = d->shape;
+        r->radius = d->radius;
+        geom_pose(geom, &r->pose);
+        break;
+      }
+      return Res::kUnsupported;
+  }
+  return r->shape ? Res::kOk : Res::kRejected;
+}
+
+// Whether a convex record still describes its geom: ODE's bounding box of the geom must be the box
+// of the recorded points at the geom's pose (checked again only when ODE's box has changed).
+bool check_record(dGeomID geom, ConvexRecord &rec) {
+  dReal box[6];
+  dGeomGetAABB(geom, box);
+  if (rec.checked && std::memcmp(box, rec.aabb, sizeof box) == 0) return true;
+  const dReal *p = dGeomGetPosition(geom);
+  const dReal *R = dGeomGetRotation(geom);
+  double ours[6] = {INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY};
+  const std::size_t n = rec.points.size() / 3;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double *b = &rec.points[3 * j];
+    for (int i = 0; i < 3; ++i) {
+      const double w = R[4 * i] * b[0] + R[4 * i + 1] * b[1] + R[4 * i + 2] * b[2] + p[i];
+      ours[2 * i] = std::min(ours[2 * i], w);
+      ours[2 * i + 1] = std::max(ours[2 * i + 1], w);
+    }
+  }
+  double scale = 1.0;
+  for (int i = 0; i < 6; ++i) scale = std::max(scale, std::fabs(box[i]));
+  bool same = true;
+  for (int i = 0; i < 6; ++i) same = same && std::fabs(ours[i] - box[i]) <= 1e-9 * scale;
+  if (same) {
+    std::memcpy(rec.aabb, box, sizeof box);
+    rec.checked = true;
+    return true;
+  }
+  // Not the geom it was recorded for (destroyed and its address reused, or dGeomSetConvex): a
+  // plain convex from now on.
+  dcol_shape_free(rec.shape);
+  g.convexes.erase(geom);
+  ++g.stats.dropped_records;
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The collider.
+
+// The hint of a pair (either order). Every 2^16 calls the pairs not seen in the last 2^16 calls are
+// forgotten, so the table holds about the pairs of the last few steps (a destroyed geom's pairs
+// go with them; a hint is only a hint: a stale one costs one extra query, never a contact).
+PairHint &pair_hint(dGeomID a, dGeomID b) {
+  const unsigned long now = ++g.pair_clock;
+  const unsigned long kWindow = 1ul << 16;
+  if (now % kWindow == 0) {
+    for (auto it = g.pairs.begin(); it != g.pairs.end();) {
+      if (now - it->second.seen > kWindow)
+        it = g.pairs.erase(it);
+      else
+        ++it;
+    }
+  }
+  PairHint &h = g.pairs[a < b ? std::make_pair(a, b) : std::make_pair(b, a)];
+  h.seen = now;
+  return h;
+}
+
+std::size_t capacity(int flags) {
+  const std::size_t n = static_cast<std::size_t>(flags & 0xffff);
+  return std::max<std::size_t>(1, std::min<std::size_t>(n, DCOL_MAX_CONTACTS));
+}
+
+dContactGeom *slot(dContactGeom *contact, int skip, std::size_t i) {
+  return reinterpret_cast<dContactGeom *>(reinterpret_cast<char *>(contact) + i * static_cast<std::size_t>(skip));
+}
+
+// Writes dcol's contacts as ODE's for (o1, o2): `flip` when dcol's normal (from its shape 1 to its
+// shape 2) points out of o1, i.e. when dcol's shape 1 was o1 (ODE's normal points into o1).
+int write_contacts(dGeomID o1, dGeomID o2, const dcol_contact *cs, std::size_t n, bool flip, dContactGeom *contact,
+                   int skip) {
+  const double s = flip ? -1.0 : 1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    dContactGeom *c = slot(contact, skip, i);
+    for (int k = 0; k < 3; ++k) {
+      c->pos[k] = cs[i].position[k];
+      c->normal[k] = s * cs[i].normal[k];
+    }
+    c->pos[3] = 0;
+    c->normal[3] = 0;
+    c->depth = cs[i].depth;
+    c->g1 = o1;
+    c->g2 = o2;
+    c->side1 = -1;
+    c->side2 = -1;
+  }
+  g.stats.contacts += n;
+  return static_cast<int>(n);
+}
+
+// A solid against ODE's plane n.x = d (solid below, n out of it): the dcol half-space of depth 1
+// whose boundary is the plane, posed at the foot of the solid's centre on the plane.
+int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, int flags, dContactGeom *contact,
+                  int skip) {
+  dVector4 p;
+  dGeomPlaneGetParams(plane, p);
+  double n[3] = {p[0], p[1], p[2]};
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(len > 0) || !std::isfinite(len)) {
+    ++g.stats.rejected;
+    return 0;
+  }
+  for (double &x : n) x /= len;
+  const double d = p[3] / len;
+  const double *c = solid.pose.position;
+  const double h = n[0] * c[0] + n[1] * c[1] + n[2] * c[2] - d;
+  if (h > solid.radius) return 0;  // the solid's bounding ball is above the plane
+  if (!g.halfspace_tried) {
+    g.halfspace_tried = true;
+    dcol_shape_new_halfspace(1.0, &g.halfspace);
+  }
+  if (!g.halfspace) {
+    ++g.stats.rejected;
+    return 0;
+  }
+  dcol_pose hp;
+  for (int k = 0; k < 3; ++k) hp.position[k] = c[k] - (h + 1.0) * n[k];
+  // The attitude turning e_z to n: (1 + n_z, -n_y, n_x, 0) normalised (e_x's half turn if n = -e_z).
+  double q[4] = {1.0 + n[2], -n[1], n[0], 0.0};
+  if (q[0] < 1e-12) {
+    q[0] = 0;
+    q[1] = 1;
+    q[2] = 0;
+  }
+  const double ql = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+  for (int k = 0; k < 4; ++k) hp.quaternion[k] = q[k] / ql;
+  dcol_contact cs[DCOL_MAX_CONTACTS];
+  std::size_t count = 0;
+  const dcol_status st = dcol_contacts(g.halfspace, &hp, solid.shape, &solid.pose, 0.0, nullptr, cs, capacity(flags), &count);
+  if (st != DCOL_OK && st != DCOL_ERROR_NOT_CONVERGED) {
+    ++g.stats.rejected;
+    return 0;
+  }
+  // dcol's normal points out of the plane into the solid: ODE's normal when o1 is the solid.
+  return write_contacts(o1, o2, cs, count, o1 == plane, contact, skip);
+}
+
+int collide(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int skip) {
+  ++g.stats.calls;
+  const int c1 = dGeomGetClass(o1), c2 = dGeomGetClass(o2);
+  Resolved r1, r2;
+  if (c1 == dPlaneClass || c2 == dPlaneClass) {
+    const bool plane_first = c1 == dPlaneClass;
+    dGeomID solid = plane_first ? o2 : o1;
+    const Res res = resolve(solid, plane_first ? c2 : c1, &r1);
+    if (res == Res::kPlainConvex) {
+      --g.stats.calls;  // ODE's answer, not dcol's
+      return detail::collide_native(o1, o2, flags, contact, skip);
+    }
+    if (res != Res::kOk) {
+      ++g.stats.rejected;
+      return 0;
+    }
+    return collide_plane(o1, o2, r1, plane_first ? o1 : o2, flags, contact, skip);
+  }
+  const Res a = resolve(o1, c1, &r1);
+  const Res b = a == Res::kPlainConvex ? Res::kPlainConvex : resolve(o2, c2, &r2);
+  if (a == Res::kPlainConvex || b == Res::kPlainConvex) {
+    --g.stats.calls;
+    return detail::collide_native(o1, o2, flags, contact, skip);
+  }
+  if (a != Res::kOk || b != Res::kOk) {
+    ++g.stats.rejected;
+    return 0;
+  }
+  // Bounding balls apart: no contact (margin 0). A NaN centre fails this test and is left to dcol,
+  // which rejects its pose.
+  const double dx = r1.pose.position[0] - r2.pose.position[0];
+  const double dy = r1.pose.position[1] - r2.pose.position[1];
+  const double dz = r1.pose.position[2] - r2.pose.position[2];
+  const double reach = r1.radius + r2.radius;
+  if (dx * dx + dy * dy + dz * dz > reach * reach) return 0;
+  // A pair that had no contacts at its last call (or is new) is first asked whether its shapes
+  // overlap, scaled by 1 + 1e-6 (so that touching pairs, and the solver's tolerance band of 1e-9
+  // around the threshold, still go to dcol_contacts): about 0.5 us where dcol_contacts takes
+  // several (see docs/ode.md). A pair with contacts goes straight to dcol_contacts.
+  PairHint &hint = pair_hint(o1, o2);
+  if (!hint.had_contacts) {
+    std::int32_t below = 1;
+    const dcol_status st = dcol_alpha_below(r1.shape, &r1.pose, r2.shape, &r2.pose, 1.0 + 1e-6, nullptr, &below);
+    if (st == DCOL_OK && !below) return 0;
+  }
+  dcol_contact cs[DCOL_MAX_CONTACTS];
+  std::size_t n = 0;
+  const dcol_status st = dcol_contacts(r1.shape, &r1.pose, r2.shape, &r2.pose, 0.0, nullptr, cs, capacity(flags), &n);
+  if (st != DCOL_OK && st != DCOL_ERROR_NOT_CONVERGED) {
+    ++g.stats.rejected;
+    return 0;
+  }
+  hint.had_contacts = n > 0;
+  return write_contacts(o1, o2, cs, n, true, contact, skip);
+}
+
+const int kClasses[5] = {dSphereClass, dBoxClass, dCapsuleClass, dCylinderClass, dConvexClass};
+
+// The dcol geom class: its collider for every class it meets (the others: none).
+dColliderFn *user_class_collider(int num) {
+  if (num == g.geom_class || num == dPlaneClass) return &collide;
+  for (int c : kClasses)
+    if (num == c) return &collide;
+  return nullptr;
+}
+
+void user_class_aabb(dGeomID geom, dReal box[6]) {
+  const dReal *p = dGeomGetPosition(geom);
+  const double r = geom_data(geom)->radius;
+  for (int i = 0; i < 3; ++i) {
+    box[2 * i] = p[i] - r;
+    box[2 * i + 1] = p[i] + r;
+  }
+}
+
+void user_class_dtor(dGeomID) {}
+
+}  // namespace
+
+namespace detail {
+Stats &counters() { return g.stats; }
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------------
+// The public functions.
+
+bool dcol_in_use() {
+  // Whether dCollide of two overlapping spheres reaches the dcol collider (ODE has no getter for
+  // its collider table); the probe leaves the counters as they were.
+  const Stats saved = g.stats;
+  dGeomID a = dCreateSphere(0, 1.0), b = dCreateSphere(0, 1.0);
+  dGeomSetPosition(b, 0.5, 0, 0);
+  dContactGeom c;
+  dCollide(a, b, 1, &c, sizeof c);
+  const bool used = g.stats.calls != saved.calls;
+  dGeomDestroy(a);
+  dGeomDestroy(b);
+  g.stats = saved;
+  return used;
+}
+
+void use_dcol() {
+  if (dcol_in_use()) return;
+  detail::find_native_colliders();
+  for (int i = 0; i < 5; ++i) {
+    for (int j = i; j < 5; ++j) dSetColliderOverride(kClasses[i], kClasses[j], &collide);
+    dSetColliderOverride(kClasses[i], dPlaneClass, &collide);
+  }
+}
+
+namespace {
+
+// The convex hull of a convex's points (dcol_shape_new_convex_hull), about the geom's origin when
+// it lies strictly inside them, else about their mean (strictly inside any full-dimensional hull):
+// *shift is that centre in the geom's frame. nullptr when the points make no dcol hull (fewer than
+// four not in a plane, non-finite values).
+dcol_shape *convex_shape(const dReal *points, unsigned pointcount, double shift[3]) {
+  shift[0] = shift[1] = shift[2] = 0;
+  if (!points || pointcount == 0) return nullptr;
+  std::vector<double> p(points, points + 3 * static_cast<std::size_t>(pointcount));
+  dcol_shape *s = nullptr;
+  if (dcol_shape_new_convex_hull(p.data(), pointcount, 0.0, &s) == DCOL_OK) return s;
+  for (unsigned j = 0; j < pointcount; ++j)
+    for (int k = 0; k < 3; ++k) shift[k] += p[3 * j + k] / pointcount;
+  for (unsigned j = 0; j < pointcount; ++j)
+    for (int k = 0; k < 3; ++k) p[3 * j + k] -= shift[k];
+  if (dcol_shape_new_convex_hull(p.data(), pointcount, 0.0, &s) == DCOL_OK) return s;
+  shift[0] = shift[1] = shift[2] = 0;
+  return nullptr;
+}
+
+}  // namespace
+
+dGeomID create_convex(dSpaceID space, const dReal *planes, unsigned planecount, const dReal *points,
+                      unsigned pointcount, const unsigned *polygons) {
+  dGeomID geom = dCreateConvex(space, planes, planecount, points, pointcount, polygons);
+  ConvexRecord rec;
+  rec.shape = convex_shape(points, pointcount, rec.shift);
+  if (!rec.shape) {
+    ++g.stats.unrecorded_convexes;
+    return geom;
+  }
+  rec.points.assign(points, points + 3 * static_cast<std::size_t>(pointcount));
+  for (unsigned j = 0; j < pointcount; ++j) {
+    const double dx = points[3 * j] - rec.shift[0], dy = points[3 * j + 1] - rec.shift[1], dz = points[3 * j + 2] - rec.shift[2];
+    rec.radius = std::max(rec.radius, std::sqrt(dx * dx + dy * dy + dz * dz));
+  }
+  // A record left by a destroyed geom at the same address is replaced.
+  forget(geom);
+  g.convexes.emplace(geom, std::move(rec));
+  return geom;
+}
+
+bool is_recorded_convex(dGeomID geom) {
+  if (dGeomGetClass(geom) != dConvexClass) return false;
+  auto it = g.convexes.find(geom);
+  return it != g.convexes.end() && check_record(geom, it->second);
+}
+
+void forget(dGeomID geom) {
+  auto it = g.convexes.find(geom);
+  if (it == g.convexes.end()) return;
+  dcol_shape_free(it->second.shape);
+  g.convexes.erase(it);
+}
+
+void release_all() { g.clear(); }
+
+const dcol_shape *shape_of(dGeomID geom, dcol_pose *pose) {
+  Resolved r;
+  if (resolve(geom, dGeomGetClass(geom), &r) != Res::kOk) return nullptr;
+  if (pose) *pose = r.pose;
+  return r.shape;
+}
+
+Stats stats() { return g.stats; }
+
+void reset_stats() { g.stats = Stats(); }
+
+unsigned long collider_calls() { return g.stats.calls; }
+
+int init() {
+  if (g.geom_class < 0) {
+    dGeomClass c;
+    c.bytes = sizeof(GeomData);
+    c.collider = &user_class_collider;
+    c.aabb = &user_class_aabb;
+    c.aabb_test = nullptr;
+    c.dtor = &user_class_dtor;
+    g.geom_class = dCreateGeomClass(&c);
+  }
+  return g.geom_class;
+}
+
+int geom_class() { return g.geom_class; }
+
+dGeomID create_geom(dSpaceID space, const dcol_shape *shape, double radius) {
+  dGeomID geom = dCreateGeom(init());
+  GeomData *d = geom_data(geom);
+  d->shape = shape;
+  d->radius = radius;
+  if (space) dSpaceAdd(space, geom);
+  return geom;
+}
+
+const dcol_shape *geom_shape(dGeomID geom) { return geom_data(geom)->shape; }
+
+}  // namespace dcol_ode
