@@ -24,6 +24,7 @@ pub(crate) mod direct;
 mod epa;
 mod newton;
 pub(crate) mod padded;
+mod polytope;
 mod simplex;
 mod slots;
 
