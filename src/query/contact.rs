@@ -159,7 +159,10 @@ pub(crate) fn manifold(
         options.validate()?;
         let ell = shape1.bounding_radius().max(shape2.bounding_radius());
         if let Some(b) = super::contact_boxes::boxes(&h1, pose1, &h2, pose2, margin, ell) {
-            if !b.points.is_empty() || !exact_distance {
+            // Boxes apart (by more than the margin, or less) take the distance query's answer
+            // in Rust's manifold, whose signed distance is that query's to the last bit; the
+            // C function reads only the points.
+            if (b.sd.distance <= 0.0 && !b.points.is_empty()) || !exact_distance {
                 let mut pts = Points::new();
                 for (p, d) in &b.points {
                     pts.push(*p, *d);
