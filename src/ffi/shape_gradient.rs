@@ -3,7 +3,10 @@
 //! `dcol_signed_distance_shape_gradient`).
 
 use super::boundary::{catch, check_out, run, Failure};
-use super::distance::{dcol_distance_result, dcol_signed_distance_result};
+use super::distance::{
+    dcol_distance_result, dcol_signed_distance_result, numbers as distance_numbers,
+};
+use super::finite::proximity_numbers;
 use super::options::dcol_options;
 use super::pose::dcol_pose;
 use super::proximity::{check_inputs, dcol_proximity_result, read_inputs};
@@ -141,6 +144,8 @@ pub unsafe extern "C" fn dcol_shape_gradient(
         let prox =
             query::shape_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, g1, g2)
                 .map_err(Failure::api)?;
+        // Not representable: the buffers were left untouched (query::shape_gradient).
+        q.representable(proximity_numbers(&prox))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         q.outcome(prox.status, prox.iterations)
@@ -183,6 +188,8 @@ pub unsafe extern "C" fn dcol_distance_shape_gradient(
             q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, g1, g2,
         )
         .map_err(Failure::api)?;
+        // Not representable: the buffers were left untouched (query::distance_shape_gradient).
+        q.representable(distance_numbers(&d))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
         q.outcome(d.status, d.iterations)

@@ -33,6 +33,15 @@ pub struct Proximity {
     pub derivatives: DerivativeKind,
 }
 
+impl Proximity {
+    /// Whether α*, x* and the contact points are all finite (a double holds the answer).
+    pub(crate) fn is_representable(&self) -> bool {
+        let points = self.point.iter().chain(self.contact1.iter());
+        let points = points.chain(self.contact2.iter());
+        self.alpha.is_finite() && points.into_iter().all(|v| v.is_finite())
+    }
+}
+
 /// The result of a distance query.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Distance {

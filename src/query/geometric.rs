@@ -170,6 +170,12 @@ pub(crate) fn support_gradients(
     factor: Real,
     sink: &mut ShapeSink<'_>,
 ) -> bool {
+    // An answer a double cannot hold (α* = +inf, a witness beyond ±1.8e308) has no
+    // derivatives: the buffers stay untouched (`written` false) and the caller reports it.
+    let inputs = n.iter().chain(contacts[0].iter()).chain(contacts[1].iter());
+    if !factor.is_finite() || !inputs.into_iter().all(|v| v.is_finite()) {
+        return true;
+    }
     let mut unique = true;
     for i in 0..2 {
         let Some(out) = sink.d[i].as_deref_mut() else {

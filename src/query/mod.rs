@@ -30,4 +30,5 @@ pub(crate) use halfspace::check as check_halfspace_pair;
 pub use proximity::proximity;
 pub(crate) use proximity::query_until;
 pub use shape_gradient::{distance_shape_gradient, shape_gradient, signed_distance_shape_gradient};
+pub(crate) use signed::not_representable;
 pub use signed::{signed_distance, signed_distance_gradient};

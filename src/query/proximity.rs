@@ -120,7 +120,8 @@ impl Task for ProximityTask<'_, '_, '_> {
         }
         // Only with a representable answer (else the query fails or reports a numerical failure,
         // and the buffers are left alone).
-        let representable = full.gradient.iter().all(|v| v.is_finite());
+        let representable =
+            full.gradient.iter().all(|v| v.is_finite()) && full.prox.is_representable();
         if let Some(sink) = self.shape.filter(|_| representable) {
             let unique =
                 derivatives::shape_gradient(ctx, &problem, &outcome, &refined, self.central, sink);
@@ -210,7 +211,8 @@ pub(crate) fn query_full(
     if let Some(pair) = &halfspace {
         if !pair.by_interior_point(options, threshold) {
             let mut full = pair.proximity(want)?;
-            if let Some(sink) = sink {
+            // Only a representable answer has shape derivatives (the buffers stay untouched).
+            if let Some(sink) = sink.filter(|_| full.prox.is_representable()) {
                 // ∂α*/∂r₂ is ñ = n*/h_K(n*) (zero where α* ≡ 0).
                 let g = &full.gradient;
                 let n = Vec3::new(g[7], g[8], g[9]);
@@ -320,7 +322,7 @@ pub(crate) fn query_full(
                         );
                     }
                     prox.derivatives = DerivativeKind::Exact;
-                    if let Some(sink) = sink {
+                    if let Some(sink) = sink.filter(|_| prox.is_representable()) {
                         let unique = geometric::support_gradients(
                             &dalpha_dd,
                             [&prox.contact1, &prox.contact2],
@@ -409,7 +411,7 @@ fn derivatives_by_ipm(
             jacobian: [[0.0; 14]; 4],
             decided: None,
         };
-        if let Some(sink) = sink {
+        if let Some(sink) = sink.filter(|_| full.prox.is_representable()) {
             // The envelope formula at the geometric contact points, as for the gradient.
             geometric::support_gradients(
                 &dalpha_dd,

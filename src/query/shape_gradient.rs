@@ -20,6 +20,16 @@ use crate::math::{Pose, Real};
 use crate::shapes::Shape;
 use crate::solver::SolveStatus;
 
+/// Whether α*, x* and the contact points are all finite.
+fn representable(p: &Proximity) -> bool {
+    let points = p
+        .point
+        .iter()
+        .chain(p.contact1.iter())
+        .chain(p.contact2.iter());
+    p.alpha.is_finite() && points.into_iter().all(|v| v.is_finite())
+}
+
 /// Checks that each wanted buffer holds its shape's parameters.
 fn check_buffers(shapes: [&Shape; 2], d: [&Option<&mut [Real]>; 2]) -> Result<(), Error> {
     for i in 0..2 {
@@ -90,9 +100,13 @@ pub fn shape_gradient(
     )?;
     let mut prox = full.prox;
     if !sink.written {
-        // No derivatives came with the answer (it is not representable): zeros, as the pose
-        // gradient gives, and the status says so.
-        sink.zero(shapes);
+        // No derivatives came with the answer. When the answer itself is finite: zeros, as the
+        // pose gradient gives; when it is not representable (α* = +inf, a point beyond the
+        // largest double) the buffers stay untouched (the C functions then write nothing and
+        // return DCOL_ERROR_INVALID_POSE). Either way the status says so.
+        if prox.is_representable() {
+            sink.zero(shapes);
+        }
         if prox.status.is_converged() {
             prox.status = SolveStatus::NumericalFailure;
         }
@@ -121,6 +135,14 @@ pub fn distance_shape_gradient(
     let shapes = [shape1, shape2];
     check_buffers(shapes, [&d_shape1, &d_shape2])?;
     let mut d = distance(shape1, pose1, shape2, pose2, options)?;
+    let numbers = [d.distance].into_iter().chain(d.closest1.iter().copied());
+    let numbers = numbers.chain(d.closest2.iter().copied());
+    if !numbers.chain(d.normal.iter().copied()).all(Real::is_finite) {
+        // Not representable (origins near the largest double): no derivatives, buffers
+        // untouched, and the status says so.
+        d.status = SolveStatus::NumericalFailure;
+        return Ok(d);
+    }
     let mut sink = ShapeSink::new([d_shape1, d_shape2]);
     sink.zero(shapes);
     if d.distance > 0.0 && d.normal.norm() > 0.0 {
