@@ -20,16 +20,6 @@ use crate::math::{Pose, Real};
 use crate::shapes::Shape;
 use crate::solver::SolveStatus;
 
-/// Whether α*, x* and the contact points are all finite.
-fn representable(p: &Proximity) -> bool {
-    let points = p
-        .point
-        .iter()
-        .chain(p.contact1.iter())
-        .chain(p.contact2.iter());
-    p.alpha.is_finite() && points.into_iter().all(|v| v.is_finite())
-}
-
 /// Checks that each wanted buffer holds its shape's parameters.
 fn check_buffers(shapes: [&Shape; 2], d: [&Option<&mut [Real]>; 2]) -> Result<(), Error> {
     for i in 0..2 {
