@@ -57,6 +57,16 @@ const METHODS: &[(&str, Method)] = &[
     ("jacobian", |a, pa, b, pb, o| {
         jacobian(a, pa, b, pb, o).map(|r| black_box(r).0.iterations)
     }),
+    ("shape_gradient", |a, pa, b, pb, o| {
+        // Both shapes' derivatives, into buffers kept between calls (as a caller would).
+        SHAPE_BUFFERS.with(|cell| {
+            let mut bufs = cell.borrow_mut();
+            let (g1, g2) = bufs.split_at_mut(SHAPE_BUFFER);
+            let r = dcol::shape_gradient(a, pa, b, pb, o, Some(g1), Some(g2))?;
+            black_box((&g1[0], &g2[0]));
+            Ok(black_box(r).iterations)
+        })
+    }),
     ("distance", |a, pa, b, pb, o| {
         distance(a, pa, b, pb, o).map(|r| black_box(r).iterations)
     }),
@@ -74,6 +84,15 @@ const METHODS: &[(&str, Method)] = &[
         dcol::contact_manifold(a, pa, b, pb, 0.0, 4, o).map(|m| black_box(m).iterations)
     }),
 ];
+
+/// Room for one shape's parameters in the `shape_gradient` method (the 12-facet polytope has
+/// 48, the padded polygons 3m + 1).
+const SHAPE_BUFFER: usize = 256;
+
+thread_local! {
+    static SHAPE_BUFFERS: std::cell::RefCell<Vec<f64>> =
+        std::cell::RefCell::new(vec![0.0; 2 * SHAPE_BUFFER]);
+}
 
 /// The pose classes: name and the range of the target α*.
 const CLASSES: [(&str, f64, f64); 3] = [

@@ -538,6 +538,41 @@ void test_convex_hull() {
   EXPECT_ERROR(dcol::Shape::convex_hull({}), DCOL_ERROR_INVALID_SHAPE, "dcol_shape_new_convex_hull");
 }
 
+// dcol::Shape::parameters and the shape gradients: the C functions' answers, by value.
+void test_shape_gradient() {
+  const dcol::Shape ball = dcol::Shape::sphere(0.7);
+  const dcol::Shape box = dcol::Shape::box(0.5, 0.8, 0.3);
+  CHECK(ball.parameter_count() == 1 && box.parameter_count() == 3);
+  const std::vector<double> p = box.parameters();
+  CHECK(p.size() == 3 && p[0] == 0.5 && p[1] == 0.8 && p[2] == 0.3);
+  const dcol_pose p1 = dcol::pose({0, 0, 0}), p2 = dcol::pose({2.4, 0.1, -0.05});
+  const dcol::ShapeGradient g = dcol::shape_gradient(ball, p1, box, p2);
+  CHECK(close(g.result.alpha, 2.0, 1e-12) && g.result.derivatives == DCOL_DERIVATIVES_EXACT);
+  CHECK(g.d_shape1.size() == 1 && g.d_shape2.size() == 3);
+  CHECK(close(g.d_shape1[0], -2.0 / 1.2, 1e-12) && close(g.d_shape2[0], -2.0 / 1.2, 1e-12));
+  std::vector<double> c1(1), c2(3);
+  dcol_proximity_result r;
+  CHECK(dcol_shape_gradient(ball.get(), &p1, box.get(), &p2, nullptr, &r, c1.data(), c2.data()) ==
+        DCOL_OK);
+  CHECK(same_bits(c1.data(), g.d_shape1.data(), 1) && same_bits(c2.data(), g.d_shape2.data(), 3));
+  const dcol::DistanceShapeGradient d = dcol::distance_shape_gradient(ball, p1, box, p2);
+  CHECK(close(d.result.distance, 1.2, 1e-9) && close(d.d_shape1[0], -1.0, 1e-9) &&
+        close(d.d_shape2[0], -1.0, 1e-9));
+  const dcol::SignedDistanceShapeGradient s =
+      dcol::signed_distance_shape_gradient(ball, p1, box, dcol::pose({1.0, 0, 0}));
+  CHECK(close(s.result.distance, -0.2, 1e-9) && close(s.d_shape1[0], -1.0, 1e-9));
+  const dcol::Shape floor_ = dcol::Shape::halfspace(0.5);
+  const dcol::Shape other = dcol::Shape::halfspace(1.0);
+  EXPECT_ERROR(dcol::shape_gradient(floor_, p1, other, p2), DCOL_ERROR_INVALID_SHAPE,
+               "dcol_shape_gradient");
+  dcol::Shape moved = dcol::Shape::sphere(1.0);
+  const dcol::Shape taken = std::move(moved);
+  CHECK(moved.parameter_count() == 0 && taken.parameter_count() == 1);
+  EXPECT_ERROR(moved.parameters(), DCOL_ERROR_NULL_POINTER, "dcol_shape_parameters");
+  EXPECT_ERROR(dcol::shape_gradient(moved, p1, box, p2), DCOL_ERROR_NULL_POINTER,
+               "dcol_shape_gradient");
+}
+
 }  // namespace
 
 int main() {
@@ -551,6 +586,7 @@ int main() {
     test_contacts();
     test_halfspace();
     test_convex_hull();
+    test_shape_gradient();
   } catch (const std::exception &e) {
     std::fprintf(stderr, "unexpected exception: %s\n", e.what());
     return 1;

@@ -898,6 +898,109 @@ enum dcol_status dcol_jacobian_mrp(const struct dcol_shape *shape1,
                                    double *jacobian);
 
 /**
+ * How many numbers describe `shape`: the arguments its constructor was given, in the order
+ * given (dcol_shape_parameters writes them; the shape gradients are taken with respect to
+ * them). sphere 1 (radius); ellipsoid 9 (P, row-major); polytope 4m (A row-major, then b);
+ * box 3 (half_x, half_y, half_z); capsule and cylinder 2 (radius, length); cone 2 (height,
+ * half_angle); padded polygon 3m + 1 (C row-major, then d, then radius); half-space 1 (depth);
+ * convex hull 3n + 1 (the points row-major, then radius). 0 for a NULL shape.
+ *
+ * # Safety
+ * `shape` must be NULL or a live shape.
+ */
+size_t dcol_shape_parameter_count(const struct dcol_shape *shape);
+
+/**
+ * Writes the shape's parameters (see dcol_shape_parameter_count for their number and order)
+ * into out[0..count]: the numbers its constructor was given (an ellipsoid's P symmetrised,
+ * (P + P^T)/2). DCOL_ERROR_INVALID_OPTIONS when `capacity` is below the count (nothing is
+ * written).
+ *
+ * # Safety
+ * `shape` must be NULL or a live shape; `out` NULL or valid for writing `capacity` doubles.
+ */
+enum dcol_status dcol_shape_parameters(const struct dcol_shape *shape,
+                                       double *out,
+                                       size_t capacity);
+
+/**
+ * alpha*, x* and the contact points (as dcol_proximity), and the derivatives of alpha* with
+ * respect to each shape's parameters (see dcol_shape_parameter_count: the numbers exactly as
+ * given to the constructor, so a finite difference on the constructor's arguments checks
+ * them) into d_shape1[0..count1] and d_shape2[0..count2]. Either buffer may be NULL (not
+ * wanted). An ellipsoid's P enters through (P + P^T)/2: a symmetric change of the pair P_ij,
+ * P_ji moves alpha* by the sum of their two entries.
+ *
+ * By the envelope theorem at the optimal normal, a few flops beyond dcol_gradient.
+ * result->derivatives says their kind, as for dcol_gradient: DCOL_DERIVATIVES_EXACT where the
+ * contact points are unique; DCOL_DERIVATIVES_SMOOTHED flat against flat (the interior-point
+ * method's) or with dcol_options.smoothing (the exact derivatives of the smoothed alpha);
+ * DCOL_DERIVATIVES_SUBGRADIENT where alpha* is not differentiable in a shape's parameters
+ * although the contact is unique (a corner where more than three of a polytope's planes
+ * meet, a hull's facet of more than three corners, a hull point given twice) and at
+ * coincident origins (zeros): one element of the generalised gradient. The kind covers the
+ * buffers asked for. An unpadded hull's radius (0) has the derivative of growing it.
+ *
+ * `options` may be NULL (defaults). On DCOL_OK fills *result and the buffers. On
+ * DCOL_ERROR_NOT_CONVERGED fills *result and the buffers with the last iterate's (zeros where
+ * they would not be finite). On any other status nothing is written. Does not allocate.
+ *
+ * # Safety
+ * As dcol_proximity; `d_shape1` and `d_shape2` must each be NULL or valid for writing
+ * dcol_shape_parameter_count(shape) doubles of its shape.
+ */
+enum dcol_status dcol_shape_gradient(const struct dcol_shape *shape1,
+                                     const struct dcol_pose *pose1,
+                                     const struct dcol_shape *shape2,
+                                     const struct dcol_pose *pose2,
+                                     const struct dcol_options *options,
+                                     struct dcol_proximity_result *result,
+                                     double *d_shape1,
+                                     double *d_shape2);
+
+/**
+ * The exact distance (as dcol_distance) and its derivatives with respect to each shape's
+ * parameters (as dcol_shape_gradient): -dh_i/dtheta_i of the support functions at the unit
+ * normal and witness points. All zeros when the shapes touch or overlap (the distance is 0
+ * there, as dcol_distance_gradient). Either buffer may be NULL.
+ *
+ * `options` may be NULL (defaults). On DCOL_OK fills *result and the buffers; on
+ * DCOL_ERROR_NOT_CONVERGED the last iterate's; on any other status nothing is written.
+ *
+ * # Safety
+ * As dcol_distance; `d_shape1` and `d_shape2` as for dcol_shape_gradient.
+ */
+enum dcol_status dcol_distance_shape_gradient(const struct dcol_shape *shape1,
+                                              const struct dcol_pose *pose1,
+                                              const struct dcol_shape *shape2,
+                                              const struct dcol_pose *pose2,
+                                              const struct dcol_options *options,
+                                              struct dcol_distance_result *result,
+                                              double *d_shape1,
+                                              double *d_shape2);
+
+/**
+ * The signed distance (as dcol_signed_distance) and its derivatives with respect to each
+ * shape's parameters (as dcol_shape_gradient): -dh_i/dtheta_i of the support functions at
+ * its unit normal and witness points, separated or overlapping. Either buffer may be NULL.
+ *
+ * `options` may be NULL (defaults). On DCOL_OK fills *result and the buffers; on
+ * DCOL_ERROR_NOT_CONVERGED the best answer found and its derivatives; on any other status
+ * nothing is written.
+ *
+ * # Safety
+ * As dcol_signed_distance; `d_shape1` and `d_shape2` as for dcol_shape_gradient.
+ */
+enum dcol_status dcol_signed_distance_shape_gradient(const struct dcol_shape *shape1,
+                                                     const struct dcol_pose *pose1,
+                                                     const struct dcol_shape *shape2,
+                                                     const struct dcol_pose *pose2,
+                                                     const struct dcol_options *options,
+                                                     struct dcol_signed_distance_result *result,
+                                                     double *d_shape1,
+                                                     double *d_shape2);
+
+/**
  * Proximity (as dcol_proximity) of `count` pairs: pair i is (`shapes1[i]`, `poses1[i]`,
  * `shapes2[i]`, `poses2[i]`); its result goes to `results[i]` and its status to `statuses[i]`.
  *

@@ -113,6 +113,17 @@ class Shape {
   /// The C handle (still owned by this object).
   const dcol_shape *get() const noexcept { return handle_.get(); }
 
+  /// How many numbers describe the shape: its constructor's arguments (see
+  /// dcol_shape_parameter_count for the order of each kind).
+  std::size_t parameter_count() const noexcept { return dcol_shape_parameter_count(get()); }
+
+  /// The constructor's arguments, in the order given (an ellipsoid's P symmetrised).
+  std::vector<double> parameters() const {
+    std::vector<double> p(parameter_count());
+    check(dcol_shape_parameters(get(), p.data(), p.size()));
+    return p;
+  }
+
  private:
   struct Deleter {
     void operator()(dcol_shape *s) const noexcept { dcol_shape_free(s); }
@@ -217,6 +228,61 @@ inline SignedDistanceGradient signed_distance_gradient(const Shape &shape1,
   SignedDistanceGradient g;
   check(dcol_signed_distance_gradient(shape1.get(), &pose1, shape2.get(), &pose2, options,
                                       &g.result, g.gradient.data()));
+  return g;
+}
+
+/// The proximity result and d alpha* / d(parameters) of each shape (see
+/// Shape::parameters: the constructors' arguments, in order), as dcol_shape_gradient; the kind
+/// of derivative is result.derivatives.
+struct ShapeGradient {
+  dcol_proximity_result result;
+  std::vector<double> d_shape1;
+  std::vector<double> d_shape2;
+};
+
+inline ShapeGradient shape_gradient(const Shape &shape1, const dcol_pose &pose1,
+                                    const Shape &shape2, const dcol_pose &pose2,
+                                    const dcol_options *options = nullptr) {
+  ShapeGradient g{{}, std::vector<double>(shape1.parameter_count()),
+                  std::vector<double>(shape2.parameter_count())};
+  check(dcol_shape_gradient(shape1.get(), &pose1, shape2.get(), &pose2, options, &g.result,
+                            g.d_shape1.data(), g.d_shape2.data()));
+  return g;
+}
+
+/// The distance and d distance / d(parameters) of each shape (as dcol_distance_shape_gradient;
+/// zeros when the shapes touch or overlap).
+struct DistanceShapeGradient {
+  dcol_distance_result result;
+  std::vector<double> d_shape1;
+  std::vector<double> d_shape2;
+};
+
+inline DistanceShapeGradient distance_shape_gradient(const Shape &shape1, const dcol_pose &pose1,
+                                                     const Shape &shape2, const dcol_pose &pose2,
+                                                     const dcol_options *options = nullptr) {
+  DistanceShapeGradient g{{}, std::vector<double>(shape1.parameter_count()),
+                          std::vector<double>(shape2.parameter_count())};
+  check(dcol_distance_shape_gradient(shape1.get(), &pose1, shape2.get(), &pose2, options,
+                                     &g.result, g.d_shape1.data(), g.d_shape2.data()));
+  return g;
+}
+
+/// The signed distance and d sd / d(parameters) of each shape (as
+/// dcol_signed_distance_shape_gradient).
+struct SignedDistanceShapeGradient {
+  dcol_signed_distance_result result;
+  std::vector<double> d_shape1;
+  std::vector<double> d_shape2;
+};
+
+inline SignedDistanceShapeGradient signed_distance_shape_gradient(
+    const Shape &shape1, const dcol_pose &pose1, const Shape &shape2, const dcol_pose &pose2,
+    const dcol_options *options = nullptr) {
+  SignedDistanceShapeGradient g{{}, std::vector<double>(shape1.parameter_count()),
+                                std::vector<double>(shape2.parameter_count())};
+  check(dcol_signed_distance_shape_gradient(shape1.get(), &pose1, shape2.get(), &pose2, options,
+                                            &g.result, g.d_shape1.data(), g.d_shape2.data()));
   return g;
 }
 

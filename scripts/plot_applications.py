@@ -260,12 +260,107 @@ def plot_physics(path, out):
     plt.close(fig)
 
 
+def read_free_region(path):
+    """The free_region CSV: obstacles with full quaternions, the seed, the regions (centre and
+    the lower-triangular L), and the Ipopt histories."""
+    obstacles, regions, seed, body = [], {}, None, []
+    with open(path) as f:
+        for line in f.read().splitlines():
+            t = line.split()
+            if line.startswith("# obstacle "):
+                obstacles.append((t[2], [float(v) for v in t[3:6]], [float(v) for v in t[6:10]],
+                                  [float(v) for v in t[10:]]))
+            elif line.startswith("# seed "):
+                seed = [float(v) for v in t[2:5]]
+            elif line.startswith("# contact "):
+                regions.setdefault("contacts", []).append([float(v) for v in t[2:]])
+            elif line.startswith("# "):
+                regions[t[1]] = [float(v) for v in t[2:]]
+            else:
+                body.append(line)
+    history = list(csv.DictReader(body))
+    return obstacles, seed, regions, history
+
+
+def free_region_points(kind, p):
+    """Boundary points (body frame) of the free_region obstacles (a hull: radius, count, points)."""
+    if kind == "hull":
+        r, n = p[0], int(p[1])
+        pts = [tuple(p[2 + 3 * i:5 + 3 * i]) for i in range(n)]
+        if r > 0:
+            return [(a + x, b + y, c + z) for (a, b, c) in pts for (x, y, z) in sphere_points(r, 6)]
+        return pts
+    return body_points(kind, p)
+
+
+def ellipsoid_outline(region, axes):
+    pts = [(p[axes[0]], p[axes[1]]) for p in ellipsoid_points(region, 36)]
+    return hull(pts)
+
+
+def ellipsoid_points(region, n=12):
+    c, l = region[:3], region[3:]
+    L = [[l[0], 0.0, 0.0], [l[1], l[2], 0.0], [l[3], l[4], l[5]]]
+    return [tuple(c[i] + L[i][0] * x + L[i][1] * y + L[i][2] * z for i in range(3))
+            for (x, y, z) in sphere_points(1.0, n)]
+
+
+def plot_free_region(path, out):
+    obstacles, seed, regions, history = read_free_region(path)
+    fig, axs = plt.subplots(1, 3, figsize=(17, 5.2), gridspec_kw={"width_ratios": [4, 3.6, 3.4]})
+    # The obstacles the region touches (alpha* within 1e-6 of 1) and the contact points.
+    contacts = [c for c in regions.get("contacts", []) if c[1] < 1.0 + 1e-6]
+    touching = {int(c[0]) for c in contacts}
+    views = ((axs[0], (0, 1), "top view (x, y)", (-2.0, 2.0)), (axs[1], (0, 2), "side view (x, z)", (0.0, 2.5)))
+    for ax, axes, name, vlim in views:
+        # Silhouettes (projections: an overlap in the picture is not one in space); the room's six
+        # walls are its outline.
+        ax.add_patch(plt.Rectangle((-2.0, vlim[0]), 4.0, vlim[1] - vlim[0], fill=False, lw=1.5, ec="0.2"))
+        for j, (kind, pos, q, params) in enumerate(obstacles):
+            if j < 6:
+                continue
+            pts = []
+            for b in free_region_points(kind, params):
+                w = quat_rotate(q, b)
+                pts.append((pos[axes[0]] + w[axes[0]], pos[axes[1]] + w[axes[1]]))
+            color = "0.55" if j in touching else "0.85"
+            ax.add_patch(Polygon(hull(pts), closed=True, facecolor=color, edgecolor="0.3", lw=0.8))
+        for key, style in (("sampled", dict(fill=False, ec="tab:orange", ls="--", lw=1.4)),
+                           ("held", dict(fill=False, ec="tab:green", ls="-.", lw=1.4)),
+                           ("region", dict(facecolor="tab:blue", alpha=0.3, ec="tab:blue", lw=1.5))):
+            if key in regions:
+                ax.add_patch(Polygon(ellipsoid_outline(regions[key], axes), closed=True, **style))
+        ax.plot([c[2 + axes[0]] for c in contacts], [c[2 + axes[1]] for c in contacts], "o",
+                color="tab:red", ms=5)
+        ax.plot([seed[axes[0]]], [seed[axes[1]]], "k*", ms=10)
+        finish(ax, "Free region: " + name, "x [m]", "yz"[axes[1] - 1] + " [m]", (-2.1, 2.1),
+               (vlim[0] - 0.1, vlim[1] + 0.1))
+    ax = axs[2]
+    for run, label, color in (("free", "centre free (the region)", "tab:blue"),
+                              ("held", "centre held at the seed", "tab:green")):
+        rows = [r for r in history if r["run"] == run]
+        ax.plot([float(r["iteration"]) for r in rows], [float(r["volume"]) for r in rows], ".-",
+                color=color, label=label)
+    if "sampled" in regions:
+        s = regions["sampled"]
+        vol = 4.0 / 3.0 * math.pi * s[3] * s[5] * s[8]
+        ax.axhline(vol, color="tab:orange", ls="--", label="best of 200 sampled ellipsoids (%.2f m$^3$)" % vol)
+    ax.set_yscale("log")
+    ax.set_xlabel("Ipopt iteration")
+    ax.set_ylabel("ellipsoid volume [m$^3$]")
+    ax.set_title("Volume during the solve")
+    ax.legend(fontsize=8, loc="lower right")
+    fig.savefig(out, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+
+
 def main():
     src = sys.argv[1] if len(sys.argv) > 1 else "build/cmake/examples/applications"
     dst = sys.argv[2] if len(sys.argv) > 2 else "docs/img"
     os.makedirs(dst, exist_ok=True)
     jobs = (("piano_mover", plot_piano), ("cone_through_wall", plot_cone),
-            ("quadrotor_hallway", plot_quadrotor), ("contact_physics", plot_physics))
+            ("quadrotor_hallway", plot_quadrotor), ("contact_physics", plot_physics),
+            ("free_region", plot_free_region))
     for name, fn in jobs:
         path = os.path.join(src, name + ".csv")
         if not os.path.exists(path):

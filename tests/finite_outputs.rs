@@ -227,6 +227,65 @@ fn every_query(
             bad.borrow_mut()
                 .push(format!("dcol_intersect: {st:?}, *intersecting = {below}"));
         }
+        // The shape gradients: their buffers too (sized by the parameter counts).
+        let (n1, n2) = (
+            dcol_shape_parameter_count(s1),
+            dcol_shape_parameter_count(s2),
+        );
+        let (mut g1, mut g2) = (vec![SENTINEL; n1], vec![SENTINEL; n2]);
+        let mut r = sentinel_prox();
+        let st = dcol_shape_gradient(s1, p1, s2, p2, o, &mut r, g1.as_mut_ptr(), g2.as_mut_ptr());
+        check(
+            "dcol_shape_gradient",
+            st,
+            [prox_numbers(&r), g1, g2].concat(),
+        );
+        let (mut g1, mut g2) = (vec![SENTINEL; n1], vec![SENTINEL; n2]);
+        let mut dg = dcol_distance_result {
+            distance: SENTINEL,
+            closest1: [SENTINEL; 3],
+            closest2: [SENTINEL; 3],
+            normal: [SENTINEL; 3],
+            ..Default::default()
+        };
+        let st = dcol_distance_shape_gradient(
+            s1,
+            p1,
+            s2,
+            p2,
+            o,
+            &mut dg,
+            g1.as_mut_ptr(),
+            g2.as_mut_ptr(),
+        );
+        check(
+            "dcol_distance_shape_gradient",
+            st,
+            [dist(&dg), g1, g2].concat(),
+        );
+        let (mut g1, mut g2) = (vec![SENTINEL; n1], vec![SENTINEL; n2]);
+        let mut sdg = dcol_signed_distance_result {
+            distance: SENTINEL,
+            normal: [SENTINEL; 3],
+            closest1: [SENTINEL; 3],
+            closest2: [SENTINEL; 3],
+            ..Default::default()
+        };
+        let st = dcol_signed_distance_shape_gradient(
+            s1,
+            p1,
+            s2,
+            p2,
+            o,
+            &mut sdg,
+            g1.as_mut_ptr(),
+            g2.as_mut_ptr(),
+        );
+        check(
+            "dcol_signed_distance_shape_gradient",
+            st,
+            [sdn(&sdg), g1, g2].concat(),
+        );
         let (mut r, mut st1) = (sentinel_prox(), dcol_status::DCOL_ERROR_INTERNAL);
         let st = dcol_proximity_batch(&s1, p1, &s2, p2, 1, o, 1, &mut r, &mut st1);
         assert_eq!(st, dcol_status::DCOL_OK);

@@ -7,7 +7,9 @@
 //! then every query of every pair of kinds, on several poses, must make zero heap operations:
 //! `proximity`, `gradient`, `jacobian`, `distance` (its GJK path on the separated poses and,
 //! with `Method::InteriorPoint`, its interior-point path), `distance_gradient`,
-//! `distance_within`, `signed_distance` (GJK, EPA and its polish) and `contact_manifold`, whether they return `Ok` or `Err` (invalid options, and functions not
+//! `distance_within`, `signed_distance` (GJK, EPA and its polish), `contact_manifold` and the
+//! shape gradients (`shape_gradient`, `distance_shape_gradient`,
+//! `signed_distance_shape_gradient`), whether they return `Ok` or `Err` (invalid options, and functions not
 //! built yet, must not allocate on the error path either). The half-space's closed forms (and
 //! the two-half-space error) are checked the same way against every shape.
 
@@ -59,7 +61,7 @@ static ALLOCATOR: Counting = Counting;
 type Query = fn(&Shape, &Pose, &Shape, &Pose, &Options) -> Result<(), Error>;
 
 /// Every query, reduced to `Result<(), Error>` without touching the heap.
-const QUERIES: [(&str, Query); 10] = [
+const QUERIES: [(&str, Query); 13] = [
     ("proximity", |a, pa, b, pb, o| {
         proximity(a, pa, b, pb, o).map(|r| {
             black_box(r);
@@ -116,7 +118,48 @@ const QUERIES: [(&str, Query); 10] = [
             black_box(r);
         })
     }),
+    // Shape gradients into buffers kept between calls (allocated once, at the warm-up).
+    ("shape_gradient", |a, pa, b, pb, o| {
+        with_buffers(|g1, g2| {
+            dcol::shape_gradient(a, pa, b, pb, o, Some(g1), Some(g2)).map(|r| {
+                black_box(r);
+            })
+        })
+    }),
+    ("distance_shape_gradient", |a, pa, b, pb, o| {
+        with_buffers(|g1, g2| {
+            dcol::distance_shape_gradient(a, pa, b, pb, o, Some(g1), Some(g2)).map(|r| {
+                black_box(r);
+            })
+        })
+    }),
+    ("signed_distance_shape_gradient", |a, pa, b, pb, o| {
+        with_buffers(|g1, g2| {
+            dcol::signed_distance_shape_gradient(a, pa, b, pb, o, Some(g1), Some(g2)).map(|r| {
+                black_box(r);
+            })
+        })
+    }),
 ];
+
+/// Room for the parameters of the largest shape below (the 300-plane polytope: 1 200).
+const PARAMETERS: usize = 1200;
+
+thread_local! {
+    static BUFFERS: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` on this thread's two shape-gradient buffers.
+fn with_buffers<R>(f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
+    BUFFERS.with(|cell| {
+        let mut v = cell.borrow_mut();
+        if v.is_empty() {
+            v.resize(2 * PARAMETERS, 0.0);
+        }
+        let (g1, g2) = v.split_at_mut(PARAMETERS);
+        f(g1, g2)
+    })
+}
 
 /// Unit normals of a polytope with `k` roughly evenly spread facets (a Fibonacci sphere).
 fn fibonacci_normals(k: usize) -> Vec<[f64; 3]> {

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -91,6 +92,12 @@ inline Shape make_ellipsoid(double a, double b, double c) {
   check(dcol_shape_new_ellipsoid(P, &s), "ellipsoid");
   return Shape(s);
 }
+/// The convex hull of n points (3n numbers, body frame), padded by `r`.
+inline Shape make_hull(const double *points, std::size_t n, double r) {
+  dcol_shape *s = nullptr;
+  check(dcol_shape_new_convex_hull(points, n, r, &s), "convex hull");
+  return Shape(s);
+}
 /// A padded rectangle: half-sides (a, b) in the body x-y plane, padded by `r`.
 inline Shape make_padded_rect(double a, double b, double r) {
   const double C[8] = {1, 0, 0, 1, -1, 0, 0, -1};
@@ -128,6 +135,21 @@ inline double gradient(const dcol_shape *s1, const dcol_pose &p1, const dcol_sha
   ++c.calls;
   if (st == DCOL_ERROR_NOT_CONVERGED) ++c.not_converged;
   else check(st, "dcol_gradient");
+  return r.alpha;
+}
+
+/// alpha* and its derivatives with respect to both shapes' parameters (dcol_shape_gradient;
+/// either buffer may be null).
+inline double shape_gradient(const dcol_shape *s1, const dcol_pose &p1, const dcol_shape *s2,
+                             const dcol_pose &p2, double *d_shape1, double *d_shape2) {
+  dcol_proximity_result r;
+  const Clock::time_point t0 = Clock::now();
+  const dcol_status st = dcol_shape_gradient(s1, &p1, s2, &p2, nullptr, &r, d_shape1, d_shape2);
+  DcolClock &c = dcol_clock();
+  c.seconds += seconds_since(t0);
+  ++c.calls;
+  if (st == DCOL_ERROR_NOT_CONVERGED) ++c.not_converged;
+  else check(st, "dcol_shape_gradient");
   return r.alpha;
 }
 

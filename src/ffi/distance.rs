@@ -31,7 +31,7 @@ fn arr(v: &Vec3) -> [f64; 3] {
 }
 
 /// The numbers of a distance result.
-fn numbers(d: &Distance) -> impl Iterator<Item = f64> + '_ {
+pub(crate) fn numbers(d: &Distance) -> impl Iterator<Item = f64> + '_ {
     std::iter::once(d.distance)
         .chain(d.closest1.iter().copied())
         .chain(d.closest2.iter().copied())

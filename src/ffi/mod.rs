@@ -6,7 +6,9 @@
 //! `dcol_gradient`, `dcol_jacobian`), [`distance`] (`dcol_distance_result`, `dcol_distance`,
 //! `dcol_distance_gradient`), [`contact`] (`dcol_contact`, `dcol_contacts`), [`early_exit`] (`dcol_alpha_below`, `dcol_intersect`),
 //! [`derivatives`] (`dcol_derivatives_result`, `dcol_derivatives`, `dcol_gradient_mrp`,
-//! `dcol_jacobian_mrp`), [`batch`] (`dcol_proximity_batch`) and [`scene`] (`dcol_scene`,
+//! `dcol_jacobian_mrp`), [`shape_gradient`] (`dcol_shape_parameter_count`,
+//! `dcol_shape_parameters`, `dcol_shape_gradient`, `dcol_distance_shape_gradient`,
+//! `dcol_signed_distance_shape_gradient`), [`batch`] (`dcol_proximity_batch`) and [`scene`] (`dcol_scene`,
 //! `dcol_scene_pair`, `dcol_scene_stats` and the scene functions).
 //! [`boundary`] holds the single panic boundary that wraps every exported body, the pointer
 //! helpers and the per-thread error message.
@@ -49,6 +51,8 @@ pub mod early_exit;
 
 pub mod derivatives;
 
+pub mod shape_gradient;
+
 pub mod batch;
 
 pub mod scene;
@@ -83,5 +87,9 @@ pub use shape::{
     dcol_shape, dcol_shape_free, dcol_shape_new_box, dcol_shape_new_capsule, dcol_shape_new_cone,
     dcol_shape_new_cylinder, dcol_shape_new_ellipsoid, dcol_shape_new_halfspace,
     dcol_shape_new_polygon, dcol_shape_new_polytope, dcol_shape_new_sphere,
+};
+pub use shape_gradient::{
+    dcol_distance_shape_gradient, dcol_shape_gradient, dcol_shape_parameter_count,
+    dcol_shape_parameters, dcol_signed_distance_shape_gradient,
 };
 pub use status::dcol_status;

@@ -33,6 +33,15 @@ pub struct Proximity {
     pub derivatives: DerivativeKind,
 }
 
+impl Proximity {
+    /// Whether α*, x* and the contact points are all finite (a double holds the answer).
+    pub(crate) fn is_representable(&self) -> bool {
+        let points = self.point.iter().chain(self.contact1.iter());
+        let points = points.chain(self.contact2.iter());
+        self.alpha.is_finite() && points.into_iter().all(|v| v.is_finite())
+    }
+}
+
 /// The result of a distance query.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Distance {
@@ -148,6 +157,55 @@ pub(crate) struct Full {
     pub jacobian: [[Real; 14]; 4],
     /// With a threshold: whether α* was proven below (true) or above (false) it early.
     pub decided: Option<bool>,
+}
+
+/// Where a shape-gradient query writes `∂(α*, d*, sd)/∂θᵢ` for each shape's parameters
+/// (`None`: not wanted; otherwise at least `parameter_count` entries).
+pub(crate) struct ShapeSink<'s> {
+    pub d: [Option<&'s mut [Real]>; 2],
+    /// Whether the buffers were written (a query that fails writes nothing; one that ends
+    /// without derivatives leaves them for the caller to zero).
+    pub written: bool,
+    /// False when a derivative came out not finite (its buffer then holds zeros).
+    pub finite: bool,
+}
+
+impl<'s> ShapeSink<'s> {
+    /// The buffers, not written yet.
+    pub fn new(d: [Option<&'s mut [Real]>; 2]) -> Self {
+        ShapeSink {
+            d,
+            written: false,
+            finite: true,
+        }
+    }
+
+    /// Multiplies the first `count` entries of buffer `i` by `factor`; zeros in their place
+    /// (and `finite` false) when any comes out not finite.
+    pub fn scale(&mut self, i: usize, count: usize, factor: Real) {
+        if let Some(d) = self.d[i].as_deref_mut() {
+            let d = &mut d[..count];
+            let mut finite = true;
+            for v in d.iter_mut() {
+                *v *= factor;
+                finite &= v.is_finite();
+            }
+            if !finite {
+                d.fill(0.0);
+                self.finite = false;
+            }
+        }
+    }
+
+    /// Zeros in every buffer (`shapes` give their lengths).
+    pub fn zero(&mut self, shapes: [&Shape; 2]) {
+        for (d, s) in self.d.iter_mut().zip(shapes) {
+            if let Some(d) = d.as_deref_mut() {
+                d[..s.parameter_count()].fill(0.0);
+            }
+        }
+        self.written = true;
+    }
 }
 
 /// The inputs of one proximity solve, in solver coordinates.

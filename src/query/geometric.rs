@@ -10,7 +10,7 @@
 //! gauge of the normalised Minkowski difference at `r` (α* is homogeneous of degree one in the
 //! offset, so no precision is lost at tiny or huge offsets).
 
-use super::context::{Options, Proximity};
+use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
 use super::derivatives::rotation_axes;
 use super::shortcuts::{
@@ -153,6 +153,48 @@ pub(crate) fn gradient(
         }
     }
     g
+}
+
+/// `factor · ∂hᵢ(mᵢ)/∂θᵢ` into each wanted buffer of `sink`, for the support functions at the
+/// world normal `n` (shape 1 at `m₁ = R₁ᵀn`, shape 2 at `m₂ = −R₂ᵀn`) and the support points
+/// `contacts` (world): the envelope theorem's shape derivatives (`docs/maths.md` §4). With
+/// `n = ñ = n*/h_K(n*)` and `factor = −α*` they are `∂α*/∂θᵢ` (α* = n·d/h_K(n) at its
+/// maximiser); with the unit normal of a distance or signed distance and `factor = −1`, its
+/// `∂d/∂θᵢ`. False when a shape's derivative is not unique there (one element of the
+/// generalised gradient was written).
+pub(crate) fn support_gradients(
+    n: &Vec3,
+    contacts: [&Vec3; 2],
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+    factor: Real,
+    sink: &mut ShapeSink<'_>,
+) -> bool {
+    // An answer a double cannot hold (α* = +inf, a witness beyond ±1.8e308) has no
+    // derivatives: the buffers stay untouched (`written` false) and the caller reports it.
+    let inputs = n.iter().chain(contacts[0].iter()).chain(contacts[1].iter());
+    if !factor.is_finite() || !inputs.into_iter().all(|v| v.is_finite()) {
+        return true;
+    }
+    let mut unique = true;
+    for i in 0..2 {
+        let Some(out) = sink.d[i].as_deref_mut() else {
+            continue;
+        };
+        let rot = poses[i].rotation();
+        let sign = if i == 0 { 1.0 } else { -1.0 };
+        let m = rot.tr_mul(n) * sign;
+        // Only faceted kinds and the cone tell their features apart by the support point.
+        let x = if shapes[i].support_point_matters() {
+            rot.tr_mul(&(contacts[i] - poses[i].position()))
+        } else {
+            Vec3::zeros()
+        };
+        unique &= shapes[i].support_gradient(&m, &x, out);
+        sink.scale(i, shapes[i].parameter_count(), factor);
+    }
+    sink.written = true;
+    unique
 }
 
 /// The geometric answer in the solvers' normalised frame (lengths over ℓ, the unit ray), and

@@ -14,6 +14,7 @@ mod geometric;
 mod halfspace;
 mod proximity;
 mod separated;
+mod shape_gradient;
 mod shortcuts;
 mod signed;
 
@@ -28,5 +29,6 @@ pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub(crate) use halfspace::check as check_halfspace_pair;
 pub use proximity::proximity;
 pub(crate) use proximity::query_until;
+pub use shape_gradient::{distance_shape_gradient, shape_gradient, signed_distance_shape_gradient};
 pub(crate) use signed::not_representable;
 pub use signed::{signed_distance, signed_distance_gradient};

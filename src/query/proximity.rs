@@ -11,7 +11,7 @@
 //! (otherwise its pairs are closed forms, `super::halfspace`).
 
 use super::assemble::{add_shape, dispatch, Placement, Task};
-use super::context::{Context, Frame, Full, Options, Proximity, Want};
+use super::context::{Context, Frame, Full, Options, Proximity, ShapeSink, Want};
 use super::derivatives;
 use super::geometric;
 use crate::error::{Error, ErrorDetail};
@@ -19,7 +19,7 @@ use crate::math::{robust_norm, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape, ShapeKind};
 use crate::solver::{DerivativeKind, LpRow, Method, Problem, SolveStatus, Solver, Threshold};
 
-struct ProximityTask<'q> {
+struct ProximityTask<'q, 'r, 's> {
     ctx: Context<'q>,
     want: Want,
     /// Stop as soon as α* is proven above this (world) value, or below it when the flag is set.
@@ -27,9 +27,11 @@ struct ProximityTask<'q> {
     /// The central-path point at this barrier parameter instead of the optimum
     /// ([`Options::smoothing`]).
     central: Option<Real>,
+    /// Where the derivatives with respect to the shapes' parameters go, when asked for.
+    shape: Option<&'r mut ShapeSink<'s>>,
 }
 
-impl Task for ProximityTask<'_> {
+impl Task for ProximityTask<'_, '_, '_> {
     type Output = Full;
 
     fn run<const N: usize>(self, rows: &mut [LpRow<N>]) -> Full {
@@ -116,6 +118,19 @@ impl Task for ProximityTask<'_> {
                 ctx, &problem, &outcome, &refined, self.want, central, &mut full,
             );
         }
+        // Only with a representable answer (else the query fails or reports a numerical failure,
+        // and the buffers are left alone).
+        let representable =
+            full.gradient.iter().all(|v| v.is_finite()) && full.prox.is_representable();
+        if let Some(sink) = self.shape.filter(|_| representable) {
+            let unique =
+                derivatives::shape_gradient(ctx, &problem, &outcome, &refined, self.central, sink);
+            // Not differentiable in a shape's parameters even where the pose derivatives are
+            // (or are smoothed): a hull's coplanar or repeated corners.
+            if !unique {
+                full.prox.derivatives = DerivativeKind::Subgradient;
+            }
+        }
         full
     }
 }
@@ -169,13 +184,52 @@ pub(crate) fn query_until(
     want: Want,
     threshold: Option<(Real, bool)>,
 ) -> Result<Full, Error> {
+    query_full(shape1, pose1, shape2, pose2, options, want, threshold, None)
+}
+
+/// [`query_until`] that also writes the derivatives of α* with respect to the shapes'
+/// parameters into `sink` (with `want` at least [`Want::Gradient`]): by the envelope theorem
+/// on the geometric answer's normal and contact points where those are unique, else from the
+/// interior-point path's multipliers (or its central path's adjoint, with smoothing). A kind
+/// of derivative that was `Exact` becomes `Subgradient` where a shape's derivative is not
+/// unique (`crate::shapes::Shape::support_gradient`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn query_full(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    want: Want,
+    threshold: Option<(Real, bool)>,
+    sink: Option<&mut ShapeSink<'_>>,
+) -> Result<Full, Error> {
     options.validate()?;
     // A half-space against anything: closed forms (two half-spaces: an error), or the cone
     // program when the options ask for the interior-point method or smoothing.
     let halfspace = super::halfspace::split(shape1, pose1, shape2, pose2)?;
     if let Some(pair) = &halfspace {
         if !pair.by_interior_point(options, threshold) {
-            return pair.proximity(want);
+            let mut full = pair.proximity(want)?;
+            // Only a representable answer has shape derivatives (the buffers stay untouched).
+            if let Some(sink) = sink.filter(|_| full.prox.is_representable()) {
+                // ∂α*/∂r₂ is ñ = n*/h_K(n*) (zero where α* ≡ 0).
+                let g = &full.gradient;
+                let n = Vec3::new(g[7], g[8], g[9]);
+                let p = &full.prox;
+                let unique = geometric::support_gradients(
+                    &n,
+                    [&p.contact1, &p.contact2],
+                    [shape1, shape2],
+                    [pose1, pose2],
+                    -p.alpha,
+                    sink,
+                );
+                if !unique && p.derivatives == DerivativeKind::Exact {
+                    full.prox.derivatives = DerivativeKind::Subgradient;
+                }
+            }
+            return Ok(full);
         }
     }
     let r1 = *pose1.position();
@@ -201,6 +255,9 @@ pub(crate) fn query_until(
         };
         if want >= Want::Gradient {
             derivatives::coincident(&mut full);
+        }
+        if let Some(sink) = sink {
+            sink.zero([shape1, shape2]);
         }
         return Ok(full);
     }
@@ -259,12 +316,25 @@ pub(crate) fn query_until(
                         _ => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
                     };
                     if !exact {
-                        let fallback = (want == Want::Gradient).then_some(g);
+                        let fallback = (want == Want::Gradient).then_some((g, dalpha_dd));
                         return derivatives_by_ipm(
-                            prox, fallback, shape1, pose1, shape2, pose2, options, want,
+                            prox, fallback, shape1, pose1, shape2, pose2, options, want, sink,
                         );
                     }
                     prox.derivatives = DerivativeKind::Exact;
+                    if let Some(sink) = sink.filter(|_| prox.is_representable()) {
+                        let unique = geometric::support_gradients(
+                            &dalpha_dd,
+                            [&prox.contact1, &prox.contact2],
+                            shapes,
+                            poses,
+                            -prox.alpha,
+                            sink,
+                        );
+                        if !unique {
+                            prox.derivatives = DerivativeKind::Subgradient;
+                        }
+                    }
                 }
                 return Ok(Full {
                     prox,
@@ -295,7 +365,7 @@ pub(crate) fn query_until(
             geometric::Outcome::Fallback => {}
         }
     }
-    query_ipm_until(shape1, pose1, shape2, pose2, options, want, threshold)
+    query_ipm_until(shape1, pose1, shape2, pose2, options, want, threshold, sink)
 }
 
 /// The derivatives from the interior-point path where the geometric solution has none (x* not
@@ -307,21 +377,31 @@ pub(crate) fn query_until(
 #[allow(clippy::too_many_arguments)]
 fn derivatives_by_ipm(
     geometric: Proximity,
-    gradient: Option<[Real; 14]>,
+    gradient: Option<([Real; 14], Vec3)>,
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
     pose2: &Pose,
     options: &Options,
     want: Want,
+    mut sink: Option<&mut ShapeSink<'_>>,
 ) -> Result<Full, Error> {
-    let mut full = query_ipm(shape1, pose1, shape2, pose2, options, want)?;
+    let mut full = query_ipm_until(
+        shape1,
+        pose1,
+        shape2,
+        pose2,
+        options,
+        want,
+        None,
+        sink.as_deref_mut(),
+    )?;
     if full.prox.status.is_converged() {
         full.prox = Proximity {
             derivatives: full.prox.derivatives,
             ..geometric
         };
-    } else if let Some(g) = gradient {
+    } else if let Some((g, dalpha_dd)) = gradient {
         full = Full {
             prox: Proximity {
                 derivatives: DerivativeKind::Subgradient,
@@ -331,23 +411,23 @@ fn derivatives_by_ipm(
             jacobian: [[0.0; 14]; 4],
             decided: None,
         };
+        if let Some(sink) = sink.filter(|_| full.prox.is_representable()) {
+            // The envelope formula at the geometric contact points, as for the gradient.
+            geometric::support_gradients(
+                &dalpha_dd,
+                [&full.prox.contact1, &full.prox.contact2],
+                [shape1, shape2],
+                [pose1, pose2],
+                -full.prox.alpha,
+                sink,
+            );
+        }
     }
     Ok(full)
 }
 
-/// The interior-point path of [`query_until`] with no threshold.
-fn query_ipm(
-    shape1: &Shape,
-    pose1: &Pose,
-    shape2: &Shape,
-    pose2: &Pose,
-    options: &Options,
-    want: Want,
-) -> Result<Full, Error> {
-    query_ipm_until(shape1, pose1, shape2, pose2, options, want, None)
-}
-
 /// The interior-point path of [`query_until`]: `r₂ ≠ r₁`, both finite.
+#[allow(clippy::too_many_arguments)]
 fn query_ipm_until(
     shape1: &Shape,
     pose1: &Pose,
@@ -356,6 +436,7 @@ fn query_ipm_until(
     options: &Options,
     want: Want,
     threshold: Option<(Real, bool)>,
+    sink: Option<&mut ShapeSink<'_>>,
 ) -> Result<Full, Error> {
     let r1 = *pose1.position();
     let r2 = *pose2.position();
@@ -409,6 +490,7 @@ fn query_ipm_until(
             want,
             threshold,
             central: (options.smoothing > 0.0 && threshold.is_none()).then_some(options.smoothing),
+            shape: sink,
         },
     )
     .ok_or(Error::Internal("proximity: variable count out of range"))?;

@@ -2,7 +2,7 @@
 //! along the axis): the cone `[αR; u − γ e_x]` and the rows `αL/2 ∓ γ ≥ 0`.
 
 use super::support::{ball_normal, PieceEval, Round, SupportMap};
-use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
 
@@ -29,6 +29,29 @@ impl Capsule {
     /// The segment length `L`.
     pub fn length(&self) -> Real {
         self.length
+    }
+
+    /// `∂h(m)/∂(R, L) = (‖m‖, |m_x|/2)`: `h(m) = (L/2)|m_x| + R‖m‖` is linear in both.
+    pub(crate) fn support_gradient(&self, m: &Vec3, out: &mut [Real]) {
+        out[0] = m.norm();
+        out[1] = 0.5 * m.x.abs();
+    }
+
+    /// The rows' derivatives at `p`: the cone's `αR·inv_scale`, the rows `α(L/2)·inv_scale ∓ γ`.
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) {
+        out[0] += inv_scale * p(0).a;
+        out[1] += 0.5 * inv_scale * (p(4).a + p(5).a);
+    }
+
+    /// `∂ρ/∂(R, L)` of the bounding radius `ρ = R + L/2`.
+    pub(crate) fn radius_gradient(&self, out: &mut [Real]) {
+        out[0] = 1.0;
+        out[1] = 0.5;
     }
 }
 

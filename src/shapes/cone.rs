@@ -2,7 +2,7 @@
 //! `+H/4 e_x`. Scaled: the cone `[tan β (u_x + α 3H/4); u_y; u_z]` and the row `αH/4 − u_x ≥ 0`.
 
 use super::support::{nearest_normal, PieceEval, Round, SupportMap};
-use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
 
@@ -49,6 +49,50 @@ impl Cone {
     /// The half angle β in radians.
     pub fn half_angle(&self) -> Real {
         self.half_angle
+    }
+
+    /// `∂h(m)/∂(H, β)` at the support point `c` (body frame). `h` is homogeneous of degree one
+    /// in `H`, so `∂h/∂H = h(m)/H`. A change of β turns every generator about the apex: the
+    /// point a fraction `t = (c_x + 3H/4)/H` of the way from the apex to the rim moves out by
+    /// `t H sec²β` radially, so `∂h/∂β = t H sec²β ‖m_yz‖` (0 at the apex, the rim's
+    /// `H sec²β ‖m_yz‖` on it, and 0 on the base disc, where `m_yz = 0`). Exact wherever the
+    /// contact point is known, the side's generators included.
+    pub(crate) fn support_gradient(&self, m: &Vec3, c: &Vec3, out: &mut [Real]) {
+        let h = self.height;
+        let radial = m.y.hypot(m.z);
+        let value = (-0.75 * h * m.x).max(0.25 * h * m.x + h * self.tan_beta * radial);
+        let t = ((c.x + 0.75 * h) / h).clamp(0.0, 1.0);
+        let sec2 = 1.0 + self.tan_beta * self.tan_beta;
+        out[0] = value / h;
+        out[1] = t * h * sec2 * radial;
+    }
+
+    /// The rows' derivatives at `p`: the cone `tan β (u_x + α(3H/4)·inv_scale)` and the row
+    /// `α(H/4)·inv_scale − u_x`.
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) {
+        let (p0, p4) = (p(0), p(4));
+        let t = self.tan_beta;
+        out[0] += inv_scale * (0.75 * t * p0.a + 0.25 * p4.a);
+        out[1] += (1.0 + t * t) * (p0.u.x + 0.75 * self.height * inv_scale * p0.a);
+    }
+
+    /// `∂ρ/∂(H, β)` of the bounding radius: the apex's distance `3H/4`, or the rim's
+    /// `√(H²/16 + H² tan²β)`, whichever is larger.
+    pub(crate) fn radius_gradient(&self, out: &mut [Real]) {
+        let h = self.height;
+        let rim = Vec3::new(0.25 * h, h * self.tan_beta, 0.0);
+        let rho = rim.norm();
+        if 0.75 * h >= rho {
+            out[0] = 0.75;
+            out[1] = 0.0;
+        } else {
+            self.support_gradient(&(rim / rho), &rim, out);
+        }
     }
 
     pub(crate) fn bounding_radius(&self) -> Real {

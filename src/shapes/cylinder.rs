@@ -2,7 +2,7 @@
 //! `αL/2 ∓ u_x ≥ 0`.
 
 use super::support::{nearest_normal, PieceEval, Round, SupportMap};
-use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
 
@@ -29,6 +29,31 @@ impl Cylinder {
     /// The length `L` (flat ends at `x = ±L/2`).
     pub fn length(&self) -> Real {
         self.length
+    }
+
+    /// `∂h(m)/∂(R, L) = (‖m_yz‖, |m_x|/2)`: `h(m) = (L/2)|m_x| + R‖m_yz‖` is linear in both.
+    pub(crate) fn support_gradient(&self, m: &Vec3, out: &mut [Real]) {
+        out[0] = m.y.hypot(m.z);
+        out[1] = 0.5 * m.x.abs();
+    }
+
+    /// The rows' derivatives at `p`: the cone's `αR·inv_scale`, the rows `α(L/2)·inv_scale ∓ u_x`.
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) {
+        out[0] += inv_scale * p(0).a;
+        out[1] += 0.5 * inv_scale * (p(4).a + p(5).a);
+    }
+
+    /// `∂ρ/∂(R, L)` of the bounding radius `ρ = √(R² + L²/4)`.
+    pub(crate) fn radius_gradient(&self, out: &mut [Real]) {
+        let (r, half) = (self.radius, 0.5 * self.length);
+        let rho = r.hypot(half);
+        out[0] = r / rho;
+        out[1] = 0.5 * half / rho;
     }
 }
 

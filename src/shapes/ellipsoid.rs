@@ -1,7 +1,7 @@
 //! Ellipsoid: `bᵀ P b ≤ 1` with `P = UᵀU` (Cholesky). Scaled: the cone `[α; U u]`.
 
 use super::support::{PieceEval, Round, SupportMap};
-use super::{BodyRow, ConicShape, RowSink};
+use super::{BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Mat3, Real, Vec3};
 
@@ -117,6 +117,55 @@ impl Ellipsoid {
     /// The (symmetrised) matrix `P`.
     pub fn matrix(&self) -> &Mat3 {
         &self.p
+    }
+
+    /// `∂h(m)/∂P` (nine entries, row-major) of `h(m) = √(mᵀP⁻¹m)`: with `g = P⁻¹m`,
+    /// `dh = −gᵀ dP g/(2h)`. The matrix is symmetric, so this is also the derivative with
+    /// respect to each entry as given, through the constructor's symmetrisation `(P + Pᵀ)/2`.
+    pub(crate) fn support_gradient(&self, m: &Vec3, out: &mut [Real]) {
+        let g = self.p_inv * m;
+        let h = m.dot(&g).max(0.0).sqrt();
+        if !(h > 0.0) {
+            out[..9].fill(0.0);
+            return;
+        }
+        let k = -0.5 / h;
+        for i in 0..3 {
+            for j in 0..3 {
+                out[3 * i + j] = k * g[i] * g[j];
+            }
+        }
+    }
+
+    /// The rows' derivatives at `p`: the cone `[α; ℓ U u]` with `P = UᵀU` and `ℓ = 1/inv_scale`.
+    /// Any `dU` with `dUᵀU + UᵀdU = dP` gives the same derivatives of the solution (two such
+    /// choices differ by an infinitesimal rotation of the cone's coordinates, under which the
+    /// program, its central path and its optimum are unchanged); `dU = ½U⁻ᵀdP` is the simplest:
+    /// `Σ_r ∂s_r/∂P_ij = ½ℓ (U⁻¹W)_ij` with `W`'s row `r` the point of row `r + 1`, then
+    /// symmetrised (the entries as given enter through `(P + Pᵀ)/2`).
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) {
+        let Some(u_inv) = self.u.try_inverse() else {
+            return;
+        };
+        let w = Mat3::from_rows(&[p(1).u.transpose(), p(2).u.transpose(), p(3).u.transpose()]);
+        let g = u_inv * w * (0.5 / inv_scale);
+        for i in 0..3 {
+            for j in 0..3 {
+                out[3 * i + j] += 0.5 * (g[(i, j)] + g[(j, i)]);
+            }
+        }
+    }
+
+    /// `∂ρ/∂P` of the bounding radius `ρ = λ_min^(−1/2)`: the support function's derivative
+    /// along the longest semi-axis (`ρ` is the largest `h(m)` over unit `m`).
+    pub(crate) fn radius_gradient(&self, out: &mut [Real]) {
+        let axis = self.axes.column(0).into_owned();
+        self.support_gradient(&axis, out);
     }
 
     pub(crate) fn bounding_radius(&self) -> Real {

@@ -10,7 +10,7 @@
 //! in that shape's body frame).
 
 use super::support::{PieceEval, Round, SupportMap};
-use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
 
@@ -37,6 +37,22 @@ impl Halfspace {
     /// The distance `depth` from the body origin up to the boundary plane.
     pub fn depth(&self) -> Real {
         self.depth
+    }
+
+    /// `∂h(m)/∂depth = m_z` (the support function is `depth·m_z` along `+e_z`, the only
+    /// direction in which it is finite).
+    pub(crate) fn support_gradient(&self, m: &Vec3, out: &mut [Real]) {
+        out[0] = m.z;
+    }
+
+    /// The row's derivative at `p`: `α·depth·inv_scale − u_z`.
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) {
+        out[0] += inv_scale * p(4).a;
     }
 
     /// The boundary point on the body z axis.

@@ -7,7 +7,7 @@
 
 use super::quickhull::{self, HullError};
 use super::support::{ball_normal, PieceEval, Round, SupportMap};
-use super::{BodyRow, ConicShape, Polytope, RowSink, Shape};
+use super::{BodyRow, ConicShape, Polytope, RowPoint, RowSink, Shape};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
 
@@ -19,6 +19,11 @@ pub struct ConvexHull {
     radius: Real,
     /// The points as given.
     points: Vec<[Real; 3]>,
+    /// Each corner's index among the points.
+    source: Vec<u32>,
+    /// Whether another point given is the same as this corner (moving one of the two out moves
+    /// the corner, moving it in does not: no derivative).
+    shared: Vec<bool>,
 }
 
 impl ConvexHull {
@@ -67,6 +72,8 @@ impl ConvexHull {
             })
         };
         let mesh = quickhull::hull(&pts).map_err(why)?;
+        let source = mesh.source.clone();
+        let shared = shared_corners(points, &source);
         let tol = quickhull::tolerance(&pts);
         let centroid = mesh.vertices.iter().sum::<Vec3>() / mesh.vertices.len() as Real;
         let poly = Polytope::from_mesh(mesh, tol).map_err(|least| {
@@ -83,6 +90,8 @@ impl ConvexHull {
             core: Box::new(core),
             radius,
             points: points.to_vec(),
+            source,
+            shared,
         })
     }
 
@@ -119,6 +128,255 @@ impl ConvexHull {
     pub(crate) fn inscribed_radius(&self) -> Real {
         self.core.inscribed_radius() + self.radius
     }
+}
+
+/// The derivatives with respect to the points and the radius (`docs/derivatives.md`,
+/// "Derivatives with respect to the shapes"). A point of the hull's boundary is a convex
+/// combination `Σ w_k v_k` of the corners of its feature (a corner, an edge, a facet); moving
+/// corner `k` by `δ` moves the boundary there by `w_k δ` (the facet's plane through its
+/// corners, to first order), so the support function at that point changes by `w_k m·δ`.
+/// A facet of three corners has one such combination; a facet of more (coplanar corners) has
+/// many, and moving one corner off its plane folds the facet one way or the other: one of them
+/// (a triangle of the facet's fan) is used, and the answer is flagged.
+impl ConvexHull {
+    /// `3n + 1`: the points (row-major), then the radius.
+    pub(crate) fn parameter_count(&self) -> usize {
+        3 * self.points.len() + 1
+    }
+
+    /// Writes the points (row-major) and the radius, as given.
+    pub(crate) fn write_parameters(&self, out: &mut [Real]) {
+        let n = self.points.len();
+        for (i, p) in self.points.iter().enumerate() {
+            out[3 * i..3 * i + 3].copy_from_slice(p);
+        }
+        out[3 * n] = self.radius;
+    }
+
+    /// `∂h(m)/∂(points, R)` at the support point `x` (body frame) into `out` (overwritten): `‖m‖` for the radius, and `w_k m` for the point behind each corner `k` of the
+    /// core point's feature. False where that is not unique (a facet of more than three
+    /// corners, or a corner given twice among the points).
+    pub(crate) fn support_gradient(&self, m: &Vec3, x: &Vec3, out: &mut [Real]) -> bool {
+        let mn = m.norm();
+        out[..3 * self.points.len()].fill(0.0);
+        out[3 * self.points.len()] = mn;
+        let core = if self.radius > 0.0 && mn > 0.0 {
+            x - m * (self.radius / mn)
+        } else {
+            *x
+        };
+        let (ids, w, k, mut unique) = self.feature(&core);
+        for t in 0..k {
+            let s = self.source[ids[t]] as usize;
+            for j in 0..3 {
+                out[3 * s + j] += w[t] * m[j];
+            }
+            unique &= !self.shared[ids[t]];
+        }
+        unique
+    }
+
+    /// The corners (indices into [`ConvexHull::corners`]) and weights whose combination is the
+    /// core point `y` (on the core's boundary), their number, and whether they are the only
+    /// ones: a corner where three or more facets are active (within 1e-8 of the core's
+    /// bounding radius), an edge where two are, a facet's triangle where one is.
+    fn feature(&self, y: &Vec3) -> ([usize; 3], [Real; 3], usize, bool) {
+        let poly = self.poly();
+        let (normals, offsets) = poly.facets();
+        let tol = 1e-8 * self.core.bounding_radius();
+        let mut active = [0usize; 3];
+        let mut count = 0;
+        for (f, (n, o)) in normals.iter().zip(offsets).enumerate() {
+            if n.dot(y) >= o - tol {
+                if count < 3 {
+                    active[count] = f;
+                }
+                count += 1;
+            }
+        }
+        let corners = self.corners();
+        let nearest = |ids: &mut dyn Iterator<Item = usize>| {
+            ids.min_by(|&a, &b| {
+                (corners[a] - y)
+                    .norm_squared()
+                    .total_cmp(&(corners[b] - y).norm_squared())
+            })
+        };
+        let loop_of = |f: usize| poly.facet_loop(f).unwrap_or(&[]);
+        match count {
+            1 => {
+                let l = loop_of(active[0]);
+                if l.len() < 3 {
+                    return self.vertex(nearest(&mut (0..corners.len())), false);
+                }
+                let (tri, w) = fan_triangle(corners, l, y);
+                (tri, w, 3, l.len() == 3)
+            }
+            2 => {
+                let (la, lb) = (loop_of(active[0]), loop_of(active[1]));
+                let mut common = la.iter().filter(|c| lb.contains(c)).map(|&c| c as usize);
+                match (common.next(), common.next()) {
+                    (Some(a), Some(b)) => {
+                        let e = corners[b] - corners[a];
+                        let t = ((y - corners[a]).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
+                        ([a, b, 0], [1.0 - t, t, 0.0], 2, true)
+                    }
+                    _ => self.vertex(nearest(&mut (0..corners.len())), false),
+                }
+            }
+            0 => self.vertex(nearest(&mut (0..corners.len())), false),
+            _ => {
+                let l = loop_of(active[0]);
+                let k = nearest(&mut l.iter().map(|&c| c as usize));
+                let close = k.is_some_and(|k| (corners[k] - y).norm() <= 1e3 * tol);
+                self.vertex(k, close)
+            }
+        }
+    }
+
+    /// One corner with weight one (`None`: none at all).
+    fn vertex(&self, k: Option<usize>, unique: bool) -> ([usize; 3], [Real; 3], usize, bool) {
+        match k {
+            Some(k) => ([k, 0, 0], [1.0, 0.0, 0.0], 1, unique),
+            None => ([0; 3], [0.0; 3], 0, false),
+        }
+    }
+
+    /// The rows' derivatives at `p` (`shapes/parameters.rs`): the cone's `αR·inv_scale`, and
+    /// facet `f`'s row `α o_f·inv_scale − n_f·y` (`y` the core point: `u` unpadded, the slack
+    /// `w` padded) as a function of the corners through its plane. For the triangle `(A, B, C)`
+    /// of the facet (`N = (B − A)×(C − A)`) the row moves with corner `A` by
+    /// `inv_scale·w̃_A n_f`, `w̃_A = (α (B×C) + y'×(B − C))·N/‖N‖²` (`y' = y/inv_scale`): `α`
+    /// times the barycentric weight of `y'/α`, linear in the point. A facet of more corners
+    /// takes the triangle of its fan that holds `at` (the solution's core point, body frame);
+    /// false when such a facet, or a corner given twice, carries weight. `central`: the points
+    /// are those of the central path's adjoint, not `−λ` times the solution point.
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        at: &Vec3,
+        central: bool,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) -> bool {
+        let n = self.points.len();
+        let padded = self.radius > 0.0;
+        if padded {
+            out[3 * n] += inv_scale * p(0).a;
+        }
+        let poly = self.poly();
+        let (normals, _) = poly.facets();
+        let corners = self.corners();
+        let biggest = (0..normals.len()).fold(0.0, |b: Real, f| b.max(p(4 + f).a.abs()));
+        let mut unique = true;
+        // Unpadded, the radius's derivative (growing it from 0) is that of a cone whose
+        // multiplier balances the facets': `−inv_scale·‖Σ_f p_f.α n_f‖` at the optimum (where
+        // every `p_f` is `−λ_f` times the solution point). The central path has none: padding a
+        // hull adds a cone to the program, whose barrier moves the central point by O(μ) at once.
+        if !padded && !central {
+            let v: Vec3 = normals
+                .iter()
+                .enumerate()
+                .map(|(f, n)| n * p(4 + f).a)
+                .sum();
+            out[3 * n] -= inv_scale * v.norm();
+        }
+        for (f, nf) in normals.iter().enumerate() {
+            let q = p(4 + f);
+            let y = if padded { q.w } else { q.u };
+            let l = poly.facet_loop(f).unwrap_or(&[]);
+            if l.len() < 3 {
+                continue;
+            }
+            let (tri, _) = fan_triangle(corners, l, at);
+            let significant = q.a.abs() > 1e-6 * biggest;
+            if l.len() > 3 && significant {
+                unique = false;
+            }
+            let [a, b, c] = tri.map(|k| corners[k]);
+            let big_n = (b - a).cross(&(c - a));
+            let nn = big_n.norm_squared();
+            if !(nn > 0.0) {
+                continue;
+            }
+            for (k, (u, v)) in [(b, c), (c, a), (a, b)].into_iter().enumerate() {
+                let wt = (u.cross(&v) * (inv_scale * q.a) + y.cross(&(u - v))).dot(&big_n) / nn;
+                let s = self.source[tri[k]] as usize;
+                for j in 0..3 {
+                    out[3 * s + j] += wt * nf[j];
+                }
+                if significant && wt != 0.0 && self.shared[tri[k]] {
+                    unique = false;
+                }
+            }
+        }
+        unique
+    }
+
+    /// `∂ρ/∂(points, R)` of the bounding radius (the farthest corner's distance plus `R`):
+    /// the support function's derivative along that corner's direction.
+    pub(crate) fn radius_gradient(&self, out: &mut [Real]) -> bool {
+        let Some(v) = self
+            .corners()
+            .iter()
+            .max_by(|a, b| a.norm_squared().total_cmp(&b.norm_squared()))
+        else {
+            return false;
+        };
+        let dir = v.normalize();
+        self.support_gradient(&dir, &(v + dir * self.radius), out)
+    }
+}
+
+/// The triangle `(l₀, l_i, l_{i+1})` of a facet's fan (corner loop `l`) that holds the
+/// projection of `y` (the one that comes closest, if rounding leaves none), and the
+/// barycentric weights of that projection.
+fn fan_triangle(corners: &[Vec3], l: &[u32], y: &Vec3) -> ([usize; 3], [Real; 3]) {
+    let mut best = ([0usize; 3], [0.0; 3], Real::NEG_INFINITY);
+    for i in 1..l.len() - 1 {
+        let tri = [l[0] as usize, l[i] as usize, l[i + 1] as usize];
+        let w = barycentric(&corners[tri[0]], &corners[tri[1]], &corners[tri[2]], y);
+        let least = w[0].min(w[1]).min(w[2]);
+        if least > best.2 {
+            best = (tri, w, least);
+        }
+        if least >= -1e-12 {
+            break;
+        }
+    }
+    (best.0, best.1)
+}
+
+/// The barycentric weights in the triangle `(a, b, c)` of the projection of `y` onto its plane.
+fn barycentric(a: &Vec3, b: &Vec3, c: &Vec3, y: &Vec3) -> [Real; 3] {
+    let n = (b - a).cross(&(c - a));
+    let nn = n.norm_squared();
+    if !(nn > 0.0) {
+        return [1.0, 0.0, 0.0];
+    }
+    let w = |p: &Vec3, q: &Vec3| (p - y).cross(&(q - y)).dot(&n) / nn;
+    [w(b, c), w(c, a), w(a, b)]
+}
+
+/// For each corner (`source`: its index among `points`), whether another of the points has the
+/// same coordinates.
+fn shared_corners(points: &[[Real; 3]], source: &[u32]) -> Vec<bool> {
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    let key = |i: &u32| points[*i as usize];
+    order.sort_unstable_by(|a, b| {
+        let (p, q) = (key(a), key(b));
+        p[0].total_cmp(&q[0])
+            .then(p[1].total_cmp(&q[1]))
+            .then(p[2].total_cmp(&q[2]))
+    });
+    let mut repeated = vec![false; points.len()];
+    for w in order.windows(2) {
+        if key(&w[0]) == key(&w[1]) {
+            repeated[w[0] as usize] = true;
+            repeated[w[1] as usize] = true;
+        }
+    }
+    source.iter().map(|&s| repeated[s as usize]).collect()
 }
 
 impl SupportMap for ConvexHull {

@@ -15,6 +15,7 @@ mod cylinder;
 mod ellipsoid;
 mod halfspace;
 mod hull;
+mod parameters;
 mod polygon;
 mod polytope;
 mod quickhull;
@@ -64,6 +65,18 @@ impl BodyRow {
     pub(crate) const fn new(fu: [Real; 3], fa: Real, fw: [Real; 3]) -> Self {
         BodyRow { fu, fa, fw }
     }
+}
+
+/// A point `(u, α, w)` of a shape's row space (body coordinates and slacks, lengths times the
+/// problem's `inv_scale`, as the rows see them), at which the rows' derivatives with respect to
+/// the shape's parameters are evaluated: `∂s/∂θ = ∂f_u/∂θ·u + ∂f_α/∂θ α + ∂f_w/∂θ·w`
+/// (`shapes/parameters.rs`). Rows are numbered as a shape writes them: the cone's components
+/// 0..4, then orthant row k as `4 + k`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct RowPoint {
+    pub u: Vec3,
+    pub a: Real,
+    pub w: Vec3,
 }
 
 /// Receives the rows a shape contributes.
@@ -139,6 +152,8 @@ pub struct Shape {
     geometry: Geometry,
     bounding_radius: Real,
     inscribed_radius: Real,
+    /// The half extents a box was built from (`Shape::cuboid`): its parameters.
+    cuboid: Option<[Real; 3]>,
 }
 
 impl Shape {
@@ -175,6 +190,7 @@ impl Shape {
             geometry,
             bounding_radius,
             inscribed_radius,
+            cuboid: None,
         })
     }
 
@@ -250,7 +266,9 @@ impl Shape {
             [0.0, -1.0, 0.0],
             [0.0, 0.0, -1.0],
         ];
-        Shape::polytope(&a, &[hx, hy, hz, hx, hy, hz])
+        let mut s = Shape::polytope(&a, &[hx, hy, hz, hx, hy, hz])?;
+        s.cuboid = Some([hx, hy, hz]);
+        Ok(s)
     }
 
     /// A capsule: points within `radius` of the segment `±length/2 · e_x`.
@@ -310,6 +328,7 @@ impl Shape {
             geometry: Geometry::Halfspace(h),
             bounding_radius: Real::INFINITY,
             inscribed_radius: depth,
+            cuboid: None,
         })
     }
 

@@ -1,8 +1,10 @@
 //! Padded polygon: points within `R` of the plane polygon `{ (y, 0) : C y ≤ d }`. Scaled, with
 //! the slack `y ∈ R²`: the cone `[αR; u − (y, 0)]` and the rows `α d_i − c_i·y ≥ 0`.
 
-use super::support::{argmax_dot, ball_normal, nearest_normal, PieceEval, Round, SupportMap};
-use super::{check_halfspaces, positive_finite, BodyRow, ConicShape, RowSink};
+use super::support::{
+    argmax_dot, ball_normal, multipliers, nearest_normal, Active, PieceEval, Round, SupportMap,
+};
+use super::{check_halfspaces, positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
 
@@ -116,6 +118,103 @@ impl Polygon {
 
     pub(crate) fn inscribed_radius(&self) -> Real {
         self.radius
+    }
+
+    /// `3m + 1`: the rows of `C` (row-major), `d`, then `R`.
+    pub(crate) fn parameter_count(&self) -> usize {
+        3 * self.c.len() + 1
+    }
+
+    /// Writes `C` (row-major), `d` and `R`, as given.
+    pub(crate) fn write_parameters(&self, out: &mut [Real]) {
+        let m = self.c.len();
+        for (i, row) in self.c.iter().enumerate() {
+            out[2 * i..2 * i + 2].copy_from_slice(row);
+        }
+        out[2 * m..3 * m].copy_from_slice(&self.d);
+        out[3 * m] = self.radius;
+    }
+
+    /// `∂h(m)/∂(C, d, R)` at the support point `x` (body frame) into `out` (overwritten). `h(m) = max { m_xy·y : C y ≤ d } + R‖m‖`: `∂h/∂R = ‖m‖`, and the plane
+    /// polygon's linear program gives `∂h/∂d_i = λ_i`, `∂h/∂C_ij = −λ_i y_j` with `y` the core
+    /// point `x − R m/‖m‖` and `λ` the multipliers of the edges active there (none on the flat
+    /// top or bottom, where `m_xy = 0`). False where they are not unique.
+    pub(crate) fn support_gradient(&self, m: &Vec3, x: &Vec3, out: &mut [Real]) -> bool {
+        let count = self.c.len();
+        let mn = m.norm();
+        out[..3 * count].fill(0.0);
+        out[3 * count] = mn;
+        let mxy = Vec3::new(m.x, m.y, 0.0);
+        if !(mxy.norm() > 1e-12 * mn) {
+            return true;
+        }
+        let mut core = x - m * (self.radius / mn);
+        core.z = 0.0;
+        let mut act = Active::new();
+        self.active_edges(&core, &mut act);
+        let mut exact = true;
+        if act.n == 0 {
+            // Not on the polygon's boundary (it cannot be, to rounding): the support corner's.
+            core = self.vertices[argmax_dot(&self.vertices, &mxy).0];
+            self.active_edges(&core, &mut act);
+            exact = false;
+        }
+        let (lam, unique) = multipliers(&act.rows[..act.n], &mxy, 2);
+        for k in 0..act.n {
+            let i = act.ids[k];
+            let l = lam[k] / Vec3::new(self.c[i][0], self.c[i][1], 0.0).norm();
+            out[2 * count + i] = l;
+            out[2 * i] = -l * core.x;
+            out[2 * i + 1] = -l * core.y;
+        }
+        exact && unique && act.all
+    }
+
+    /// The edges active at the plane point `y` (indices and unit normals `(c_i, 0)/‖c_i‖`) into
+    /// `act` (emptied).
+    fn active_edges(&self, y: &Vec3, act: &mut Active) {
+        act.n = 0;
+        act.all = true;
+        let yn = y.norm();
+        for (i, (c, d)) in self.c.iter().zip(&self.d).enumerate() {
+            let a = Vec3::new(c[0], c[1], 0.0);
+            let k = a.norm();
+            if d / k - a.dot(y) / k <= 1e-8 * (d / k + yn) {
+                act.push(i, a / k);
+            }
+        }
+    }
+
+    /// The rows' derivatives at `p` (`shapes/parameters.rs`): the cone's `αR·inv_scale`, and
+    /// edge `i`'s row `α d_i·inv_scale − c_i·w` on the core point's slack `w`.
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) {
+        let m = self.c.len();
+        out[3 * m] += inv_scale * p(0).a;
+        for i in 0..m {
+            let q = p(4 + i);
+            out[2 * m + i] += inv_scale * q.a;
+            out[2 * i] -= q.w.x;
+            out[2 * i + 1] -= q.w.y;
+        }
+    }
+
+    /// `∂ρ/∂(C, d, R)` of the bounding radius (the farthest polygon corner's distance plus
+    /// `R`): the support function's derivative along that corner's direction.
+    pub(crate) fn radius_gradient(&self, out: &mut [Real]) -> bool {
+        let Some(v) = self
+            .vertices
+            .iter()
+            .max_by(|a, b| a.norm_squared().total_cmp(&b.norm_squared()))
+        else {
+            return false;
+        };
+        let dir = v.normalize();
+        self.support_gradient(&dir, &(v + dir * self.radius), out)
     }
 }
 

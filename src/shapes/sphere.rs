@@ -1,7 +1,7 @@
 //! Sphere: `‖b‖ ≤ R`. Scaled: the second-order cone `[αR; u]`.
 
 use super::support::{ball_normal, PieceEval, Round, SupportMap};
-use super::{positive_finite, BodyRow, ConicShape, RowSink};
+use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
 
@@ -21,6 +21,21 @@ impl Sphere {
     /// The radius `R`.
     pub fn radius(&self) -> Real {
         self.radius
+    }
+
+    /// `∂h(m)/∂R = ‖m‖` (the parameter: `R`).
+    pub(crate) fn support_gradient(&self, m: &Vec3, out: &mut [Real]) {
+        out[0] = m.norm();
+    }
+
+    /// The rows' derivatives at `p` (`shapes/parameters.rs`): the cone's `αR·inv_scale`.
+    pub(crate) fn row_gradient(
+        &self,
+        inv_scale: Real,
+        p: impl Fn(usize) -> RowPoint,
+        out: &mut [Real],
+    ) {
+        out[0] += inv_scale * p(0).a;
     }
 }
 

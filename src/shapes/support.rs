@@ -201,6 +201,179 @@ pub(crate) fn nearest_normal(normals: &[Vec3], m: &Vec3, cos_min: Real) -> Optio
     (c >= cos_min * n).then(|| normals[k])
 }
 
+/// At most this many active rows enter [`multipliers`] (more meet at one corner only in
+/// contrived polytopes; the rest are left out, and the answer is marked not unique).
+pub(crate) const MAX_ACTIVE_ROWS: usize = 8;
+
+/// The rows active at a support point: their indices and unit normals, and whether all of
+/// them fitted.
+pub(crate) struct Active {
+    pub ids: [usize; MAX_ACTIVE_ROWS],
+    pub rows: [Vec3; MAX_ACTIVE_ROWS],
+    pub n: usize,
+    pub all: bool,
+}
+
+impl Active {
+    pub(crate) fn new() -> Self {
+        Active {
+            ids: [0; MAX_ACTIVE_ROWS],
+            rows: [Vec3::zeros(); MAX_ACTIVE_ROWS],
+            n: 0,
+            all: true,
+        }
+    }
+
+    /// Adds row `i` with unit normal `row` (or notes that it did not fit).
+    #[inline]
+    pub(crate) fn push(&mut self, i: usize, row: Vec3) {
+        if self.n == MAX_ACTIVE_ROWS {
+            self.all = false;
+        } else {
+            self.ids[self.n] = i;
+            self.rows[self.n] = row;
+            self.n += 1;
+        }
+    }
+}
+
+/// The multipliers `λ ≥ 0` with `Σ λ_k rows_k = m` of the rows active at a support point (the
+/// dual of the support function's linear program `max m·x s.t. a_k·x ≤ b_k`: `∂h/∂b_k = λ_k`,
+/// `∂h/∂a_k = −λ_k x`), in a space of dimension `dim` (2: rows with a zero z, a polygon's
+/// edges; 3: a polytope's facets). Up to `dim` independent rows have one solution (the
+/// normal equations); more, as at a corner where four facets meet, have many: the first subset
+/// of `dim` rows with a solution `λ ≥ 0` is taken, and the flag says whether every such subset
+/// gives the same `λ` (then it is unique). The flag is also false when no exact solution exists
+/// (the rows given do not span `m`: the least-squares one is returned).
+pub(crate) fn multipliers(rows: &[Vec3], m: &Vec3, dim: usize) -> ([Real; MAX_ACTIVE_ROWS], bool) {
+    let mut lam = [0.0; MAX_ACTIVE_ROWS];
+    let n = rows.len().min(MAX_ACTIVE_ROWS);
+    let scale = m.norm();
+    if n == 0 || !(scale > 0.0) {
+        return (lam, n == rows.len() && !(scale > 0.0));
+    }
+    let tol = 1e-9 * scale;
+    // The common case: at most `dim` independent rows.
+    if n <= dim {
+        if let Some((x, residual)) = gram_solve(&rows[..n], m) {
+            if residual <= 1e-9 * scale && x[..n].iter().all(|v| *v >= -tol) {
+                lam[..n].copy_from_slice(&x[..n]);
+                return (lam, n == rows.len());
+            }
+        }
+    }
+    // Dependent rows, or more rows than the dimension: every subset of at most `dim` of them
+    // with an exact solution λ ≥ 0.
+    let mut found = false;
+    let mut unique = n == rows.len();
+    let mut subset = |ids: &[usize]| {
+        let sub: [Vec3; 3] = [0, 1, 2].map(|k| ids.get(k).map_or(Vec3::zeros(), |&i| rows[i]));
+        let Some((x, residual)) = gram_solve(&sub[..ids.len()], m) else {
+            return;
+        };
+        if residual > 1e-9 * scale || x[..ids.len()].iter().any(|v| *v < -tol) {
+            return;
+        }
+        let mut full = [0.0; MAX_ACTIVE_ROWS];
+        for (k, &i) in ids.iter().enumerate() {
+            full[i] = x[k];
+        }
+        if !found {
+            lam = full;
+            found = true;
+        } else if (0..n).any(|i| (full[i] - lam[i]).abs() > 1e-9 * (1.0 + lam[i].abs())) {
+            unique = false;
+        }
+    };
+    for i in 0..n {
+        subset(&[i]);
+        for j in (i + 1)..n {
+            subset(&[i, j]);
+            if dim == 3 {
+                for k in (j + 1)..n {
+                    subset(&[i, j, k]);
+                }
+            }
+        }
+    }
+    if !found {
+        // No subset solves it exactly (the rows do not span m: a missed active row, or
+        // rounding at a nearly degenerate corner): the least-squares solution of the first rows.
+        let k = dim.min(n);
+        if let Some((x, _)) = gram_solve(&rows[..k], m) {
+            lam[..k].copy_from_slice(&x[..k]);
+        }
+        unique = false;
+    }
+    (lam, unique)
+}
+
+/// The least-squares solution `x` of `Σ x_k rows_k = m` for at most three independent rows (the
+/// normal equations), and its residual; `None` when the rows are dependent.
+fn gram_solve(rows: &[Vec3], m: &Vec3) -> Option<([Real; 3], Real)> {
+    let k = rows.len();
+    match k {
+        // Closed forms for the common cases: a facet, and a simple corner (Cramer's rule on
+        // `Σ x_k rows_k = m`, exact, so no residual).
+        1 => {
+            let rr = rows[0].norm_squared();
+            if !(rr > 0.0) {
+                return None;
+            }
+            let x = rows[0].dot(m) / rr;
+            return Some(([x, 0.0, 0.0], (rows[0] * x - m).norm()));
+        }
+        2 => {
+            let (g00, g01, g11) = (
+                rows[0].norm_squared(),
+                rows[0].dot(&rows[1]),
+                rows[1].norm_squared(),
+            );
+            let det = g00 * g11 - g01 * g01;
+            if !(det > 1e-20 * g00 * g11) {
+                return None;
+            }
+            let (b0, b1) = (rows[0].dot(m), rows[1].dot(m));
+            let (x0, x1) = ((g11 * b0 - g01 * b1) / det, (g00 * b1 - g01 * b0) / det);
+            return Some(([x0, x1, 0.0], (rows[0] * x0 + rows[1] * x1 - m).norm()));
+        }
+        3 => {
+            let (c0, c1, c2) = (
+                rows[1].cross(&rows[2]),
+                rows[2].cross(&rows[0]),
+                rows[0].cross(&rows[1]),
+            );
+            let det = rows[0].dot(&c0);
+            let scale = rows[0].norm_squared() * rows[1].norm_squared() * rows[2].norm_squared();
+            if !(det * det > 1e-20 * scale) {
+                return None;
+            }
+            return Some(([m.dot(&c0) / det, m.dot(&c1) / det, m.dot(&c2) / det], 0.0));
+        }
+        _ => {}
+    }
+    let mut g = Mat3::identity();
+    let mut rhs = Vec3::zeros();
+    let mut big: Real = 0.0;
+    for a in 0..k {
+        rhs[a] = rows[a].dot(m);
+        for b in 0..k {
+            g[(a, b)] = rows[a].dot(&rows[b]);
+        }
+        big = big.max(g[(a, a)]);
+    }
+    let det = g.determinant();
+    if !(det.abs() > 1e-20 * big.powi(k as i32)) {
+        return None;
+    }
+    let x = g.try_inverse()? * rhs;
+    let mut fit = Vec3::zeros();
+    for a in 0..k {
+        fit += rows[a] * x[a];
+    }
+    Some(([x[0], x[1], x[2]], (fit - m).norm()))
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;

@@ -37,6 +37,7 @@ mod active_set;
 mod gradient;
 mod jacobian;
 mod refine;
+mod shape;
 mod smoothed;
 #[cfg(test)]
 mod tests;
@@ -45,6 +46,7 @@ use active_set::identify;
 pub(crate) use jacobian::consistent;
 use jacobian::exact_jacobian;
 pub(crate) use refine::refine_solution;
+pub(crate) use shape::shape_gradient;
 use smoothed::smoothed_jacobian;
 
 /// Below this largest quaternion component (below 1e-150), derivatives with respect to q (which scale like

@@ -2,6 +2,7 @@
 //! `α b_i − a_i·u ≥ 0`.
 
 mod build;
+mod gradient;
 
 use super::climb::Climb;
 use super::quickhull::Lists;
