@@ -9,7 +9,7 @@ use super::distance::{
 use super::finite::proximity_numbers;
 use super::options::dcol_options;
 use super::pose::dcol_pose;
-use super::proximity::{check_inputs, dcol_proximity_result, read_inputs};
+use super::proximity::{check_inputs, dcol_proximity_result, read_inputs, Inputs};
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
 use crate::error::{Error, ErrorDetail};
@@ -95,6 +95,36 @@ fn check_disjoint(d1: *mut f64, n1: usize, d2: *mut f64, n2: usize) -> Result<()
     Ok(())
 }
 
+/// A caller's derivative buffer, or `None` for NULL.
+type Buffer<'a> = Option<&'a mut [f64]>;
+
+/// The common inputs of the three shape-gradient functions: the shapes, poses and options read
+/// and checked, `result` checked non-NULL, and the two derivative buffers (NULL or sized by
+/// their shape's parameter count, checked disjoint).
+///
+/// # Safety
+/// As dcol_shape_gradient: the shape, pose and options pointers as dcol_proximity's, each
+/// buffer NULL or valid for writing its shape's parameter count of doubles.
+unsafe fn shape_inputs<'a, R>(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    (result, d_shape1, d_shape2): (*mut R, *mut f64, *mut f64),
+) -> Result<(Inputs<'a>, Buffer<'a>, Buffer<'a>), Failure> {
+    // SAFETY: forwarded from this function's contract.
+    let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+    check_out(result, "result")?;
+    // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+    let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+    let (n1, n2) = (q.shape1.parameter_count(), q.shape2.parameter_count());
+    check_disjoint(d_shape1, n1, d_shape2, n2)?;
+    // SAFETY: each NULL or valid for its count (contract), and disjoint (checked).
+    let (g1, g2) = unsafe { (buffer(d_shape1, n1), buffer(d_shape2, n2)) };
+    Ok((q, g1, g2))
+}
+
 /// alpha*, x* and the contact points (as dcol_proximity), and the derivatives of alpha* with
 /// respect to each shape's parameters (see dcol_shape_parameter_count: the numbers exactly as
 /// given to the constructor, so a finite difference on the constructor's arguments checks
@@ -132,15 +162,9 @@ pub unsafe extern "C" fn dcol_shape_gradient(
     d_shape2: *mut f64,
 ) -> dcol_status {
     run("dcol_shape_gradient", || {
+        let io = (result, d_shape1, d_shape2);
         // SAFETY: forwarded from this function's contract.
-        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
-        check_out(result, "result")?;
-        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
-        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let (n1, n2) = (q.shape1.parameter_count(), q.shape2.parameter_count());
-        check_disjoint(d_shape1, n1, d_shape2, n2)?;
-        // SAFETY: each NULL or valid for its count (contract), and disjoint (checked).
-        let (g1, g2) = unsafe { (buffer(d_shape1, n1), buffer(d_shape2, n2)) };
+        let (q, g1, g2) = unsafe { shape_inputs(shape1, pose1, shape2, pose2, options, io) }?;
         let prox =
             query::shape_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, g1, g2)
                 .map_err(Failure::api)?;
@@ -175,15 +199,9 @@ pub unsafe extern "C" fn dcol_distance_shape_gradient(
     d_shape2: *mut f64,
 ) -> dcol_status {
     run("dcol_distance_shape_gradient", || {
+        let io = (result, d_shape1, d_shape2);
         // SAFETY: forwarded from this function's contract.
-        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
-        check_out(result, "result")?;
-        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
-        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let (n1, n2) = (q.shape1.parameter_count(), q.shape2.parameter_count());
-        check_disjoint(d_shape1, n1, d_shape2, n2)?;
-        // SAFETY: each NULL or valid for its count (contract), and disjoint (checked).
-        let (g1, g2) = unsafe { (buffer(d_shape1, n1), buffer(d_shape2, n2)) };
+        let (q, g1, g2) = unsafe { shape_inputs(shape1, pose1, shape2, pose2, options, io) }?;
         let d = query::distance_shape_gradient(
             q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, g1, g2,
         )
@@ -219,15 +237,9 @@ pub unsafe extern "C" fn dcol_signed_distance_shape_gradient(
     d_shape2: *mut f64,
 ) -> dcol_status {
     run("dcol_signed_distance_shape_gradient", || {
+        let io = (result, d_shape1, d_shape2);
         // SAFETY: forwarded from this function's contract.
-        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
-        check_out(result, "result")?;
-        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
-        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let (n1, n2) = (q.shape1.parameter_count(), q.shape2.parameter_count());
-        check_disjoint(d_shape1, n1, d_shape2, n2)?;
-        // SAFETY: each NULL or valid for its count (contract), and disjoint (checked).
-        let (g1, g2) = unsafe { (buffer(d_shape1, n1), buffer(d_shape2, n2)) };
+        let (q, g1, g2) = unsafe { shape_inputs(shape1, pose1, shape2, pose2, options, io) }?;
         let d = query::signed_distance_shape_gradient(
             q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, g1, g2,
         )

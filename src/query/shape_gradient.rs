@@ -16,7 +16,7 @@ use super::geometric::support_gradients;
 use super::proximity::query_full;
 use super::signed::signed_distance;
 use crate::error::{Error, ErrorDetail};
-use crate::math::{Pose, Real};
+use crate::math::{Pose, Real, Vec3};
 use crate::shapes::Shape;
 use crate::solver::SolveStatus;
 
@@ -133,19 +133,12 @@ pub fn distance_shape_gradient(
         d.status = SolveStatus::NumericalFailure;
         return Ok(d);
     }
-    let mut sink = ShapeSink::new([d_shape1, d_shape2]);
-    sink.zero(shapes);
-    if d.distance > 0.0 && d.normal.norm() > 0.0 {
-        support_gradients(
-            &d.normal,
-            [&d.closest1, &d.closest2],
-            shapes,
-            [pose1, pose2],
-            -1.0,
-            &mut sink,
-        );
-    }
-    if !sink.finite {
+    let apart = d.distance > 0.0;
+    let w = Witnesses {
+        normal: &d.normal,
+        closest: [&d.closest1, &d.closest2],
+    };
+    if !witness_gradients(apart, w, shapes, [pose1, pose2], [d_shape1, d_shape2]) {
         d.status = SolveStatus::NumericalFailure;
     }
     Ok(d)
@@ -166,20 +159,35 @@ pub fn signed_distance_shape_gradient(
     let shapes = [shape1, shape2];
     check_buffers(shapes, [&d_shape1, &d_shape2])?;
     let mut sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
-    let mut sink = ShapeSink::new([d_shape1, d_shape2]);
-    sink.zero(shapes);
-    if sd.normal.norm() > 0.0 {
-        support_gradients(
-            &sd.normal,
-            [&sd.closest1, &sd.closest2],
-            shapes,
-            [pose1, pose2],
-            -1.0,
-            &mut sink,
-        );
-    }
-    if !sink.finite {
+    let w = Witnesses {
+        normal: &sd.normal,
+        closest: [&sd.closest1, &sd.closest2],
+    };
+    if !witness_gradients(true, w, shapes, [pose1, pose2], [d_shape1, d_shape2]) {
         sd.status = SolveStatus::NumericalFailure;
     }
     Ok(sd)
+}
+
+/// A distance's unit normal and witness points.
+struct Witnesses<'a> {
+    normal: &'a Vec3,
+    closest: [&'a Vec3; 2],
+}
+
+/// `−∂hᵢ/∂θᵢ` at a distance's normal and witnesses into the buffers (zeros where `wanted` is
+/// false or the normal is zero); false when a derivative came out not finite.
+fn witness_gradients(
+    wanted: bool,
+    w: Witnesses<'_>,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+    buffers: [Option<&mut [Real]>; 2],
+) -> bool {
+    let mut sink = ShapeSink::new(buffers);
+    sink.zero(shapes);
+    if wanted && w.normal.norm() > 0.0 {
+        support_gradients(w.normal, w.closest, shapes, poses, -1.0, &mut sink);
+    }
+    sink.finite
 }
