@@ -69,8 +69,9 @@ impl Failure {
     }
 }
 
-/// The status code of a core error.
-pub(crate) fn status_of(error: &Error) -> dcol_status {
+/// The status code of a core error (public for bindings that report the C statuses: the
+/// Python package).
+pub fn status_of(error: &Error) -> dcol_status {
     match error {
         Error::InvalidShape(_) => dcol_status::DCOL_ERROR_INVALID_SHAPE,
         Error::InvalidPose(_) => dcol_status::DCOL_ERROR_INVALID_POSE,
@@ -142,6 +143,49 @@ fn describe(w: &mut impl fmt::Write, func: &str, failure: &Failure) -> fmt::Resu
             )
         }
     }
+}
+
+/// The sentence `dcol_last_error_message` gives after the C function `func` (e.g.
+/// `"dcol_proximity"`) rejected `error`, read from the C argument `context` (`"pose1->"`,
+/// `"options->"`, or `""` when the error names its argument itself). Public for bindings in
+/// other languages that bind the Rust API but report the C ABI's statuses and messages (the
+/// Python package); it allocates, unlike the C path.
+///
+/// ```
+/// use dcol::{ffi::boundary::error_message, Pose};
+/// let e = Pose::new([0.0, f64::NAN, 0.0], [1.0, 0.0, 0.0, 0.0]).unwrap_err();
+/// assert_eq!(
+///     error_message("dcol_proximity", "pose2->", e),
+///     "dcol_proximity: invalid pose: argument `pose2->position[1]` = NaN: must be finite"
+/// );
+/// ```
+pub fn error_message(func: &str, context: &'static str, error: Error) -> String {
+    let mut s = String::new();
+    // Formatting into a String cannot fail.
+    let _ = describe(&mut s, func, &Failure::Api { error, context });
+    s
+}
+
+/// The sentence `dcol_last_error_message` gives when `func`'s solve ended with `status` (not
+/// converged) after `iterations` iterations, under the iteration limit and tolerance of
+/// `options` (the status is `DCOL_ERROR_NOT_CONVERGED`). Public for the same bindings as
+/// [`error_message`].
+pub fn not_converged_message(
+    func: &str,
+    status: SolveStatus,
+    iterations: u32,
+    options: &crate::query::Options,
+) -> String {
+    let failure = Failure::NotConverged {
+        status,
+        iterations,
+        max_iterations: options.max_iterations,
+        tolerance: options.tolerance,
+    };
+    let mut s = String::new();
+    // Formatting into a String cannot fail.
+    let _ = describe(&mut s, func, &failure);
+    s
 }
 
 /// A `fmt::Write` into a fixed buffer that truncates at a character boundary and always leaves
