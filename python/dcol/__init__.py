@@ -129,6 +129,15 @@ def distance_batch(shapes1, poses1, shapes2, poses2, *, threads=None, **options)
     )
 
 
+def __getattr__(name):
+    # `dcol.jax` on first use (JAX is an optional dependency: `pip install dcol[jax]`).
+    if name == "jax":
+        import importlib
+
+        return importlib.import_module(".jax", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 __all__ = [
     "Box",
     "Capsule",
