@@ -148,15 +148,17 @@ fn count(args: &[(&str, Option<usize>)]) -> PyResult<usize> {
 const COLS: usize = 5;
 
 /// Runs `kernel(i, rows)` for every pair `i` on up to `threads` threads of dcol's batch pool,
-/// `rows[k]` pair `i`'s row of column `k` (`widths[k]` numbers, NaN until written). Returns the
-/// columns and the statuses (a panic in a pair is that pair's status 6).
+/// `rows[k]` pair `i`'s row of column `k` (`widths[k]` numbers). Returns the columns and the
+/// statuses (a panic in a pair is that pair's status 6); the rows of a pair that failed (any
+/// status but 0 and 5) are NaN. The columns start as zeroed allocations (pages the system
+/// hands over zeroed, not a pass over the memory): the kernel writes every row it succeeds on.
 fn run_batch(
     n: usize,
     threads: usize,
     widths: [usize; COLS],
     kernel: impl Fn(usize, &mut [&mut [f64]; COLS]) -> dcol_status + Sync,
 ) -> ([Vec<f64>; COLS], Vec<i32>) {
-    let mut cols: [Vec<f64>; COLS] = widths.map(|w| vec![f64::NAN; n * w]);
+    let mut cols: [Vec<f64>; COLS] = widths.map(|w| vec![0.0; n * w]);
     let mut status = vec![0_i32; n];
     let mut chunks = Vec::with_capacity(n.div_ceil(CHUNK));
     let mut rest: [&mut [f64]; COLS] = cols.each_mut().map(|v| v.as_mut_slice());
@@ -182,7 +184,16 @@ fn run_batch(
                 *r = &mut h[j * widths[k]..(j + 1) * widths[k]];
             }
             let outcome = catch_unwind(AssertUnwindSafe(|| kernel(start + j, &mut rows)));
-            *s = outcome.unwrap_or(dcol_status::DCOL_ERROR_INTERNAL) as i32;
+            let st = outcome.unwrap_or(dcol_status::DCOL_ERROR_INTERNAL);
+            if !matches!(
+                st,
+                dcol_status::DCOL_OK | dcol_status::DCOL_ERROR_NOT_CONVERGED
+            ) {
+                for r in rows.iter_mut() {
+                    r.fill(f64::NAN);
+                }
+            }
+            *s = st as i32;
         }
     });
     (cols, status)
