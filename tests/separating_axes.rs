@@ -224,3 +224,112 @@ fn box_manifolds_agree_with_the_general_path() {
     println!("{compared} box manifolds ({points} points) equal to the general path's");
     assert!(compared > 1500);
 }
+
+/// The C function's contacts of two boxes apart by less than the margin (their closed form: a
+/// clipped face as far from the facet as the facet's axis separates them) against Rust's
+/// manifold (the distance query and the general features): the same points, depths and normal
+/// to rounding.
+#[test]
+fn apart_boxes_within_the_margin_from_c_agree_with_rust() {
+    use dcol::contact_manifold;
+    use dcol::ffi::*;
+    let mut rng = Rng::new(41);
+    let o = Options::default();
+    let mut compared = 0;
+    for i in 0..3000 {
+        let h1 = [0; 3].map(|_| rng.range(0.1, 1.0));
+        let h2 = [0; 3].map(|_| rng.range(0.1, 1.0));
+        let q1 = rng.quat();
+        // Face to face and aligned, as boxes in a stack or a wall, or tilted a little.
+        let q2 = if i % 2 == 0 {
+            q1
+        } else {
+            let e = rng.unit::<3>();
+            let t = rng.range(0.0, 0.05);
+            [
+                q1[0] - t * (e[0] * q1[1] + e[1] * q1[2] + e[2] * q1[3]),
+                q1[1] + t * e[0],
+                q1[2] + t * e[1],
+                q1[3] + t * e[2],
+            ]
+        };
+        let p1 = Pose::new([0.0; 3], q1).unwrap();
+        let axis = (i / 2) % 3;
+        let gap = rng.range(0.0, 0.05);
+        let side = dcol::math::rotation_from_quaternion(q1)
+            .column(axis)
+            .into_owned();
+        let lateral = rng.unit::<3>().map(|c| c * rng.range(0.0, 0.3));
+        let along = h1[axis] + h2[axis] + gap;
+        let r2 =
+            side * along + dcol::Vec3::from(lateral) - side * side.dot(&dcol::Vec3::from(lateral));
+        let p2 = Pose::new([r2.x, r2.y, r2.z], q2).unwrap();
+        let margin = 0.06;
+        let (b1, b2) = (
+            Shape::cuboid(h1[0], h1[1], h1[2]).unwrap(),
+            Shape::cuboid(h2[0], h2[1], h2[2]).unwrap(),
+        );
+        let rust = contact_manifold(&b1, &p1, &b2, &p2, margin, 16, &o).unwrap();
+        let (mut c1, mut c2) = (std::ptr::null_mut(), std::ptr::null_mut());
+        let cp = |p: &Pose| dcol_pose {
+            position: [p.position().x, p.position().y, p.position().z],
+            quaternion: p.quaternion(),
+        };
+        let mut out = [dcol_contact {
+            position: [0.0; 3],
+            normal: [0.0; 3],
+            depth: 0.0,
+        }; 16];
+        let mut count = 0usize;
+        // SAFETY: valid arguments: shapes made here, poses on the stack, 16 contacts of room.
+        unsafe {
+            assert_eq!(
+                dcol_shape_new_box(h1[0], h1[1], h1[2], &mut c1),
+                dcol_status::DCOL_OK
+            );
+            assert_eq!(
+                dcol_shape_new_box(h2[0], h2[1], h2[2], &mut c2),
+                dcol_status::DCOL_OK
+            );
+            let st = dcol_contacts(
+                c1,
+                &cp(&p1),
+                c2,
+                &cp(&p2),
+                margin,
+                std::ptr::null(),
+                out.as_mut_ptr(),
+                16,
+                &mut count,
+            );
+            assert_eq!(st, dcol_status::DCOL_OK);
+            dcol_shape_free(c1);
+            dcol_shape_free(c2);
+        }
+        let ell = b1.bounding_radius().max(b2.bounding_radius());
+        assert_eq!(
+            count,
+            rust.len(),
+            "case {i}: {:?} vs {:?}",
+            &out[..count],
+            rust.contacts()
+        );
+        for c in &out[..count] {
+            let n = dcol::Vec3::from(c.normal);
+            assert!((n - rust.normal).norm() <= 1e-9, "case {i}: normal");
+            assert!(
+                rust.contacts()
+                    .iter()
+                    .any(
+                        |r| (r.position - dcol::Vec3::from(c.position)).norm() <= 1e-9 * ell
+                            && (r.depth - c.depth).abs() <= 1e-9 * ell
+                    ),
+                "case {i}: {c:?} not in {:?}",
+                rust.contacts()
+            );
+        }
+        compared += usize::from(count > 0);
+    }
+    println!("{compared} apart box pairs within the margin: the C function's contacts are Rust's");
+    assert!(compared > 1000);
+}

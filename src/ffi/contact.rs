@@ -77,8 +77,9 @@ pub unsafe extern "C" fn dcol_contacts(
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         // Only the points leave: a pair apart by more than the margin need not know by how
         // much (`exact_distance` false).
-        let m = query::manifold(
-            q.shape1, &q.pose1, q.shape2, &q.pose2, margin, capacity, &q.options, false,
+        let mut m = query::Manifold::empty();
+        query::manifold(
+            q.shape1, &q.pose1, q.shape2, &q.pose2, margin, capacity, &q.options, false, &mut m,
         )
         .map_err(Failure::api)?;
         for (i, c) in m.contacts().iter().enumerate() {

@@ -19,7 +19,7 @@ use super::halfspace::HalfspacePair;
 use super::signed::signed_distance;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
-use crate::shapes::{Shape, SupportMap};
+use crate::shapes::{Shape, ShapeKind, SupportMap};
 use crate::solver::SolveStatus;
 use arrayvec::ArrayVec;
 use nalgebra::Vector2;
@@ -73,6 +73,18 @@ pub struct Manifold {
 }
 
 impl Manifold {
+    /// A manifold without points (filled by `manifold`).
+    pub(crate) fn empty() -> Manifold {
+        Manifold {
+            normal: Vec3::zeros(),
+            signed_distance: Real::INFINITY,
+            status: SolveStatus::Converged,
+            iterations: 0,
+            contacts: [Contact::default(); MAX_CONTACTS],
+            count: 0,
+        }
+    }
+
     /// The contact points (empty when the signed distance exceeds the margin).
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts[..self.count]
@@ -110,9 +122,11 @@ pub fn contact_manifold(
     max_points: usize,
     options: &Options,
 ) -> Result<Manifold, Error> {
+    let mut out = Manifold::empty();
     manifold(
-        shape1, pose1, shape2, pose2, margin, max_points, options, true,
-    )
+        shape1, pose1, shape2, pose2, margin, max_points, options, true, &mut out,
+    )?;
+    Ok(out)
 }
 
 /// [`contact_manifold`]; with `exact_distance` false, a manifold without points may carry a
@@ -128,7 +142,8 @@ pub(crate) fn manifold(
     max_points: usize,
     options: &Options,
     exact_distance: bool,
-) -> Result<Manifold, Error> {
+    out: &mut Manifold,
+) -> Result<(), Error> {
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(Error::InvalidOptions(ErrorDetail::new(
             "margin",
@@ -142,20 +157,32 @@ pub(crate) fn manifold(
         options.validate()?;
         let ell = shape1.bounding_radius().max(shape2.bounding_radius());
         if let Some(b) = super::contact_boxes::boxes(&h1, pose1, &h2, pose2, margin, ell) {
-            if !b.points.is_empty() || !exact_distance {
+            // Boxes apart (by more than the margin, or less) take the distance query's answer
+            // in Rust's manifold, whose signed distance is that query's to the last bit; the
+            // C function reads only the points.
+            if (b.sd.distance <= 0.0 && !b.points.is_empty()) || !exact_distance {
                 let mut pts = Points::new();
                 for (p, d) in &b.points {
                     pts.push(*p, *d);
                 }
-                return Ok(finish(&b.sd, &pts, cap));
+                finish(&b.sd, &pts, cap, out);
+                return Ok(());
             }
         }
     }
     let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
     if sd.distance > margin || cap == 0 {
-        return Ok(finish(&sd, &Points::new(), 0));
+        finish(&sd, &Points::new(), 0, out);
+        return Ok(());
     }
     let mut pts = Points::new();
+    // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
+    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
+    if strict(shape1) || strict(shape2) {
+        pts.push_witness(&sd);
+        finish(&sd, &pts, cap, out);
+        return Ok(());
+    }
     let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
         Some(pair) => {
             let ell = pair.ell();
@@ -175,22 +202,20 @@ pub(crate) fn manifold(
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
-    Ok(finish(&sd, &pts, cap))
+    finish(&sd, &pts, cap, out);
+    Ok(())
 }
 
 /// The manifold of the candidate points `pts` for the signed distance `sd`: at most `cap` of
 /// them (`reduce`).
-fn finish(sd: &SignedDistance, pts: &Points, cap: usize) -> Manifold {
-    let mut out = Manifold {
-        normal: sd.normal,
-        signed_distance: sd.distance,
-        status: sd.status,
-        iterations: sd.iterations,
-        contacts: [Contact::default(); MAX_CONTACTS],
-        count: 0,
-    };
+fn finish(sd: &SignedDistance, pts: &Points, cap: usize, out: &mut Manifold) {
+    out.normal = sd.normal;
+    out.signed_distance = sd.distance;
+    out.status = sd.status;
+    out.iterations = sd.iterations;
+    out.count = 0;
     if cap == 0 {
-        return out;
+        return;
     }
     let mut chosen = [0usize; MAX_CONTACTS];
     let k = reduce(pts, cap, &mut chosen);
@@ -202,7 +227,6 @@ fn finish(sd: &SignedDistance, pts: &Points, cap: usize) -> Manifold {
         };
     }
     out.count = k;
-    out
 }
 
 /// Candidate contacts (no zeroed buffers: a query fills only what it uses).

@@ -6,8 +6,10 @@
 //! signed distance, then the faces facing each other clipped in the plane orthogonal to the
 //! normal, which for a facet's axis is the facet's plane), without its generality.
 //!
-//! Answers only overlapping or touching boxes whose winning axis is a facet's; separated boxes
-//! within the margin and edge-against-edge contacts are the general path's.
+//! Answers boxes that overlap, touch, or are apart by less than the margin across a facet (a
+//! clipped point as far from the facet as the facet's axis separates the boxes: that is their
+//! distance), and boxes apart along an axis by more than the margin (no contact); edge against
+//! edge, and apart boxes whose nearest points are not across a facet, are the general path's.
 
 use super::context::DistancePath;
 use super::context::SignedDistance;
@@ -42,11 +44,10 @@ pub(crate) fn boxes(
     let (r1, r2) = (pose1.rotation(), pose2.rotation());
     let c = r1.tr_mul(r2);
     let t = r1.tr_mul(&(pose2.position() - pose1.position()));
-    let (depth, _, axis) = match two_boxes(h1, h2, &c, &t) {
+    let (depth, _, axis) = match two_boxes(h1, h2, &c, &t, margin) {
         Ok(best) => best,
-        // Separated along an axis: apart by more than the margin there, no contact at all;
-        // within it, the distance is GJK's.
-        Err(gap) => return (gap > margin).then(|| apart(gap)),
+        // Separated along an axis by more than the margin: no contact at all.
+        Err(gap) => return Some(apart(gap)),
     };
     // The reference facet's box, frame and facet, and the incident box in that frame.
     let (k, s, first) = match axis {
@@ -61,10 +62,11 @@ pub(crate) fn boxes(
     };
     let pts = clip_to_facet(href, hinc, &cinc, &tinc, k, s, margin);
     // The deepest clipped point is the overlap's depth (the facet's axis won: the nearest
-    // facet of the difference, whose nearest point lies on it); to rounding, else the general
-    // path decides.
+    // facet of the difference, whose nearest point lies on it). Apart by less than the margin
+    // (`depth < 0`), the axis's gap is a lower bound on the distance, and the distance when a
+    // clipped point is that far and no farther. To rounding, else the general path decides.
     let deepest = pts.iter().map(|p| p.1).fold(Real::NEG_INFINITY, Real::max);
-    if !(deepest >= depth - 1e-9 * scale) {
+    if !((deepest - depth).abs() <= 1e-9 * scale) {
         return None;
     }
     // World: the reference facet's outward normal, from shape 1 to shape 2 when the facet is

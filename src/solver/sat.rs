@@ -98,7 +98,7 @@ pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Res
     let t = a.rot.tr_mul(&(b.pos - a.pos));
     let (ha, hb) = (Body::of(a.poly), Body::of(b.poly));
     if let (Body::Box(ea), Body::Box(eb)) = (ha, hb) {
-        let (v, n, axis) = match two_boxes(&ea, &eb, &c, &t) {
+        let (v, n, axis) = match two_boxes(&ea, &eb, &c, &t, 0.0) {
             Ok(best) => best,
             Err(_) => return Some(Err(())),
         };
@@ -162,13 +162,15 @@ pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Res
 /// Two centred boxes of half extents `ea`, `eb` in shape 1's frame, shape 2 turned by `c` at
 /// `t`: the least `f` over the 15 axes (the 3 + 3 face axes, signed towards shape 2, and the 9
 /// edge cross products), its unit normal (shape 1's frame) and axis (`Face1(k)`/`Face2(k)`:
-/// the body normal `±e_{k mod 3}`, `k < 3` positive); `Err(gap)` when an axis separates the
-/// boxes by `gap > 0` (a lower bound on their distance).
+/// the body normal `±e_{k mod 3}`, `k < 3` positive); `Err(gap)` as soon as an axis
+/// separates the boxes by `gap > beyond` (a lower bound on their distance). The least `f` is
+/// negative for boxes apart by less than `beyond` along every axis.
 pub(crate) fn two_boxes(
     ea: &Vec3,
     eb: &Vec3,
     c: &Mat3,
     t: &Vec3,
+    beyond: Real,
 ) -> Result<(Real, Vec3, Axis), Real> {
     let abs = c.abs();
     let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
@@ -176,7 +178,7 @@ pub(crate) fn two_boxes(
         if v < best.0 {
             best = (v, n, axis);
         }
-        v < 0.0
+        v < -beyond
     };
     for k in 0..3 {
         let rb = eb.x * abs[(k, 0)] + eb.y * abs[(k, 1)] + eb.z * abs[(k, 2)];
