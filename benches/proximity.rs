@@ -70,6 +70,9 @@ const METHODS: &[(&str, Method)] = &[
     ("signed_distance", |a, pa, b, pb, o| {
         dcol::signed_distance(a, pa, b, pb, o).map(|r| black_box(r).iterations)
     }),
+    ("contacts", |a, pa, b, pb, o| {
+        dcol::contact_manifold(a, pa, b, pb, 0.0, 4, o).map(|m| black_box(m).iterations)
+    }),
 ];
 
 /// The pose classes: name and the range of the target α*.

@@ -125,7 +125,8 @@ typedef enum dcol_status {
    */
   DCOL_ERROR_INVALID_SHAPE = 2,
   /**
-   * Non-finite position or attitude, zero quaternion.
+   * Non-finite position or attitude, zero quaternion, or shapes placed so near the largest
+   * double that the answer (a point, a distance, alpha*) is not representable.
    */
   DCOL_ERROR_INVALID_POSE = 3,
   /**
@@ -690,8 +691,8 @@ enum dcol_status dcol_distance(const struct dcol_shape *shape1,
  *
  * `options` may be NULL (defaults). On DCOL_OK fills *result and gradient[0..14]. On
  * DCOL_ERROR_NOT_CONVERGED fills *result with the best answer found and writes its gradient
- * only if all 14 entries are finite. On any other status nothing is written. Does not
- * allocate.
+ * only if all 14 entries are finite. On any other status nothing is written. Allocates as
+ * dcol_signed_distance (at most once per thread).
  *
  * # Safety
  * As dcol_signed_distance; `gradient` must be NULL or valid for writing 14 doubles.
@@ -733,7 +734,9 @@ enum dcol_status dcol_distance_gradient(const struct dcol_shape *shape1,
  * `options` may be NULL (defaults). Returns DCOL_OK and fills *result; or
  * DCOL_ERROR_NOT_CONVERGED (the certified bracket did not close) and fills *result with the
  * best answer found; or an error status, the last error message set, and *result untouched.
- * Does not allocate.
+ * Does not allocate, except once per thread: the first overlap on a thread whose certificate
+ * needs more than 250 support points (about 3 in 10000 random deep overlaps of curved shapes)
+ * reserves a buffer of about 0.9 MB that the thread's later queries reuse.
  *
  * # Safety
  * `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
@@ -758,7 +761,8 @@ enum dcol_status dcol_signed_distance(const struct dcol_shape *shape1,
  * `options` may be NULL (defaults); `contacts` may be NULL when `capacity` is 0. Returns
  * DCOL_OK and fills contacts[0..*count] and *count; or DCOL_ERROR_NOT_CONVERGED (the signed
  * distance did not certify its answer) and fills them from the best answer found; or an error
- * status, the last error message set, and nothing written. Does not allocate.
+ * status, the last error message set, and nothing written. Allocates as dcol_signed_distance
+ * (at most once per thread).
  *
  * # Safety
  * `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;
@@ -900,7 +904,8 @@ enum dcol_status dcol_jacobian_mrp(const struct dcol_shape *shape1,
  * Each pair is independent: a bad pair does not fail the batch. `statuses[i]` is DCOL_OK
  * (`results[i]` written), DCOL_ERROR_NOT_CONVERGED (`results[i]` holds the last iterate),
  * DCOL_ERROR_NULL_POINTER (`shapes1[i]` or `shapes2[i]` is NULL), DCOL_ERROR_INVALID_POSE
- * (`poses1[i]` or `poses2[i]` rejected, or their origins too far apart) or
+ * (`poses1[i]` or `poses2[i]` rejected, their origins too far apart, or the answer beyond the
+ * largest double) or
  * DCOL_ERROR_INTERNAL, and on these errors `results[i]` is untouched. Per-pair failures do
  * not set the last error message (the call itself succeeds): call dcol_proximity on that pair
  * for the sentence. `results[i]` is exactly what dcol_proximity returns for the pair, bit for

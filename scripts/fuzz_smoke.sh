@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Fuzz smoke run: a short run of both fuzz targets (`shapes`: the shape constructors,
-# Rust and C; `queries`: proximity, gradient, jacobian, distance with arbitrary shapes, poses
-# and options), starting from the checked-in seeds in fuzz/seeds/. Exits non-zero if any input
-# crashes (panics, violates an invariant of fuzz/src/lib.rs) or if the build fails.
+# hulls included, Rust and C; `queries`: every query of the Rust API and of the C ABI, the
+# batch and a scene included, with arbitrary shapes, poses and options, every number written on
+# DCOL_OK checked finite), starting from the checked-in seeds in fuzz/seeds/. Exits non-zero if
+# any input crashes (panics, violates an invariant of fuzz/src/lib.rs) or if the build fails.
 #
 #   ./scripts/fuzz_smoke.sh                  # 20 s per target after the build
 #   FUZZ_SECONDS=60 ./scripts/fuzz_smoke.sh  # longer

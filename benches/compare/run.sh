@@ -88,11 +88,18 @@ if [[ $smoke == 1 ]]; then
   test -s "$out/benchmark.md" && test -s "$out/time_vs_error.csv"
   DCOL_BENCH_SMOKE=1 build/bench-compare/bench_hulls > "$out/hulls.md"
   grep -q "^| 2000 |" "$out/hulls.md"
+  if [[ -x build/bench-compare/bench_posesets ]]; then
+    DCOL_BENCH_SMOKE=1 build/bench-compare/bench_posesets > "$out/posesets.md"
+    grep -q "^| separated |" "$out/posesets.md"
+  fi
   if python3 -c "import matplotlib" 2>/dev/null; then python3 benches/compare/plot.py "$out"; fi
   echo "smoke OK"
 else
   mkdir -p results
   DCOL_BENCH_OUT="$root/results" build/bench-compare/bench_compare
   build/bench-compare/bench_hulls | tee results/hulls.md
+  if [[ -x build/bench-compare/bench_posesets ]]; then
+    build/bench-compare/bench_posesets | tee results/posesets.md
+  fi
   python3 benches/compare/plot.py results
 fi

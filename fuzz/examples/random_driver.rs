@@ -4,6 +4,8 @@
 //!
 //!     cargo run --release --no-default-features --example random_driver -- \
 //!         [--target shapes|queries|all] [--inputs N] [--seconds S] [--seed X]
+//!     cargo run --release --no-default-features --example random_driver -- \
+//!         --target queries --replay FILE    # one saved input, with its full message
 //!
 //! A panic is a crash: the input is written to `fuzz/artifacts/random_driver/<target>-<hash>`
 //! and the driver exits with status 1 after the run. It prints the number of inputs run.
@@ -75,6 +77,19 @@ fn main() {
     let inputs: u64 = arg("--inputs").map_or(u64::MAX, |v| v.parse().expect("--inputs N"));
     let seconds: f64 = arg("--seconds").map_or(f64::INFINITY, |v| v.parse().expect("--seconds S"));
     let seed: u64 = arg("--seed").map_or(0x00D0_C01F, |v| v.parse().expect("--seed X"));
+    if let Some(file) = arg("--replay") {
+        let data = std::fs::read(&file).expect("--replay FILE: readable");
+        match which.as_str() {
+            "shapes" => dcol_fuzz::shapes(&data),
+            "queries" => dcol_fuzz::queries(&data),
+            _ => {
+                eprintln!("--replay needs --target shapes or --target queries");
+                std::process::exit(2);
+            }
+        }
+        println!("{file}: no crash");
+        return;
+    }
     if inputs == u64::MAX && seconds.is_infinite() {
         eprintln!("give --inputs N and/or --seconds S");
         std::process::exit(2);

@@ -89,7 +89,12 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     drop_fallback();
     count(detail::counters().calls);
     result->setPersistentManifold(m_manifold);
-    const double margin = m_manifold->getContactBreakingThreshold();
+    // Contacts within the manifold's breaking threshold, as Bullet's convex algorithms report
+    // them; but two boxes only where they touch or overlap, as Bullet's own box-box algorithm
+    // (btBoxBoxDetector, ODE's dBoxBox) does: the speculative points of boxes side by side (a
+    // wall, a pyramid) cost the solver more than they give it (docs/bullet.md).
+    const bool boxes = ea && eb && ea->kind == BOX_SHAPE_PROXYTYPE && eb->kind == BOX_SHAPE_PROXYTYPE;
+    const double margin = boxes ? 0.0 : m_manifold->getContactBreakingThreshold();
     dcol_contact cs[kMaxPoints];
     std::size_t n = 0;
     dcol_status st = DCOL_OK;

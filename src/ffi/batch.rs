@@ -9,6 +9,7 @@ use std::ops::Range;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::boundary::{run, Failure};
+use super::finite::{proximity_numbers, representable};
 use super::options::{dcol_options, read_options};
 use super::pose::{dcol_pose, read_pose};
 use super::proximity::dcol_proximity_result;
@@ -58,6 +59,7 @@ impl Arrays {
                 )
             };
             let prox = query::proximity(s1, &p1, s2, &p2, &self.options).map_err(Failure::api)?;
+            representable(proximity_numbers(&prox), p1.position(), p2.position())?;
             // SAFETY: `i < count` and `results` holds `count` writable elements (contract);
             // no other thread writes index `i`.
             unsafe { self.results.add(i).write((&prox).into()) };
@@ -98,7 +100,8 @@ impl Arrays {
 /// Each pair is independent: a bad pair does not fail the batch. `statuses[i]` is DCOL_OK
 /// (`results[i]` written), DCOL_ERROR_NOT_CONVERGED (`results[i]` holds the last iterate),
 /// DCOL_ERROR_NULL_POINTER (`shapes1[i]` or `shapes2[i]` is NULL), DCOL_ERROR_INVALID_POSE
-/// (`poses1[i]` or `poses2[i]` rejected, or their origins too far apart) or
+/// (`poses1[i]` or `poses2[i]` rejected, their origins too far apart, or the answer beyond the
+/// largest double) or
 /// DCOL_ERROR_INTERNAL, and on these errors `results[i]` is untouched. Per-pair failures do
 /// not set the last error message (the call itself succeeds): call dcol_proximity on that pair
 /// for the sentence. `results[i]` is exactly what dcol_proximity returns for the pair, bit for

@@ -47,7 +47,8 @@ const _: () = assert!(DCOL_MAX_CONTACTS == query::MAX_CONTACTS);
 /// `options` may be NULL (defaults); `contacts` may be NULL when `capacity` is 0. Returns
 /// DCOL_OK and fills contacts[0..*count] and *count; or DCOL_ERROR_NOT_CONVERGED (the signed
 /// distance did not certify its answer) and fills them from the best answer found; or an error
-/// status, the last error message set, and nothing written. Does not allocate.
+/// status, the last error message set, and nothing written. Allocates as dcol_signed_distance
+/// (at most once per thread).
 ///
 /// # Safety
 /// `shape1`, `shape2` must be NULL or live shapes; `pose1`, `pose2`, `options` NULL or valid;

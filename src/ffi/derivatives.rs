@@ -2,6 +2,7 @@
 //! the modified-Rodrigues-parameter variants `dcol_gradient_mrp` and `dcol_jacobian_mrp`.
 
 use super::boundary::{check_out, read_array, run, Failure};
+use super::finite::{proximity_numbers, representable};
 use super::options::{dcol_options, read_options};
 use super::pose::dcol_pose;
 use super::proximity::{check_inputs, dcol_proximity_result, outcome, read_inputs};
@@ -70,6 +71,13 @@ pub unsafe extern "C" fn dcol_derivatives(
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         let d = query::derivatives(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
             .map_err(Failure::api)?;
+        q.representable(proximity_numbers(&d.proximity))?;
+        if d.proximity.status.is_converged() && !all_finite(&d) {
+            return Err(Failure::api(query::not_representable(
+                q.pose1.position(),
+                q.pose2.position(),
+            )));
+        }
         let proximity = dcol_proximity_result::from(&d.proximity);
         if d.proximity.status.is_converged() || all_finite(&d) {
             let out = dcol_derivatives_result {
@@ -235,6 +243,10 @@ pub unsafe extern "C" fn dcol_gradient_mrp(
             &m.options,
         )
         .map_err(Failure::api)?;
+        let converged = prox.status.is_converged();
+        let (r1, r2) = (m.position1.into(), m.position2.into());
+        let grad = g.iter().copied().filter(|_| converged);
+        representable(proximity_numbers(&prox).chain(grad), &r1, &r2)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || g.iter().all(|v| v.is_finite()) {
@@ -291,6 +303,10 @@ pub unsafe extern "C" fn dcol_jacobian_mrp(
             &m.options,
         )
         .map_err(Failure::api)?;
+        let converged = prox.status.is_converged();
+        let (r1, r2) = (m.position1.into(), m.position2.into());
+        let jac = j.iter().flatten().copied().filter(|_| converged);
+        representable(proximity_numbers(&prox).chain(jac), &r1, &r2)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()) {

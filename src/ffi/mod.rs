@@ -55,6 +55,8 @@ pub mod scene;
 
 pub mod boundary;
 
+pub(crate) mod finite;
+
 pub use batch::{dcol_proximity_batch, DCOL_BATCH_MAX_THREADS};
 pub use contact::{dcol_contact, dcol_contacts, DCOL_MAX_CONTACTS};
 pub use derivatives::{

@@ -1,6 +1,7 @@
 //! `dcol_proximity_result`, `dcol_proximity`, `dcol_gradient` and `dcol_jacobian`.
 
 use super::boundary::{check_out, run, Failure};
+use super::finite::{proximity_numbers, representable};
 use super::options::{dcol_options, read_options};
 use super::pose::{dcol_pose, read_pose};
 use super::shape::{dcol_shape, shape_ref};
@@ -105,6 +106,15 @@ impl Inputs<'_> {
     pub(crate) fn outcome(&self, status: SolveStatus, iterations: u32) -> Result<(), Failure> {
         outcome(&self.options, status, iterations)
     }
+
+    /// `DCOL_ERROR_INVALID_POSE` unless every number in `values` (the answer about to be
+    /// written) is finite.
+    pub(crate) fn representable(
+        &self,
+        values: impl IntoIterator<Item = f64>,
+    ) -> Result<(), Failure> {
+        representable(values, self.pose1.position(), self.pose2.position())
+    }
 }
 
 /// `DCOL_ERROR_NOT_CONVERGED` for a solve with `options` that ended with `status`, or `Ok`.
@@ -204,6 +214,7 @@ pub unsafe extern "C" fn dcol_proximity(
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         let prox = query::proximity(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
             .map_err(Failure::api)?;
+        q.representable(proximity_numbers(&prox))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         q.outcome(prox.status, prox.iterations)
@@ -242,6 +253,8 @@ pub unsafe extern "C" fn dcol_gradient(
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         let (prox, g) = query::gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
             .map_err(Failure::api)?;
+        let converged = prox.status.is_converged();
+        q.representable(proximity_numbers(&prox).chain(g.iter().copied().filter(|_| converged)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || g.iter().all(|v| v.is_finite()) {
@@ -286,6 +299,9 @@ pub unsafe extern "C" fn dcol_jacobian(
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         let (prox, j) = query::jacobian(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
             .map_err(Failure::api)?;
+        let converged = prox.status.is_converged();
+        let jac = j.iter().flatten().copied().filter(|_| converged);
+        q.representable(proximity_numbers(&prox).chain(jac))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()) {

@@ -12,7 +12,8 @@ pub enum dcol_status {
     /// Geometry rejected: non-finite, non-positive size, P not SPD, polytope/polygon empty,
     /// unbounded or origin not strictly inside, too many facets or points, ...
     DCOL_ERROR_INVALID_SHAPE = 2,
-    /// Non-finite position or attitude, zero quaternion.
+    /// Non-finite position or attitude, zero quaternion, or shapes placed so near the largest
+    /// double that the answer (a point, a distance, alpha*) is not representable.
     DCOL_ERROR_INVALID_POSE = 3,
     /// Non-finite or non-positive tolerance, zero iteration limit.
     DCOL_ERROR_INVALID_OPTIONS = 4,

@@ -16,7 +16,7 @@
 
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
-use super::signed::signed_distance;
+use super::signed::{not_representable, signed_distance};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
@@ -102,7 +102,8 @@ impl Manifold {
 /// The contact manifold of two posed shapes: the points where their signed distance is at most
 /// `margin`, at most `max_points` of them (and at most [`MAX_CONTACTS`]), with the signed
 /// distance's normal. Curved contacts give one point; face-to-face and segment-to-face contacts
-/// give the corners of the clipped overlap. Does not allocate.
+/// give the corners of the clipped overlap. Allocates as [`crate::signed_distance`] does (at
+/// most once per thread).
 ///
 /// ```
 /// use dcol::{contact_manifold, Options, Pose, Shape};
@@ -131,7 +132,8 @@ pub fn contact_manifold(
 
 /// [`contact_manifold`]; with `exact_distance` false, a manifold without points may carry a
 /// lower bound above the margin as its signed distance (a separating axis decided, without the
-/// distance), for callers that read only the points (the C function).
+/// distance), for callers that read only the points (the C function). Its numbers are finite:
+/// an answer beyond the largest double (shapes within their size of it) is `InvalidPose`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn manifold(
     shape1: &Shape,
@@ -165,23 +167,20 @@ pub(crate) fn manifold(
                 for (p, d) in &b.points {
                     pts.push(*p, *d);
                 }
-                finish(&b.sd, &pts, cap, out);
-                return Ok(());
+                return finish(&b.sd, &pts, cap, out, (pose1, pose2));
             }
         }
     }
     let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
     if sd.distance > margin || cap == 0 {
-        finish(&sd, &Points::new(), 0, out);
-        return Ok(());
+        return finish(&sd, &Points::new(), 0, out, (pose1, pose2));
     }
     let mut pts = Points::new();
     // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
     let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
     if strict(shape1) || strict(shape2) {
         pts.push_witness(&sd);
-        finish(&sd, &pts, cap, out);
-        return Ok(());
+        return finish(&sd, &pts, cap, out, (pose1, pose2));
     }
     let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
         Some(pair) => {
@@ -202,31 +201,47 @@ pub(crate) fn manifold(
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
-    finish(&sd, &pts, cap, out);
-    Ok(())
+    finish(&sd, &pts, cap, out, (pose1, pose2))
 }
 
-/// The manifold of the candidate points `pts` for the signed distance `sd`: at most `cap` of
-/// them (`reduce`).
-fn finish(sd: &SignedDistance, pts: &Points, cap: usize, out: &mut Manifold) {
+/// Fills `out` with the manifold of the candidate points `pts` for the signed distance `sd`:
+/// at most `cap` of them (`reduce`); `InvalidPose` (naming the poses' largest coordinate) when
+/// one of its numbers is not finite.
+fn finish(
+    sd: &SignedDistance,
+    pts: &Points,
+    cap: usize,
+    out: &mut Manifold,
+    (pose1, pose2): (&Pose, &Pose),
+) -> Result<(), Error> {
     out.normal = sd.normal;
     out.signed_distance = sd.distance;
     out.status = sd.status;
     out.iterations = sd.iterations;
     out.count = 0;
-    if cap == 0 {
-        return;
+    if cap > 0 {
+        let mut chosen = [0usize; MAX_CONTACTS];
+        let k = reduce(pts, cap, &mut chosen);
+        for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
+            *slot = Contact {
+                position: pts.pos[i],
+                normal: sd.normal,
+                depth: pts.depth[i],
+            };
+        }
+        out.count = k;
     }
-    let mut chosen = [0usize; MAX_CONTACTS];
-    let k = reduce(pts, cap, &mut chosen);
-    for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
-        *slot = Contact {
-            position: pts.pos[i],
-            normal: sd.normal,
-            depth: pts.depth[i],
-        };
+    // Points of shapes within their size of the largest double can pass it.
+    let finite = out.signed_distance.is_finite()
+        && out.normal.iter().all(|v| v.is_finite())
+        && out
+            .contacts()
+            .iter()
+            .all(|c| c.depth.is_finite() && c.position.iter().all(|v| v.is_finite()));
+    if !finite {
+        return Err(not_representable(pose1.position(), pose2.position()));
     }
-    out.count = k;
+    Ok(())
 }
 
 /// Candidate contacts (no zeroed buffers: a query fills only what it uses).
@@ -252,8 +267,14 @@ impl Points {
         }
     }
     fn push_witness(&mut self, sd: &SignedDistance) {
-        self.push(0.5 * (sd.closest1 + sd.closest2), -sd.distance);
+        self.push(midpoint(&sd.closest1, &sd.closest2), -sd.distance);
     }
+}
+
+/// The point midway between `a` and `b`, without forming `a + b` (which overflows for points
+/// near the largest double: a padded polygon and a capsule at x = −1e308 got a contact at −inf).
+fn midpoint(a: &Vec3, b: &Vec3) -> Vec3 {
+    a + (b - a) * 0.5
 }
 
 /// A feature in world coordinates: 1 point, a segment (2) or a convex face polygon (≥ 3, in
@@ -393,7 +414,9 @@ fn ball_radius(shape: &Shape) -> Option<Real> {
 /// Orders a face's points counter-clockwise about its normal.
 fn order(f: &mut Feature) {
     let k = f.k();
-    let c = f.pts[..k].iter().sum::<Vec3>() / k as Real;
+    // The centroid, from the first point (a sum of far points can overflow).
+    let p0 = f.pts[0];
+    let c = p0 + f.pts[..k].iter().map(|p| p - p0).sum::<Vec3>() / k as Real;
     let (u, v) = basis(&f.face);
     let mut key = [0.0; MAX_FACE];
     for i in 0..k {
@@ -427,15 +450,15 @@ fn cross2(a: &V2, b: &V2) -> Real {
     a.x * b.y - a.y * b.x
 }
 
-/// Lifts the plane point `q` (coordinates on `(u, v)`) along `n` onto a feature: onto a face's
-/// plane, or onto a segment's line.
-fn lift(f: &Feature, q: &V2, u: &Vec3, v: &Vec3, n: &Vec3) -> Vec3 {
-    let x = u * q.x + v * q.y;
+/// Lifts the plane point `q` (coordinates on `(u, v)` about the origin `o`) along `n` onto a
+/// feature: onto a face's plane, or onto a segment's line.
+fn lift(f: &Feature, q: &V2, o: &Vec3, (u, v): (&Vec3, &Vec3), n: &Vec3) -> Vec3 {
+    let x = o + u * q.x + v * q.y;
     match f.k() {
         1 => f.pts[0],
         2 => {
             let (p0, p1) = (f.pts[0], f.pts[1]);
-            let a = V2::new(p0.dot(u), p0.dot(v));
+            let a = V2::new((p0 - o).dot(u), (p0 - o).dot(v));
             let d = V2::new((p1 - p0).dot(u), (p1 - p0).dot(v));
             let s = if d.norm_squared() > 0.0 {
                 ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
@@ -445,8 +468,7 @@ fn lift(f: &Feature, q: &V2, u: &Vec3, v: &Vec3, n: &Vec3) -> Vec3 {
             p0 + (p1 - p0) * s
         }
         _ => {
-            let c = f.pts[0].dot(&f.face);
-            let t = (c - x.dot(&f.face)) / n.dot(&f.face);
+            let t = (f.pts[0] - x).dot(&f.face) / n.dot(&f.face);
             x + n * t
         }
     }
@@ -473,7 +495,10 @@ fn build(
         return;
     }
     let (u, v) = basis(&n);
-    let proj = |p: &Vec3| V2::new(p.dot(&u), p.dot(&v));
+    // Plane coordinates about a witness point (world coordinates near the largest double would
+    // overflow in the dot products).
+    let o = sd.closest1;
+    let proj = |p: &Vec3| V2::new((p - o).dot(&u), (p - o).dot(&v));
     let mut q: ArrayVec<V2, BUF> = ArrayVec::new();
     if f1.k() == 2 && f2.k() == 2 {
         segments(
@@ -505,11 +530,11 @@ fn build(
         }
     }
     for qi in &q {
-        let a = lift(&f1, qi, &u, &v, &n);
-        let b = lift(&f2, qi, &u, &v, &n);
+        let a = lift(&f1, qi, &o, (&u, &v), &n);
+        let b = lift(&f2, qi, &o, (&u, &v), &n);
         let depth = (a - b).dot(&n);
         if -depth <= margin + SEP_TOL * ell {
-            pts.push(0.5 * (a + b), depth);
+            pts.push(midpoint(&a, &b), depth);
         }
     }
 }
@@ -528,9 +553,10 @@ fn on_halfspace(
     let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
     let mut f = Feature::empty();
     feature(pair.other, pair.pose_b, &(-n), window, &mut f);
-    let plane = n.dot(pair.pose_h.position()) + pair.depth;
+    let origin = pair.pose_h.position();
     for q in &f.pts[..f.k()] {
-        let depth = plane - n.dot(q);
+        // Below the plane `n·x = n·r + depth`, from its origin (`n·q` alone can overflow).
+        let depth = pair.depth - n.dot(&(q - origin));
         if -depth <= margin + SEP_TOL * ell {
             // Midway between the point and its projection onto the plane.
             pts.push(q + n * (0.5 * depth), depth);

@@ -28,4 +28,5 @@ pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub(crate) use halfspace::check as check_halfspace_pair;
 pub use proximity::proximity;
 pub(crate) use proximity::query_until;
+pub(crate) use signed::not_representable;
 pub use signed::{signed_distance, signed_distance_gradient};

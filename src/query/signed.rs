@@ -30,8 +30,11 @@ const TOL_FLOOR: Real = 1e-13;
 const GJK_BUDGET: u32 = 64;
 /// Support calls of K in EPA. On curved pairs the polytope must be refined round the optimum
 /// until its faces there lie within the tolerance of K's boundary: 120 left 187 of 11 200
-/// random overlapping pairs (1.7 %) open, 250 leaves 7, at the same median time.
-const BUDGET: u32 = 250;
+/// random overlapping pairs (1.7 %) open, 250 leaves 7, at the same median time. Beyond the
+/// first 250 (on the stack) EPA goes on in a per-thread heap polytope: of 10⁶ random
+/// overlapping pairs 256 needed more than 250 calls, none more than 2 110
+/// (`tests/overlap_sweep.rs`, docs/failure-modes.md).
+const BUDGET: u32 = 4000;
 
 /// The signed distance of two posed shapes, the unit normal from shape 1 to shape 2 and the
 /// witness points (`closest2 − closest1 = distance·normal`).
@@ -40,7 +43,9 @@ const BUDGET: u32 = 250;
 /// the distance is minus the penetration depth: moving shape 2 by `depth·normal` separates
 /// them. The answer is certified by a bracket closed to a tenth of the tolerance (times the
 /// larger bounding radius); when it does not close, the status says so and the fields hold the
-/// best answer found (a lower bound on the signed distance).
+/// best answer found (a lower bound on the signed distance). Does not allocate, except once
+/// per thread: the first overlap on a thread whose certificate needs more than 250 support
+/// points reserves EPA's heap polytope (about 0.9 MB), which the thread's later queries reuse.
 ///
 /// ```
 /// use dcol::{signed_distance, Options, Pose, Shape};
@@ -59,8 +64,19 @@ pub fn signed_distance(
     options: &Options,
 ) -> Result<SignedDistance, Error> {
     options.validate()?;
+    // Every answer is checked at its return: the witnesses `r + ℓa` (a half-space's: the other's
+    // projection onto the plane) pass the largest double when the shapes sit within their size
+    // of it. (A wrapper around the whole function cost 50 instructions a query, moving the
+    // result twice.)
+    let checked = |sd: SignedDistance| {
+        if finite(&sd) {
+            Ok(sd)
+        } else {
+            Err(not_representable(pose1.position(), pose2.position()))
+        }
+    };
     if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
-        return pair.signed_distance();
+        return pair.signed_distance().and_then(checked);
     }
     let r1 = *pose1.position();
     let r2 = *pose2.position();
@@ -95,7 +111,7 @@ pub fn signed_distance(
     // Two polytopes of few facets (boxes, small hulls; padded hulls by their hulls): the
     // separating axes decide, and answer an overlap exactly.
     if let Some(sd) = separating_axes(shape1, pose1, shape2, pose2, ell) {
-        return Ok(sd);
+        return checked(sd);
     }
     // GJK's tetrahedron where it certified an overlap: EPA's start (polyhedral pairs), and
     // the overlap of the cores settled.
@@ -130,7 +146,7 @@ pub fn signed_distance(
             None,
             Some(&mut start),
         ) {
-            return Ok(from_distance(d));
+            return checked(from_distance(d));
         }
     }
     let curved = [shape1, shape2]
@@ -150,7 +166,7 @@ pub fn signed_distance(
                         _ => None,
                     };
                     (
-                        penetration(&pair, &d, tol, BUDGET, curved, tet.as_ref()),
+                        penetration(&pair, &d, tol, BUDGET, curved, tet.as_ref(), true),
                         None,
                     )
                 }
@@ -159,9 +175,16 @@ pub fn signed_distance(
     };
     let (p, status) = match end {
         EpaEnd::Closed(p) => (p, SolveStatus::Converged),
-        EpaEnd::Open(p) => (p, SolveStatus::MaxIterations),
+        // A K too thin for EPA (relative thickness near rounding) can stop it far from the
+        // optimum: the slab through its plane may be the better lower bound.
+        EpaEnd::Open(p) => {
+            let s = slab(&pair, &d);
+            (if s.sd > p.sd { s } else { p }, SolveStatus::MaxIterations)
+        }
         EpaEnd::Separated => {
-            return distance(shape1, pose1, shape2, pose2, options).map(from_distance);
+            return distance(shape1, pose1, shape2, pose2, options)
+                .map(from_distance)
+                .and_then(checked);
         }
         EpaEnd::Failed => {
             // A pair sent here by the probe without the distance query's try: a separated one
@@ -169,10 +192,13 @@ pub fn signed_distance(
             if probed {
                 let d = distance(shape1, pose1, shape2, pose2, options)?;
                 if d.distance > 0.0 {
-                    return Ok(from_distance(d));
+                    return checked(from_distance(d));
                 }
             }
-            return Err(Error::Internal("signed_distance: degenerate polytope"));
+            // K flatter than a double resolves (relative thickness below 1e-14: shapes of
+            // aspect ratio near the constructors' 1e12 limit, thin the same way): the best
+            // slab of a few directions, its support points, and the status says so.
+            (slab(&pair, &d), SolveStatus::NumericalFailure)
         }
     };
     // Touching: within rounding of 0.
@@ -182,7 +208,9 @@ pub fn signed_distance(
     // answer separated pairs too): the distance query's answer, bit for bit, as for every
     // separated pair.
     if probed && sd > 0.0 {
-        return distance(shape1, pose1, shape2, pose2, options).map(from_distance);
+        return distance(shape1, pose1, shape2, pose2, options)
+            .map(from_distance)
+            .and_then(checked);
     }
     let out = SignedDistance {
         distance: sd * ell,
@@ -201,17 +229,34 @@ pub fn signed_distance(
             DistancePath::Epa
         },
     };
-    let finite = out.distance.is_finite()
-        && out
+    checked(out)
+}
+
+/// The error of an answer a double cannot hold (shapes placed within their size of the largest
+/// double, so that a witness or contact point, x* or α* would pass it): `InvalidPose` naming the
+/// origins' largest coordinate.
+pub(crate) fn not_representable(r1: &Vec3, r2: &Vec3) -> Error {
+    let far = r1
+        .iter()
+        .chain(r2.iter())
+        .fold(0.0 as Real, |m, v| m.max(v.abs()));
+    Error::InvalidPose(ErrorDetail::new(
+        "position",
+        far,
+        "puts the answer beyond the largest double (a point, distance or alpha* of it would \
+         overflow): keep positions and offsets well inside 1e308",
+    ))
+}
+
+/// Whether every number of a signed distance is finite.
+fn finite(sd: &SignedDistance) -> bool {
+    sd.distance.is_finite()
+        && sd
             .normal
             .iter()
-            .chain(out.closest1.iter())
-            .chain(out.closest2.iter())
-            .all(|v| v.is_finite());
-    if !finite {
-        return Err(Error::Internal("signed_distance: non-finite answer"));
-    }
-    Ok(out)
+            .chain(sd.closest1.iter())
+            .chain(sd.closest2.iter())
+            .all(|v| v.is_finite())
 }
 
 /// [`signed_distance`] and its gradient with respect to (r₁, q₁, r₂, q₂): 14 numbers, the
@@ -320,12 +365,19 @@ fn cored(
     // The cores' EPA; polyhedral cores start from GJK's tetrahedron where there is one (on
     // curved pieces, measured, GJK's thin tetrahedron starts EPA no better than four fresh
     // support calls in the directions of a regular one).
-    let epa =
-        |tet: Option<&[Vertex; 4]>| match penetration(&posed, d, tol, BUDGET, !polyhedral, tet) {
-            EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
-            EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
-            EpaEnd::Separated | EpaEnd::Failed => None,
-        };
+    let epa = |tet: Option<&[Vertex; 4]>| match penetration(
+        &posed,
+        d,
+        tol,
+        BUDGET,
+        !polyhedral,
+        tet,
+        false,
+    ) {
+        EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
+        EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
+        EpaEnd::Separated | EpaEnd::Failed => None,
+    };
     // GJK on these cores (those of `Cores::of`: no polygon) certified their overlap already,
     // or found them apart by less than the radii (and the tolerance).
     let mut tet = [Vertex::default(); 4];
@@ -448,4 +500,73 @@ fn separating_axes(
         status: SolveStatus::Converged,
         path: DistancePath::SeparatingAxes,
     })
+}
+
+/// The best lower bound `L(n) = n·d − h_K(n)` over the directions across K's long axis (the
+/// line through its two support points along `(1, 1, 1)`: 36 angles, then a bisection about the
+/// best), the axes, the offset, and their opposites, with the support points there as
+/// witnesses: an answer for a K too thin for EPA (a needle or a sheet, from shapes of aspect
+/// ratio near the constructors' limit), each witness on its shape's support plane (the identity
+/// `d + b − a = L·n` does not hold).
+fn slab(pair: &Pair<'_, Shape>, d: &Vec3) -> Penetration {
+    let u = Vec3::new(1.0, 1.0, 1.0) / (3.0 as Real).sqrt();
+    let (v0, v1) = (pair.support(&u), pair.support(&-u));
+    let e = (v1.w - v0.w).try_normalize(0.0).unwrap_or(u);
+    let o = if e.x.abs() < 0.6 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let m = (o - e * e.dot(&o)).normalize();
+    let k = e.cross(&m);
+    let mut supports = 2;
+    let mut best: Option<(Real, Vec3, Vertex)> = None;
+    let mut try_n = |n: Vec3, best: &mut Option<(Real, Vec3, Vertex)>| {
+        let v = pair.support(&n);
+        supports += 1;
+        let lo = n.dot(&(d - v.w));
+        if best.as_ref().map_or(true, |b| lo > b.0) {
+            *best = Some((lo, n, v));
+        }
+        lo
+    };
+    let across = |t: Real| m * t.cos() + k * t.sin();
+    let step = std::f64::consts::TAU / 36.0;
+    let mut top = (Real::NEG_INFINITY, 0.0);
+    for i in 0..36 {
+        let t = i as Real * step;
+        let lo = try_n(across(t), &mut best);
+        if lo > top.0 {
+            top = (lo, t);
+        }
+    }
+    // Bisection of the angle about the best sample.
+    let (mut t, mut h) = (top.1, step);
+    for _ in 0..30 {
+        h *= 0.5;
+        let (a, b) = (
+            try_n(across(t - h), &mut best),
+            try_n(across(t + h), &mut best),
+        );
+        if a > top.0 && a >= b {
+            (top.0, t) = (a, t - h);
+        } else if b > top.0 {
+            (top.0, t) = (b, t + h);
+        }
+    }
+    let along = d.try_normalize(0.0).unwrap_or(Vec3::x());
+    for n in [Vec3::x(), Vec3::y(), Vec3::z(), along] {
+        try_n(n, &mut best);
+        try_n(-n, &mut best);
+    }
+    let (sd, normal, v) = best.expect("directions tried");
+    Penetration {
+        sd,
+        upper: 0.0,
+        normal,
+        a: v.a,
+        b: v.b,
+        polished: false,
+        supports,
+    }
 }

@@ -25,9 +25,7 @@ pub(crate) struct Nearest {
 }
 
 /// The point of the boundary of the ellipsoid with semi-axes `e` (descending) nearest `y`
-/// (principal frame), certified to `1e-12·e₁`; `None` with `y` inside and in the plane of the
-/// two longer axes (where the nearest point may be one of two), or when the bracket does not
-/// close.
+/// (principal frame), certified to `1e-12·e₁`; `None` when the bracket does not close.
 ///
 /// Newton starts from the largest of `tᵢ = −eᵢ² + eᵢ|yᵢ|` (each term of F is 1 at its own
 /// `tᵢ`, so `F ≥ 0` there), and not below 0 outside (`F(0) > 0`). The certificate: every
@@ -36,37 +34,77 @@ pub(crate) struct Nearest {
 /// pushed radially onto the boundary gives an upper bound. Measured: from `t₃` alone a point
 /// 1e-13 off the plane of the longer axes needed more Newton steps than the loop allowed, and
 /// the depth came out 7e-10 too deep.
+///
+/// Inside, the root lies just above `−e₃²`, and `t + eᵢ²` computed from t loses the digits of
+/// a point near the centre (`t + e₃² ≈ e₃|y₃|`: a point 1e-5 from the centre of a unit
+/// ellipsoid kept 11 digits of its nearest point, and the bracket did not close). Inside, the
+/// unknown is therefore `s = t + e₃²`, with `t + eᵢ² = s + gᵢ`, `gᵢ = (eᵢ − e₃)(eᵢ + e₃)`.
+/// A point inside on the plane of the two longer axes (`y₃ = 0`, as a centred sphere is) has
+/// its nearest points off that plane when `F` has no root above `s = 0`: then `s = 0`,
+/// `xᵢ = eᵢ²yᵢ/gᵢ` (i = 1, 2) and `x₃ = e₃√(1 − Σ (xᵢ/eᵢ)²)`, one of the two (or, on the axis
+/// of a spheroid, of the circle of) nearest points, and the bracket closes at `t = −e₃²`.
 pub(crate) fn nearest(y: &Vec3, e: &Vec3) -> Option<Nearest> {
     let z = y.abs();
     let inside = z.component_div(e).norm_squared() <= 1.0;
-    if inside && !(z.z > 0.0) {
-        return None;
-    }
     let e2 = e.component_mul(e);
     let ez = e.component_mul(&z);
-    let f = |t: Real| (0..3).map(|i| (ez[i] / (t + e2[i])).powi(2)).sum::<Real>() - 1.0;
-    let df = |t: Real| {
+    // The shift of the unknown (`s = t + c`) and `gᵢ = eᵢ² − c`.
+    let (c, g) = if inside {
+        (e2.z, Vec3::from_fn(|i, _| (e[i] - e.z) * (e[i] + e.z)))
+    } else {
+        (0.0, e2)
+    };
+    // The terms of F, nonnegative; zero where `yᵢ = 0` also at `s + gᵢ = 0` (`max` takes the
+    // number over the NaN of 0/0, without a branch).
+    let term = |i: usize, s: Real| (ez[i] / (s + g[i])).max(0.0);
+    let f = |s: Real| (0..3).map(|i| term(i, s).powi(2)).sum::<Real>() - 1.0;
+    let df = |s: Real| {
         -2.0 * (0..3)
-            .map(|i| ez[i].powi(2) / (t + e2[i]).powi(3))
+            .map(|i| term(i, s).powi(2) / (s + g[i]))
             .sum::<Real>()
     };
-    let floor = if inside { -e2.z + ez.z } else { 0.0 };
-    let mut t = (0..3).map(|i| -e2[i] + ez[i]).fold(floor, Real::max);
-    for _ in 0..MAX_STEPS {
-        let ft = f(t);
-        if !(ft > 0.0) {
-            break;
+    // `xᵢ = eᵢ²yᵢ/(s + gᵢ)`, 0 where `yᵢ = 0`.
+    let point = |s: Real| {
+        Vec3::from_fn(|i, _| {
+            let x = e2[i] * y[i] / (s + g[i]);
+            if x.is_nan() {
+                0.0
+            } else {
+                x
+            }
+        })
+    };
+    // `q = t(Σ yᵢ²/(t + eᵢ²) − 1)`, `t = s − c` (a term is 0 where `yᵢ = 0`, as above).
+    let dual = |s: Real| {
+        let sum = (0..3)
+            .map(|i| (z[i] * z[i] / (s + g[i])).max(0.0))
+            .sum::<Real>();
+        (s - c) * (sum - 1.0)
+    };
+    let (x, q) = if inside && z.z == 0.0 && f(0.0) <= 0.0 {
+        // Off the plane: `s = 0`, x₃ from the boundary equation.
+        let mut x = point(0.0);
+        let rest = 1.0 - (x.x / e.x).powi(2) - (x.y / e.y).powi(2);
+        x.z = e.z * rest.max(0.0).sqrt();
+        (x, dual(0.0))
+    } else {
+        let floor = if inside { ez.z } else { 0.0 };
+        let mut s = (0..3).map(|i| ez[i] - g[i]).fold(floor, Real::max);
+        for _ in 0..MAX_STEPS {
+            let fs = f(s);
+            if !(fs > 0.0) {
+                break;
+            }
+            let next = s - fs / df(s);
+            if !(next > s) {
+                break;
+            }
+            s = next;
         }
-        let next = t - ft / df(t);
-        if !(next > t) {
-            break;
-        }
-        t = next;
-    }
-    let x = Vec3::from_fn(|i, _| e2[i] * y[i] / (t + e2[i]));
+        (point(s), dual(s))
+    };
     let dist = (x - y).norm();
-    // The bracket [√q(t), ‖x' − y‖], x' = x / √(xᵀAx) on the boundary.
-    let q = (0..3).map(|i| z[i] * z[i] * t / (t + e2[i])).sum::<Real>() - t;
+    // The bracket [√q, ‖x' − y‖], x' = x / √(xᵀAx) on the boundary.
     let on = x / x.component_div(e).norm();
     let upper = (on - y).norm();
     let lower = q.max(0.0).sqrt();
@@ -176,5 +214,44 @@ mod tests {
             (n.dist - 0.3).abs() < 1e-14 && (n.x - x).norm() < 1e-13,
             "{n:?} {x:?}"
         );
+    }
+
+    /// Points inside near the centre (they used to lose their digits in `t + e₃²`, and the
+    /// bracket did not close) and on the plane of the two longer axes (they used to be left to
+    /// the general solvers): the depth from `q(−e₃²) = e₃²(1 − Σ yᵢ²/(eᵢ² − e₃²))`, exact on
+    /// that plane, and near the centre the short semi-axis less the offset along it (to its
+    /// square, with the optimality condition to rounding).
+    #[test]
+    fn nearest_points_inside_near_the_centre_and_on_the_long_axes_plane() {
+        let e = Vec3::new(0.9534, 0.5782, 0.5583);
+        let y = Vec3::new(5.7e-7, 9.4e-6, 4.3e-6);
+        let n = nearest(&y, &e).expect("closed near the centre");
+        assert!(n.inside && (n.dist - (e.z - y.z)).abs() < 1e-8, "{n:?}");
+        // On the boundary, and `y − x` along the normal `A x` there (the optimality condition).
+        let normal = n.x.component_div(&e.component_mul(&e)).normalize();
+        assert!((n.x.component_div(&e).norm_squared() - 1.0).abs() < 1e-14);
+        assert!(((n.x - y) / n.dist).cross(&normal).norm() < 1e-12, "{n:?}");
+        // On the plane of the longer axes: two nearest points, off it.
+        for (e, y) in [
+            (Vec3::new(2.0, 1.0, 0.5), Vec3::new(0.1, 0.05, 0.0)),
+            (Vec3::new(2.0, 1.0, 0.5), Vec3::new(0.0, 0.0, 0.0)),
+            // A spheroid's axis: a circle of nearest points.
+            (Vec3::new(2.0, 0.5, 0.5), Vec3::new(0.3, 0.0, 0.0)),
+        ] {
+            let n = nearest(&y, &e).expect("closed on the plane");
+            let term = |i: usize| {
+                if y[i] == 0.0 {
+                    0.0
+                } else {
+                    y[i] * y[i] / (e[i] * e[i] - e.z * e.z)
+                }
+            };
+            let want = e.z * (1.0 - term(0) - term(1)).sqrt();
+            let on = (n.x.component_div(&e).norm_squared() - 1.0).abs();
+            assert!(
+                n.inside && (n.dist - want).abs() < 1e-14 && on < 1e-14 && n.x.z > 0.0,
+                "{y:?}: {n:?} vs {want}"
+            );
+        }
     }
 }

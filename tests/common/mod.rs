@@ -8,6 +8,7 @@
 //! (required when `CI` is set).
 #![allow(dead_code)]
 
+pub mod oracle;
 pub mod random;
 
 use dcol::{Pose, Shape};

@@ -24,22 +24,18 @@
 //! inserting the support point at the polished normal and refining the faces around it.
 
 use super::newton::newton;
+use super::polytope::{start_from, Face, OnHeap, Poly, Refused, Store, MAX_V};
 use super::simplex::triangle;
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
 use crate::solver::polish::{drop_piece, eval, normalise_multipliers, Active, MAX_PIECES};
 use crate::solver::raycast::{Pair, Vertex};
-use arrayvec::ArrayVec;
+use std::cell::RefCell;
 
-/// Vertices and faces of the polytope (a closed triangulated sphere has `F = 2V − 4`): room for
-/// the signed distance's budget of support calls (about 55 kB of stack, not initialised: see
-/// [`Poly`]).
-const MAX_V: usize = 256;
-const MAX_F: usize = 2 * MAX_V;
-/// Horizon edges of one insertion.
-const MAX_HORIZON: usize = 48;
-/// Faces one insertion may see (the horizon search is quadratic in them, not in all faces).
-const MAX_VISIBLE: usize = 2 * MAX_HORIZON;
+/// Support calls made on the stack's polytope; a pair that needs more continues on a
+/// per-thread heap polytope of 4 096 vertices (`super::polytope`; allocated the first time,
+/// then reused).
+const STACK_BUDGET: u32 = (MAX_V - 6) as u32;
 /// The bracket width (relative to the depth, plus an absolute part) at which curved pairs hand
 /// over to the polish.
 const HANDOVER: Real = 1e-4;
@@ -49,18 +45,14 @@ const HANDOVER_ABS: Real = 1e-8;
 /// Measured on benches/proximity's overlapping poses (150 per pair, default tolerance): the
 /// class median 4110 -> 3500 ns with the answers within 2e-14 of those polished to rounding.
 const FINE: Real = 0.1;
-
-#[derive(Clone, Copy, Debug)]
-struct Face {
-    v: [u16; 3],
-    n: Vec3,
-    rho: Real,
-    /// The face across each edge `(v[e], v[e + 1])`.
-    adj: [u16; 3],
-    /// Visit stamp of an insertion's search (`Poly::stamp` the current one).
-    mark: u32,
-    alive: bool,
-}
+/// The least volume of a start tetrahedron, relative to the product of its edges from one
+/// vertex; [`THIN_VOLUME`] where K is known to be full-dimensional (a thinner one is the
+/// rounding of a flat set: cores in one plane, which the caller answers otherwise). Shapes of
+/// aspect ratio 1e11 (a box 1e-7 by 1e4) make K thinner than the first.
+const START_VOLUME: Real = 1e-9;
+const THIN_VOLUME: Real = 1e-14;
+/// Barycentric weights down to this count as inside a face (rounding).
+const BARY_SLACK: Real = 1e-12;
 
 /// A penetration answer (normalised units).
 #[derive(Clone, Copy, Debug)]
@@ -93,237 +85,72 @@ pub(crate) enum EpaEnd {
     Failed,
 }
 
-/// The polytope. Its arrays are `ArrayVec`s: a call initialises only the slots it fills
-/// (zero-filling fixed arrays of this size cost about 0.7 µs a call).
-struct Poly {
-    d: Vec3,
-    verts: ArrayVec<Vertex, MAX_V>,
-    /// Face slots, the dead ones listed in `free`.
-    faces: ArrayVec<Face, MAX_F>,
-    /// `ρ_f` of each live face slot, `+∞` for a dead one: what the search for the closest
-    /// face scans.
-    keys: ArrayVec<Real, MAX_F>,
-    free: ArrayVec<u16, MAX_F>,
-    /// The current visit stamp.
-    stamp: u32,
-}
-
-impl Poly {
-    fn new(d: &Vec3) -> Poly {
-        Poly {
-            d: *d,
-            verts: ArrayVec::new(),
-            faces: ArrayVec::new(),
-            keys: ArrayVec::new(),
-            free: ArrayVec::new(),
-            stamp: 0,
-        }
-    }
-
-    fn face(&self, v: [u16; 3]) -> Option<Face> {
-        let w = v.map(|i| self.verts[i as usize].w);
-        let c = (w[1] - w[0]).cross(&(w[2] - w[0]));
-        let len = c.norm();
-        if !(len > 0.0 && len.is_finite()) {
-            return None;
-        }
-        let n = c / len;
-        let rho = w
-            .iter()
-            .map(|wi| n.dot(&(wi - self.d)))
-            .fold(Real::INFINITY, Real::min);
-        Some(Face {
-            v,
-            n,
-            rho,
-            adj: [0; 3],
-            mark: 0,
-            alive: true,
-        })
-    }
-
-    /// The face of least `ρ_f` (the first of them).
-    fn closest(&self) -> usize {
-        let mut best = usize::MAX;
-        let mut rho = Real::INFINITY;
-        for (k, &r) in self.keys.iter().enumerate() {
-            if r < rho {
-                best = k;
-                rho = r;
-            }
-        }
-        if best == usize::MAX {
-            // No finite key: the first live face.
-            best = self
-                .faces
-                .iter()
-                .position(|f| f.alive)
-                .unwrap_or(usize::MAX);
-        }
-        best
-    }
-
-    /// Sets every face's neighbours by matching twin edges (the starting tetrahedron).
-    fn link_all(&mut self) -> bool {
-        let nf = self.faces.len();
-        for k in 0..nf {
-            for e in 0..3 {
-                let (i, j) = (self.faces[k].v[e], self.faces[k].v[(e + 1) % 3]);
-                let twin = (0..nf).find(|&m| {
-                    let u = self.faces[m].v;
-                    (0..3).any(|t| u[t] == j && u[(t + 1) % 3] == i)
-                });
-                match twin {
-                    Some(m) => self.faces[k].adj[e] = m as u16,
-                    None => return false,
-                }
-            }
-        }
-        true
-    }
-
-    /// Adds `vtx` to the hull: the faces that see it (the connected set found by walking the
-    /// neighbours from `hint`, or from the first face that sees it) are replaced by the cone
-    /// from their horizon. False (nothing changed) when it sees no face, or the result would
-    /// overflow, hold a degenerate face or a horizon that is not one loop.
-    fn insert(&mut self, vtx: Vertex, eps: Real, hint: usize) -> bool {
-        if self.verts.is_full() {
-            return false;
-        }
-        let s = vtx.w;
-        let verts = &self.verts;
-        let sees = |f: &Face| f.alive && f.n.dot(&(s - verts[f.v[0] as usize].w)) > eps;
-        let nf = self.faces.len();
-        let seed = if hint < nf && sees(&self.faces[hint]) {
-            hint
-        } else {
-            match (0..nf).find(|&k| sees(&self.faces[k])) {
-                Some(k) => k,
-                None => return false,
-            }
-        };
-        // The visible faces: a walk over neighbours from the seed.
-        self.stamp = self.stamp.wrapping_add(1);
-        let stamp = self.stamp;
-        let mut seen = ArrayVec::<u16, MAX_VISIBLE>::new();
-        let mut stack = ArrayVec::<u16, MAX_VISIBLE>::new();
-        stack.push(seed as u16);
-        self.faces[seed].mark = stamp;
-        while let Some(k) = stack.pop() {
-            if seen.try_push(k).is_err() {
-                return false;
-            }
-            for e in 0..3 {
-                let m = self.faces[k as usize].adj[e] as usize;
-                if self.faces[m].mark != stamp && sees(&self.faces[m]) {
-                    self.faces[m].mark = stamp;
-                    if stack.try_push(m as u16).is_err() {
-                        return false;
-                    }
-                }
-            }
-        }
-        // The horizon: edges of visible faces whose neighbour is not visible, with that
-        // neighbour and the index of the twin edge in it.
-        let mut horizon = ArrayVec::<([u16; 2], u16, u8), MAX_HORIZON>::new();
-        for &k in &seen {
-            let f = self.faces[k as usize];
-            for e in 0..3 {
-                let m = f.adj[e] as usize;
-                if self.faces[m].mark == stamp {
-                    continue;
-                }
-                let (i, j) = (f.v[e], f.v[(e + 1) % 3]);
-                let u = self.faces[m].v;
-                let Some(t) = (0..3).find(|&t| u[t] == j && u[(t + 1) % 3] == i) else {
-                    return false;
-                };
-                if horizon.try_push(([i, j], m as u16, t as u8)).is_err() {
-                    return false;
-                }
-            }
-        }
-        let nh = horizon.len();
-        if self.free.len() + (MAX_F - nf) + seen.len() < nh {
-            return false;
-        }
-        // The cone's faces, and for each horizon edge the one that starts where it ends
-        // (`next`) and the one that ends where it starts (`prev`): each exactly one, so that
-        // every horizon vertex starts and ends exactly one edge.
-        let mut next = [0u8; MAX_HORIZON];
-        let mut prev = [0u8; MAX_HORIZON];
-        for (h, (e, _, _)) in horizon.iter().enumerate() {
-            let (mut nn, mut np) = (0, 0);
-            for (g, (o, _, _)) in horizon.iter().enumerate() {
-                if o[0] == e[1] {
-                    next[h] = g as u8;
-                    nn += 1;
-                }
-                if o[1] == e[0] {
-                    prev[h] = g as u8;
-                    np += 1;
-                }
-            }
-            if nn != 1 || np != 1 {
-                return false;
-            }
-        }
-        let new = self.verts.len() as u16;
-        self.verts.push(vtx);
-        let mut fresh = ArrayVec::<Face, MAX_HORIZON>::new();
-        for (e, _, _) in &horizon {
-            match self.face([e[0], e[1], new]) {
-                Some(face) => fresh.push(face),
-                None => {
-                    self.verts.pop();
-                    return false;
-                }
-            }
-        }
-        // Commit: free the visible faces, then place the cone's.
-        for &k in &seen {
-            self.faces[k as usize].alive = false;
-            self.keys[k as usize] = Real::INFINITY;
-            self.free.push(k);
-        }
-        let mut slot = [0u16; MAX_HORIZON];
-        for (s, f) in slot[..nh].iter_mut().zip(&fresh) {
-            *s = match self.free.pop() {
-                Some(k) => k,
-                None => {
-                    self.faces.push(*f);
-                    self.keys.push(Real::INFINITY);
-                    (self.faces.len() - 1) as u16
-                }
-            };
-        }
-        for (h, (_, m, t)) in horizon.iter().enumerate() {
-            let mut f = fresh[h];
-            f.adj = [*m, slot[next[h] as usize], slot[prev[h] as usize]];
-            self.faces[slot[h] as usize] = f;
-            self.keys[slot[h] as usize] = f.rho;
-            self.faces[*m as usize].adj[*t as usize] = slot[h];
-        }
-        true
-    }
-}
-
 /// The best lower bound and its witnesses.
 struct Best {
     lower: Real,
     normal: Vec3,
     a: Vec3,
     b: Vec3,
-    /// The face whose normal gave `lower`, when the witnesses are still to be taken from it
-    /// (its vertices stay in the polytope, so this is done once, at the end).
-    face: Option<Face>,
+    /// Where the witnesses come from.
+    from: Source,
     polished: bool,
+}
+
+/// The source of the best lower bound's witnesses.
+#[derive(Clone, Copy, Debug)]
+enum Source {
+    /// `a` and `b` hold them (the polish's, checked against the witness identity).
+    Held,
+    /// The face whose normal gave `lower`: taken from it once, at the end (its vertices stay
+    /// in the polytope).
+    Face(Face),
+    /// The polish's normal, whose own witnesses missed the identity: taken at the end where
+    /// the ray from `d` along the normal leaves the polytope.
+    Ray,
+}
+
+/// The state of a run of EPA: the bounds, the support calls made, whether the polish ran.
+struct Run {
+    best: Best,
+    upper: Real,
+    supports: u32,
+    polished_once: bool,
+    /// The bracket's width to reach, the rounding of `L`, and the insertion slack.
+    tol: Real,
+    floor: Real,
+    eps: Real,
+}
+
+/// How a stretch of refinement ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Ended {
+    Closed,
+    Separated,
+    /// The support calls allowed were made.
+    Budget,
+    /// The polytope's arrays are full.
+    Full,
+    /// An insertion was refused for its geometry (the polytope is at rounding level).
+    Stuck,
+}
+
+thread_local! {
+    /// The heap polytope of the overlaps that need more than [`STACK_BUDGET`] support calls.
+    static HEAP: RefCell<Option<Poly<OnHeap>>> = const { RefCell::new(None) };
 }
 
 /// The signed distance of an overlapping (or touching) pair at offset `d` (normalised),
 /// closing the bracket to `tol` within `budget` support calls. `curved`: run the polish.
 /// `tet`: support vertices of the pair to start from (GJK's last simplex), when they span a
-/// tetrahedron; otherwise EPA starts from four support calls of its own.
+/// tetrahedron; otherwise EPA starts from four support calls of its own. `thin`: K is known to
+/// be full-dimensional (two shapes, not cores that may be flat), so a start tetrahedron as
+/// thin as [`THIN_VOLUME`] is taken.
+///
+/// The first [`STACK_BUDGET`] calls refine a polytope on the stack. A pair that needs more
+/// (deep overlaps of curved shapes whose boundary nearly follows the sphere about `d` of the
+/// depth's radius, where every face near the optimum must come within the tolerance of K:
+/// 2.6e-4 of random overlapping pairs) goes on with a copy of it in this thread's heap
+/// polytope, allocated at the first such call and reused.
 pub(crate) fn penetration<S: SupportMap>(
     pair: &Pair<'_, S>,
     d: &Vec3,
@@ -331,106 +158,185 @@ pub(crate) fn penetration<S: SupportMap>(
     budget: u32,
     curved: bool,
     tet: Option<&[Vertex; 4]>,
+    thin: bool,
 ) -> EpaEnd {
     let floor = 8.0 * Real::EPSILON * (d.norm() + 2.0);
-    let tol = tol.max(4.0 * floor);
-    let eps = floor;
+    let mut run = Run {
+        best: Best {
+            lower: Real::NEG_INFINITY,
+            normal: Vec3::x(),
+            a: Vec3::zeros(),
+            b: Vec3::zeros(),
+            from: Source::Held,
+            polished: false,
+        },
+        upper: Real::INFINITY,
+        supports: 0,
+        polished_once: !curved,
+        tol: tol.max(4.0 * floor),
+        floor,
+        eps: floor,
+    };
     let mut poly = Poly::new(d);
-    let mut supports = 0u32;
-    if !tet.is_some_and(|t| start_from(&mut poly, t)) && !start(pair, &mut poly, &mut supports) {
+    if !tet.is_some_and(|t| start_from(&mut poly, t, START_VOLUME))
+        && !start(pair, &mut poly, &mut run.supports, thin)
+    {
         return EpaEnd::Failed;
     }
-    let mut best = Best {
-        lower: Real::NEG_INFINITY,
-        normal: Vec3::x(),
-        a: Vec3::zeros(),
-        b: Vec3::zeros(),
-        face: None,
-        polished: false,
+    let ended = refine(pair, &mut poly, &mut run, budget.min(STACK_BUDGET));
+    let more = (ended == Ended::Budget && run.supports < budget) || ended == Ended::Full;
+    if !more {
+        return finish(&poly, &run, ended);
+    }
+    HEAP.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut slot) => {
+            let big = slot.get_or_insert_with(Poly::heap);
+            big.copy_from(&poly);
+            let ended = refine(pair, big, &mut run, budget);
+            finish(big, &run, ended)
+        }
+        // Re-entered (this crate never does): a heap polytope of its own.
+        Err(_) => {
+            let mut big = Poly::heap();
+            big.copy_from(&poly);
+            let ended = refine(pair, &mut big, &mut run, budget);
+            finish(&big, &run, ended)
+        }
+    })
+}
+
+/// Refines the polytope until the bracket closes, the shapes prove separated, `budget`
+/// support calls are made in all, or the polytope can take no more.
+fn refine<P: SupportMap, S: Store>(
+    pair: &Pair<'_, P>,
+    poly: &mut Poly<S>,
+    run: &mut Run,
+    budget: u32,
+) -> Ended {
+    let d = poly.d;
+    let stopped = |r: Result<(), Refused>| match r {
+        Ok(()) => None,
+        Err(Refused::Full) => Some(Ended::Full),
+        Err(Refused::Degenerate) => Some(Ended::Stuck),
     };
-    let mut upper;
-    let mut polished_once = !curved;
     loop {
         let k = poly.closest();
         let f = poly.faces[k];
-        upper = bound(&poly, &f, floor);
+        run.upper = bound(poly, &f, run.floor);
         let vtx = pair.support(&f.n);
-        supports += 1;
+        run.supports += 1;
         let lo = f.n.dot(&(d - vtx.w));
-        if lo > best.lower {
-            best = Best {
+        if lo > run.best.lower {
+            run.best = Best {
                 lower: lo,
                 normal: f.n,
                 a: Vec3::zeros(),
                 b: Vec3::zeros(),
-                face: Some(f),
+                from: Source::Face(f),
                 polished: false,
             };
         }
-        if best.lower > floor {
-            return EpaEnd::Separated;
+        if run.best.lower > run.floor {
+            return Ended::Separated;
         }
-        if upper - best.lower <= tol {
-            break;
+        if run.upper - run.best.lower <= run.tol {
+            return Ended::Closed;
         }
         // Hand over once the pieces are identified, or when EPA stops (the polish then still
         // makes the lower bound, the answer, exact where the bracket stays open).
-        let narrow =
-            upper - best.lower <= HANDOVER * best.lower.abs().max(upper.abs()) + HANDOVER_ABS;
-        let stop = supports >= budget || (!narrow && !poly.insert(vtx, eps, k));
-        if !polished_once && (narrow || stop) {
-            polished_once = true;
-            if let Some((n, a, b)) = polish(pair, &poly, &f, best.lower, FINE * tol) {
+        let (lower, upper) = (run.best.lower, run.upper);
+        let narrow = upper - lower <= HANDOVER * lower.abs().max(upper.abs()) + HANDOVER_ABS;
+        let mut stop = (run.supports >= budget).then_some(Ended::Budget);
+        if stop.is_none() && !narrow {
+            stop = stopped(poly.insert(vtx, run.eps, k));
+        }
+        if !run.polished_once && (narrow || stop.is_some()) {
+            run.polished_once = true;
+            if let Some((n, a, b)) = polish(pair, poly, &f, run.best.lower, FINE * run.tol) {
                 let v = pair.support(&n);
-                supports += 1;
+                run.supports += 1;
                 let lo = n.dot(&(d - v.w));
-                if lo >= best.lower {
-                    best = Best {
+                if lo >= run.best.lower {
+                    run.best = Best {
                         lower: lo,
                         normal: n,
                         a,
                         b,
-                        face: None,
+                        // The polish's witnesses where they meet the identity
+                        // `d + b − a = L·n` (its last Newton run may stall short of it: 6e-6
+                        // seen on a box–cylinder pair, the box's witness that far inside its
+                        // support plane); otherwise the polytope's, at the end.
+                        from: if (d + b - a - n * lo).norm() <= run.tol {
+                            Source::Held
+                        } else {
+                            Source::Ray
+                        },
                         polished: true,
                     };
                 }
-                if !stop && poly.insert(v, eps, k) {
+                if stop.is_none() && poly.insert(v, run.eps, k).is_ok() {
                     continue;
                 }
             }
         }
-        if stop || (narrow && !poly.insert(vtx, eps, k)) {
-            if upper - best.lower > tol {
+        if stop.is_none() && narrow {
+            stop = stopped(poly.insert(vtx, run.eps, k));
+        }
+        if let Some(why) = stop {
+            if run.upper - run.best.lower > run.tol {
                 let k = poly.closest();
-                upper = bound(&poly, &poly.faces[k], floor);
+                run.upper = bound(poly, &poly.faces[k], run.floor);
             }
-            break;
+            return if run.upper - run.best.lower <= run.tol {
+                Ended::Closed
+            } else {
+                why
+            };
         }
     }
-    if let Some(f) = best.face {
+}
+
+/// The answer of a run that ended as `ended`, its witnesses from the polytope.
+fn finish<S: Store>(poly: &Poly<S>, run: &Run, ended: Ended) -> EpaEnd {
+    if ended == Ended::Separated {
+        return EpaEnd::Separated;
+    }
+    let mut best = Best { ..run.best };
+    if let Source::Ray = best.from {
+        (best.a, best.b) = ray_witnesses(poly, &best.normal).unwrap_or_else(|| {
+            let k = poly.closest();
+            witnesses(poly, &poly.faces[k])
+        });
+    }
+    if let Source::Face(f) = best.from {
         // The face's barycentric point lies `−(lower + ρ_f)` inside the support plane at its
         // normal: within the tolerance when the face closed the bracket, but an older face that
         // gave a better lower bound may lie deeper (7e-9 seen on a capsule–ellipsoid pair, a
         // witness identity off by as much). Then the witnesses are where the ray from `d` along
         // the normal leaves the polytope: a point of K at a distance between the bracket's
-        // ends, exactly on the ray.
+        // ends, exactly on the ray. The same where `d`'s projection falls outside the face:
+        // K's facet is split into coplanar triangles whose `ρ_f` tie to rounding, and the
+        // closest by index need not hold the projection; its barycentric combination of the
+        // shapes' points then lies outside both shapes, on their support planes (two boxes of
+        // one attitude face to face: 21 of 20 000 random offsets, by up to 0.09 of the size).
         let gap = -(best.lower + f.rho);
-        (best.a, best.b) = if gap > tol {
-            ray_witnesses(&poly, &best.normal).unwrap_or_else(|| witnesses(&poly, &f))
+        let outside = bary(poly, &f).iter().any(|t| *t < -BARY_SLACK);
+        (best.a, best.b) = if gap > run.tol || outside {
+            ray_witnesses(poly, &best.normal).unwrap_or_else(|| witnesses(poly, &f))
         } else {
-            witnesses(&poly, &f)
+            witnesses(poly, &f)
         };
     }
     let out = Penetration {
         sd: best.lower,
-        upper,
+        upper: run.upper,
         normal: best.normal,
         a: best.a,
         b: best.b,
         polished: best.polished,
-        supports,
+        supports: run.supports,
     };
-    if upper - best.lower <= tol {
+    if run.upper - best.lower <= run.tol {
         EpaEnd::Closed(out)
     } else {
         EpaEnd::Open(out)
@@ -439,7 +345,12 @@ pub(crate) fn penetration<S: SupportMap>(
 
 /// A tetrahedron of support points in the directions of a regular tetrahedron (or of the
 /// opposite one), its faces oriented outward.
-fn start<S: SupportMap>(pair: &Pair<'_, S>, poly: &mut Poly, supports: &mut u32) -> bool {
+fn start<S: SupportMap, T: Store>(
+    pair: &Pair<'_, S>,
+    poly: &mut Poly<T>,
+    supports: &mut u32,
+    thin: bool,
+) -> bool {
     let s = 1.0 / (3.0 as Real).sqrt();
     let dirs = [
         Vec3::new(s, s, s),
@@ -450,45 +361,62 @@ fn start<S: SupportMap>(pair: &Pair<'_, S>, poly: &mut Poly, supports: &mut u32)
     for sign in [1.0, -1.0] {
         let tet = dirs.map(|dir| pair.support(&(dir * sign)));
         *supports += 4;
-        if start_from(poly, &tet) {
+        if start_from(poly, &tet, START_VOLUME) {
             return true;
         }
     }
-    false
+    let least = if thin { THIN_VOLUME } else { START_VOLUME };
+    spanning(pair, poly, supports, least)
 }
 
-/// The polytope of the four vertices `tet`, its faces oriented outward; false when they do
-/// not span a tetrahedron (relative volume 1e-9).
-fn start_from(poly: &mut Poly, tet: &[Vertex; 4]) -> bool {
-    poly.verts.clear();
-    poly.faces.clear();
-    poly.keys.clear();
-    poly.verts.extend(tet.iter().copied());
-    let w = tet.map(|v| v.w);
-    let vol = (w[1] - w[0]).cross(&(w[2] - w[0])).dot(&(w[3] - w[0]));
-    let scale = (w[1] - w[0]).norm() * (w[2] - w[0]).norm() * (w[3] - w[0]).norm();
-    if !(vol.abs() > 1e-9 * scale) {
-        return false;
-    }
-    // With vol > 0, (0,1,2) has 3 on its positive side: orient it the other way.
-    let faces: [[u16; 3]; 4] = if vol > 0.0 {
-        [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
-    } else {
-        [[0, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]]
+/// A tetrahedron of support points chosen one dimension at a time: the two ends of K along a
+/// direction, then the support point farthest from their line (of the two opposite directions
+/// orthogonal to it), then the one farthest from their plane. For K with a vertex that is the
+/// support point of most directions (two cones' apexes, needle-like polytopes) the regular
+/// tetrahedron's directions can give a repeated point; this cannot, unless K is flat.
+fn spanning<S: SupportMap, T: Store>(
+    pair: &Pair<'_, S>,
+    poly: &mut Poly<T>,
+    supports: &mut u32,
+    least: Real,
+) -> bool {
+    let mut call = |n: &Vec3| {
+        *supports += 1;
+        pair.support(n)
     };
-    for v in faces {
-        let Some(f) = poly.face(v) else {
-            return false;
-        };
-        poly.faces.push(f);
-        poly.keys.push(f.rho);
-    }
-    poly.link_all()
+    let u = Vec3::new(1.0, 1.0, 1.0) / (3.0 as Real).sqrt();
+    let (v0, v1) = (call(&u), call(&-u));
+    let Some(e) = (v1.w - v0.w).try_normalize(0.0) else {
+        return false;
+    };
+    // The other end of the line, and a direction orthogonal to it.
+    let o = if e.x.abs() < 0.6 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let m = (o - e * e.dot(&o)).normalize();
+    let off_line = |v: &Vertex| {
+        let r = v.w - v0.w;
+        (r - e * e.dot(&r)).norm()
+    };
+    let (p, q) = (call(&m), call(&-m));
+    let v2 = if off_line(&p) >= off_line(&q) { p } else { q };
+    let Some(n) = (v1.w - v0.w).cross(&(v2.w - v0.w)).try_normalize(0.0) else {
+        return false;
+    };
+    let (p, q) = (call(&n), call(&-n));
+    let v3 = if n.dot(&(p.w - v0.w)).abs() >= n.dot(&(q.w - v0.w)).abs() {
+        p
+    } else {
+        q
+    };
+    start_from(poly, &[v0, v1, v2, v3], least)
 }
 
 /// The certified upper bound on `sd` with closest face `f`: `−(min ρ_f − rounding)` when every
 /// face has `d` strictly on its inner side, else the distance from `d` to that face.
-fn bound(poly: &Poly, f: &Face, floor: Real) -> Real {
+fn bound<T: Store>(poly: &Poly<T>, f: &Face, floor: Real) -> Real {
     if f.rho > floor {
         return -(f.rho - floor);
     }
@@ -498,9 +426,14 @@ fn bound(poly: &Poly, f: &Face, floor: Real) -> Real {
 }
 
 /// The witnesses of face `f`: the barycentric combination of its vertices' shape points at
-/// the projection of `d` onto its plane.
-fn witnesses(poly: &Poly, f: &Face) -> (Vec3, Vec3) {
-    let t = bary(poly, f);
+/// the projection of `d` onto its plane (the nearest point of the face, weights clamped to be
+/// nonnegative, where the projection falls outside it).
+fn witnesses<T: Store>(poly: &Poly<T>, f: &Face) -> (Vec3, Vec3) {
+    let mut t = bary(poly, f);
+    if t.iter().any(|v| *v < 0.0) {
+        let sum: Real = t.iter().map(|v| v.max(0.0)).sum();
+        t = t.map(|v| v.max(0.0) / sum);
+    }
     let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
     for (i, ti) in f.v.iter().zip(t) {
         let v = &poly.verts[*i as usize];
@@ -513,7 +446,7 @@ fn witnesses(poly: &Poly, f: &Face) -> (Vec3, Vec3) {
 /// The witnesses where the ray from `d` along the unit `n` leaves the polytope: the nearest
 /// crossing of a live face (its barycentric combination of shape points); `None` when no face
 /// is crossed (to rounding).
-fn ray_witnesses(poly: &Poly, n: &Vec3) -> Option<(Vec3, Vec3)> {
+fn ray_witnesses<T: Store>(poly: &Poly<T>, n: &Vec3) -> Option<(Vec3, Vec3)> {
     let mut best: Option<(Real, usize, [Real; 3])> = None;
     for (k, f) in poly.faces.iter().enumerate() {
         let c = f.n.dot(n);
@@ -533,7 +466,7 @@ fn ray_witnesses(poly: &Poly, n: &Vec3) -> Option<(Vec3, Vec3)> {
             area(&w[0], &x, &w[2]) / total,
             area(&w[0], &w[1], &x) / total,
         ];
-        if total > 0.0 && t.iter().all(|v| *v >= -1e-12) {
+        if total > 0.0 && t.iter().all(|v| *v >= -BARY_SLACK) {
             best = Some((s, k, t));
         }
     }
@@ -549,7 +482,7 @@ fn ray_witnesses(poly: &Poly, n: &Vec3) -> Option<(Vec3, Vec3)> {
 }
 
 /// Barycentric coordinates of the projection of `d` onto face `f`'s plane.
-fn bary(poly: &Poly, f: &Face) -> [Real; 3] {
+fn bary<T: Store>(poly: &Poly<T>, f: &Face) -> [Real; 3] {
     let w = f.v.map(|i| poly.verts[i as usize].w);
     let p = poly.d + f.n * f.n.dot(&(w[0] - poly.d));
     let area = |x: &Vec3, y: &Vec3, z: &Vec3| (y - x).cross(&(z - x)).dot(&f.n);
@@ -567,9 +500,9 @@ fn bary(poly: &Poly, f: &Face) -> [Real; 3] {
 /// Newton on the optimality conditions of `max L(n)` (`Σ λ ∇p + μ n = d`, `‖n‖ = 1`; μ is the
 /// signed distance) on the pieces of face `f`'s vertices, dropping a piece whose multiplier
 /// turns negative: the normal and the primal witnesses `Σ λ ∇p` of each shape.
-fn polish<S: SupportMap>(
+fn polish<S: SupportMap, T: Store>(
     pair: &Pair<'_, S>,
-    poly: &Poly,
+    poly: &Poly<T>,
     f: &Face,
     mu0: Real,
     fine: Real,

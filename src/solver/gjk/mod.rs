@@ -24,7 +24,9 @@ pub(crate) mod direct;
 mod epa;
 mod newton;
 pub(crate) mod padded;
+mod polytope;
 mod simplex;
+mod slots;
 
 pub(crate) use epa::{penetration, EpaEnd, Penetration};
 

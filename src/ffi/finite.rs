@@ -1,0 +1,29 @@
+//! Answers a double can hold. A query whose answer is not representable (shapes placed within
+//! their size of the largest double, so that a witness or contact point, x* or α* passes it)
+//! returns `DCOL_ERROR_INVALID_POSE` naming the position, and writes nothing: no infinity or
+//! NaN is written on `DCOL_OK` (or with `DCOL_ERROR_NOT_CONVERGED`).
+
+use super::boundary::Failure;
+use crate::math::Vec3;
+use crate::query::{not_representable, Proximity};
+
+/// `Ok` when every number in `values` is finite, otherwise the `DCOL_ERROR_INVALID_POSE`
+/// failure naming the largest coordinate of the origins `r1`, `r2`.
+pub(crate) fn representable(
+    values: impl IntoIterator<Item = f64>,
+    r1: &Vec3,
+    r2: &Vec3,
+) -> Result<(), Failure> {
+    if values.into_iter().all(f64::is_finite) {
+        return Ok(());
+    }
+    Err(Failure::api(not_representable(r1, r2)))
+}
+
+/// The numbers of a proximity result: α*, x* and the contact points.
+pub(crate) fn proximity_numbers(p: &Proximity) -> impl Iterator<Item = f64> + '_ {
+    std::iter::once(p.alpha)
+        .chain(p.point.iter().copied())
+        .chain(p.contact1.iter().copied())
+        .chain(p.contact2.iter().copied())
+}
