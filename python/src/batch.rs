@@ -241,8 +241,19 @@ fn batch<'py>(
         ("shapes2", b2.then_some(kept2.len())),
         ("poses2", c2),
     ])?;
-    if (!b1 && kept1.is_empty()) || (!b2 && kept2.is_empty()) {
-        return Err(PyValueError::new_err("no shape given"));
+    // An empty shape sequence is the only batched argument: no pose array says the batch is
+    // empty, so it is more likely a list left unfilled than a wish for no pairs. (A single
+    // shape always comes as one kept shape, so neither side is ever without a shape.)
+    if n == 0 && c1.is_none() && c2.is_none() {
+        let empty = match (b1, b2) {
+            (true, true) => "shapes1 and shapes2 are empty sequences",
+            (true, false) => "shapes1 is an empty sequence",
+            _ => "shapes2 is an empty sequence",
+        };
+        return Err(PyValueError::new_err(format!(
+            "{empty} and both poses are single poses of shape (7,): no pair to compute; for an \
+             empty batch pass the poses as arrays of shape (0, 7)"
+        )));
     }
     let opts: Options = kw.options(py, func)?;
     let threads = match threads {

@@ -163,6 +163,34 @@ def test_bad_arguments():
         dcol.gradient_batch(a, good, a, "not numbers")
 
 
+def test_empty_batches():
+    a, pose = dcol.Sphere(1.0), np.array([0, 0, 0, 1, 0, 0, 0.0])
+    none = np.zeros((0, 7))
+    # An empty shape list against single poses: nothing says the batch is meant to be empty.
+    for f in (dcol.proximity_batch, dcol.gradient_batch, dcol.distance_batch):
+        with pytest.raises(ValueError, match=r"^shapes1 is an empty sequence and both poses are "
+                           r"single poses of shape \(7,\): no pair to compute; for an empty batch "
+                           r"pass the poses as arrays of shape \(0, 7\)$"):
+            f([], pose, a, pose)
+    with pytest.raises(ValueError, match="^shapes2 is an empty sequence and both poses"):
+        dcol.proximity_batch(a, pose, (), pose)
+    with pytest.raises(ValueError, match="^shapes1 and shapes2 are empty sequences and both"):
+        dcol.distance_batch([], pose, [], pose)
+    # With pose rows, an empty list disagrees with them.
+    with pytest.raises(ValueError, match="disagree on the number of pairs: shapes1 has 0, "
+                       "poses1 has 3"):
+        dcol.proximity_batch([], np.tile(pose, (3, 1)), a, pose)
+    # An empty pose array makes an empty batch, broadcast shapes and poses included (as numpy
+    # broadcasts (0, 7) against (7,)): every column has 0 rows, of the right widths.
+    for args in ([], none, [], none), (a, none, a, pose), ([], none, a, pose), (a, pose, [], none):
+        p = dcol.proximity_batch(*args)
+        assert [c.shape for c in p] == [(0,), (0, 3), (0, 3), (0, 3), (0,)]
+        g = dcol.gradient_batch(*args)
+        assert g.gradient.shape == (0, 14) and g.status.shape == (0,)
+        d = dcol.distance_batch(*args)
+        assert d.distance.shape == (0,) and d.normal.shape == (0, 3)
+
+
 def test_releases_the_gil():
     # Another Python thread makes progress while a batch runs.
     import threading
