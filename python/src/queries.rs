@@ -3,7 +3,8 @@
 //! would return: `dcol.Error` with its status and message, the last iterate as `.result` when
 //! the solve did not converge (status 5).
 
-use dcol::{Options, Pose, Shape, SolveStatus};
+use dcol::ffi::boundary::representable;
+use dcol::{Distance, Options, Pose, Proximity, Shape, SolveStatus};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -50,6 +51,34 @@ fn run<T>(
     query: impl FnOnce(&Inputs<'_>) -> Result<T, dcol::Error>,
 ) -> PyResult<T> {
     guard(py, func, || query(q))?.map_err(|e| api_error(py, func, "", e))
+}
+
+/// Refuses an answer a double cannot hold (`values`, about to be returned), as the C function
+/// `func` refuses to write it: `dcol.Error` of status 3 naming the position.
+fn check<'py>(
+    py: Python<'py>,
+    func: &str,
+    q: &Inputs<'_>,
+    values: impl IntoIterator<Item = f64>,
+) -> PyResult<()> {
+    representable(values, q.p1.position(), q.p2.position()).map_err(|e| api_error(py, func, "", e))
+}
+
+/// α*, x* and the contact points: the numbers of a proximity result the C functions check.
+pub fn proximity_numbers(p: &Proximity) -> impl Iterator<Item = f64> + '_ {
+    std::iter::once(p.alpha)
+        .chain(p.point.iter().copied())
+        .chain(p.contact1.iter().copied())
+        .chain(p.contact2.iter().copied())
+}
+
+/// The distance, closest points and normal: the numbers of a distance result the C functions
+/// check.
+pub fn distance_numbers(d: &Distance) -> impl Iterator<Item = f64> + '_ {
+    std::iter::once(d.distance)
+        .chain(d.closest1.iter().copied())
+        .chain(d.closest2.iter().copied())
+        .chain(d.normal.iter().copied())
 }
 
 /// `value` when `status` converged; otherwise `dcol.Error` of status 5 with `value` as
@@ -102,6 +131,7 @@ pub fn proximity<'py>(
     let p = run(py, func, &q, |q| {
         dcol::proximity(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
+    check(py, func, &q, proximity_numbers(&p))?;
     let value = Bound::new(py, PyProximity::from(&p))?.into_any();
     finish(py, func, &q, p.status, p.iterations, value)
 }
@@ -132,6 +162,9 @@ pub fn gradient<'py>(
     let (p, g) = run(py, func, &q, |q| {
         dcol::gradient(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
+    let converged = p.status.is_converged();
+    let grad = g.iter().copied().filter(|_| converged);
+    check(py, func, &q, proximity_numbers(&p).chain(grad))?;
     let value = (PyProximity::from(&p), PyArray1::from_slice(py, &g))
         .into_pyobject(py)?
         .into_any();
@@ -165,6 +198,9 @@ pub fn jacobian<'py>(
     let (p, j) = run(py, func, &q, |q| {
         dcol::jacobian(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
+    let converged = p.status.is_converged();
+    let jac = j.iter().flatten().copied().filter(|_| converged);
+    check(py, func, &q, proximity_numbers(&p).chain(jac))?;
     let value = (PyProximity::from(&p), matrix(py, &j))
         .into_pyobject(py)?
         .into_any();
@@ -198,6 +234,14 @@ pub fn derivatives<'py>(
     let d = run(py, func, &q, |q| {
         dcol::derivatives(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
+    check(py, func, &q, proximity_numbers(&d.proximity))?;
+    if d.proximity.status.is_converged() {
+        let all = (d.dalpha.iter())
+            .chain(d.jacobian.iter().flatten())
+            .chain(d.dcontact1.iter().flatten())
+            .chain(d.dcontact2.iter().flatten());
+        check(py, func, &q, all.copied())?;
+    }
     let value = Bound::new(py, PyDerivatives::new(py, &d)?)?.into_any();
     let p = d.proximity;
     finish(py, func, &q, p.status, p.iterations, value)
@@ -230,6 +274,7 @@ pub fn distance<'py>(
     let d = run(py, func, &q, |q| {
         dcol::distance(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
+    check(py, func, &q, distance_numbers(&d))?;
     let value = Bound::new(py, PyDistance::from(&d))?.into_any();
     finish(py, func, &q, d.status, d.iterations, value)
 }
@@ -261,6 +306,9 @@ pub fn distance_gradient<'py>(
     let (d, g) = run(py, func, &q, |q| {
         dcol::distance_gradient(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
+    let converged = d.status.is_converged();
+    let grad = g.iter().copied().filter(|_| converged);
+    check(py, func, &q, distance_numbers(&d).chain(grad))?;
     let value = (PyDistance::from(&d), PyArray1::from_slice(py, &g))
         .into_pyobject(py)?
         .into_any();

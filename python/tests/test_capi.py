@@ -230,3 +230,102 @@ def test_intersect_and_alpha_below(capi):
             st_py, msg_py, b = py_call(dcol.alpha_below, shape(s1), p1, shape(s2), p2, t)
             same_status(cid, st, capi.message() if st else "", st_py, msg_py)
             assert b == bool(out.value), cid
+
+
+def far_configurations():
+    """Every pair of kinds (half-spaces too, not two) at positions near the largest double,
+    offsets from touching to 1e308 (tests/finite_outputs.rs's grid): where the answer overflows
+    a double the C functions return status 3 and write nothing."""
+    kinds = ZOO + [HALFSPACE]
+    out = []
+    for i, s1 in enumerate(kinds):
+        for j, s2 in enumerate(kinds):
+            if s1 is HALFSPACE and s2 is HALFSPACE:
+                continue
+            for x in (np.finfo(float).max, -1.7e308, 1e308, -8.99e307, 1e300):
+                for off in ([0.3, 0.1, 0.0], [0.0, 0.0, 0.0], [1e300, 0.0, 0.0],
+                            [-1e308, 0.0, 0.0]):
+                    for axis in (0, 1):
+                        r1 = np.array([0.1, -0.2, 0.3])
+                        r1[axis] = x
+                        with np.errstate(over="ignore"):
+                            r2 = r1 + off
+                        if not np.all(np.isfinite(r2)):
+                            continue
+                        out.append((f"far-{i}-{j}-{x:g}-{off[0]:g}-{axis}", s1,
+                                    [*r1, 0.9, 0.1, 0.2, 0.3], s2, [*r2, 0.8, -0.3, 0.1, 0.2]))
+    return out
+
+
+def test_near_the_largest_double(capi):
+    """Statuses and messages of every query equal the C functions' at the edge of the doubles,
+    and what is returned is finite (nothing non-finite on success, as in the C ABI)."""
+    seen = {}
+    finite = lambda *xs: all(np.all(np.isfinite(np.asarray(x, float))) for x in xs)  # noqa: E731
+    for cid, s1, p1, s2, p2 in far_configurations():
+        a, b = shape(s1), shape(s2)
+        st, msg, (res,) = capi.call("dcol_proximity", s1, p1, s2, p2, [ProximityResult])
+        st_py, msg_py, r = py_call(dcol.proximity, a, p1, b, p2)
+        same_status(cid, st, msg, st_py, msg_py)
+        seen[st] = seen.get(st, 0) + 1
+        if st == 0:
+            same_proximity(cid, r, res)
+            assert finite(r.alpha, r.point, r.contact1, r.contact2), cid
+        for name, fn, outs in [
+            ("dcol_gradient", dcol.gradient, [ProximityResult, C.c_double * 14]),
+            ("dcol_jacobian", dcol.jacobian, [ProximityResult, C.c_double * 56]),
+            ("dcol_distance_gradient", dcol.distance_gradient, [DistanceResult,
+                                                                C.c_double * 14]),
+            ("dcol_signed_distance_gradient", dcol.signed_distance_gradient,
+             [SignedDistanceResult, C.c_double * 14]),
+        ]:
+            st, msg, (res, d_c) = capi.call(name, s1, p1, s2, p2, outs)
+            st_py, msg_py, out = py_call(fn, a, p1, b, p2)
+            same_status(cid, st, msg, st_py, msg_py)
+            if st == 0:
+                assert isclose_bits(np.ravel(out[1]), v(d_c)), (cid, name)
+                assert finite(out[1]), (cid, name)
+        for name, fn, result in [("dcol_distance", dcol.distance, DistanceResult),
+                                 ("dcol_signed_distance", dcol.signed_distance,
+                                  SignedDistanceResult)]:
+            st, msg, (res,) = capi.call(name, s1, p1, s2, p2, [result])
+            st_py, msg_py, d = py_call(fn, a, p1, b, p2)
+            same_status(cid, st, msg, st_py, msg_py)
+            if st == 0:
+                same_distance(cid, d, res)
+                assert finite(d.distance, d.closest1, d.closest2, d.normal), (cid, name)
+        st, msg, (res,) = capi.call("dcol_derivatives", s1, p1, s2, p2, [DerivativesResult])
+        st_py, msg_py, d = py_call(dcol.derivatives, a, p1, b, p2)
+        same_status(cid, st, msg, st_py, msg_py)
+        if st == 0:
+            assert isclose_bits(d.gradient, v(res.gradient)), cid
+            assert finite(d.gradient, d.jacobian, d.dcontact1, d.dcontact2), cid
+    # Both kinds of answer occur: finite ones and the refusals.
+    assert seen.get(0, 0) > 1000 and seen.get(3, 0) > 50, seen
+
+
+def test_batch_near_the_largest_double(capi):
+    """The batches give each far pair the single call's status (the C function's, above) and
+    finite numbers on status 0."""
+    configs = far_configurations()
+    s1 = [shape(c[1]) for c in configs]
+    s2 = [shape(c[3]) for c in configs]
+    p1 = np.array([c[2] for c in configs])
+    p2 = np.array([c[4] for c in configs])
+    out = dcol.proximity_batch(s1, p1, s2, p2)
+    single = [py_call(dcol.proximity, a, x, b, y)[0] for a, x, b, y in zip(s1, p1, s2, p2)]
+    assert list(out.status) == single
+    ok = out.status == 0
+    assert np.all(np.isfinite(out.alpha[ok])) and np.all(np.isfinite(out.point[ok]))
+    assert np.all(np.isnan(out.alpha[~ok]))
+    g = dcol.gradient_batch(s1, p1, s2, p2)
+    single = [py_call(dcol.gradient, a, x, b, y)[0] for a, x, b, y in zip(s1, p1, s2, p2)]
+    assert list(g.status) == single
+    # dcol_gradient refuses some answers whose proximity numbers are finite (the gradient
+    # overflows), so its batch refuses more pairs.
+    assert np.all(g.status[out.status != 0] != 0) and np.sum(g.status != 0) > np.sum(~ok)
+    assert np.all(np.isfinite(g.gradient[g.status == 0]))
+    d = dcol.distance_batch(s1, p1, s2, p2)
+    single = [py_call(dcol.distance, a, x, b, y)[0] for a, x, b, y in zip(s1, p1, s2, p2)]
+    assert list(d.status) == single
+    assert np.all(np.isfinite(d.distance[d.status == 0]))

@@ -10,6 +10,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::status::dcol_status;
 use crate::error::{Error, ErrorDetail, Value};
+use crate::math::Vec3;
 use crate::solver::SolveStatus;
 
 /// Size of the per-thread message buffer, NUL included. Longer messages are truncated.
@@ -78,6 +79,33 @@ pub fn status_of(error: &Error) -> dcol_status {
         Error::InvalidOptions(_) => dcol_status::DCOL_ERROR_INVALID_OPTIONS,
         Error::Internal(_) => dcol_status::DCOL_ERROR_INTERNAL,
     }
+}
+
+/// `Ok` when every number in `values` (an answer about to be returned) is finite, otherwise
+/// the error the C functions return for an answer a double cannot hold: `InvalidPose` naming
+/// the largest coordinate of the origins `r1`, `r2` (shapes placed within their size of the
+/// largest double). The C functions check their outputs with it before writing them; public
+/// for the bindings that bind the Rust API and refuse what the C ABI refuses (the Python
+/// package).
+///
+/// ```
+/// use dcol::{ffi::boundary::representable, Vec3};
+/// let (r1, r2) = (Vec3::new(1.7e308, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.0));
+/// assert!(representable([1.0, 2.0], &r1, &r2).is_ok());
+/// assert!(matches!(
+///     representable([1.0, f64::INFINITY], &r1, &r2),
+///     Err(dcol::Error::InvalidPose(d)) if d.value == 1.7e308
+/// ));
+/// ```
+pub fn representable(
+    values: impl IntoIterator<Item = f64>,
+    r1: &Vec3,
+    r2: &Vec3,
+) -> Result<(), Error> {
+    if values.into_iter().all(f64::is_finite) {
+        return Ok(());
+    }
+    Err(crate::query::not_representable(r1, r2))
 }
 
 fn write_detail(w: &mut impl fmt::Write, context: &str, d: &ErrorDetail) -> fmt::Result {
