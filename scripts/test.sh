@@ -98,8 +98,11 @@ echo "   extra), pytest (against tests/data and the C library built above), benc
 py_venv=$PWD/build/python-venv
 py_target=$PWD/build/cargo-target-python
 python_env() {
-  if ! command -v python3 >/dev/null 2>&1 || ! python3 -m venv --help >/dev/null 2>&1; then
-    echo "python3 with the venv module is missing (Debian: apt-get install python3-venv)"
+  # (Debian's python3 has the venv module but not ensurepip, which venv needs for pip.)
+  if ! command -v python3 >/dev/null 2>&1 || ! python3 -c 'import ensurepip, venv' 2>/dev/null
+  then
+    echo "python3 with the venv and ensurepip modules is missing (Debian: apt-get install" \
+      "python3-venv)"
     return 1
   fi
   [[ -x $py_venv/bin/pip ]] || python3 -m venv "$py_venv" || return 1
