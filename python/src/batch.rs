@@ -13,7 +13,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
 
 use dcol::batch::{for_each_parallel, proximity_batch as rust_proximity_batch, Pair, CHUNK};
-use dcol::ffi::boundary::{representable, status_of};
+use dcol::ffi::boundary::status_of;
 use dcol::ffi::dcol_status;
 use dcol::{Options, Pose, Shape, SolveStatus, Vec3};
 use numpy::ndarray::Array2;
@@ -25,7 +25,7 @@ use pyo3::types::PyTuple;
 
 use crate::convert::{f64_array, pose_from, shape_text, Kw};
 use crate::errors::api_error;
-use crate::queries::{distance_numbers, proximity_numbers};
+use crate::queries::{answer_representable, distance_numbers, proximity_numbers};
 use crate::shapes::PyShape;
 
 /// One shape for every pair, or one per pair.
@@ -285,7 +285,7 @@ fn batch<'py>(
             Query::Gradient => dcol::gradient(s1, &p1, s2, &p2, &opts).map(|(p, g)| (p, Some(g))),
             Query::Distance => {
                 let checked = dcol::distance(s1, &p1, s2, &p2, &opts).and_then(|d| {
-                    representable(distance_numbers(&d), p1.position(), p2.position()).map(|()| d)
+                    answer_representable(&[&distance_numbers(&d)], &p1, &p2).map(|()| d)
                 });
                 return match checked {
                     Ok(d) => {
@@ -301,10 +301,11 @@ fn batch<'py>(
         };
         // An answer a double cannot hold is the single call's (and the C function's) status 3.
         let outcome = outcome.and_then(|(p, g)| {
-            let converged = p.status.is_converged();
-            let grad = g.iter().flatten().copied().filter(|_| converged);
-            let numbers = proximity_numbers(&p).chain(grad);
-            representable(numbers, p1.position(), p2.position()).map(|()| (p, g))
+            let grad = match &g {
+                Some(g) if p.status.is_converged() => &g[..],
+                _ => &[],
+            };
+            answer_representable(&[&proximity_numbers(&p), grad], &p1, &p2).map(|()| (p, g))
         });
         match outcome {
             Ok((p, g)) => {

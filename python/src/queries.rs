@@ -55,30 +55,44 @@ fn run<T>(
 
 /// Refuses an answer a double cannot hold (`values`, about to be returned), as the C function
 /// `func` refuses to write it: `dcol.Error` of status 3 naming the position.
-fn check<'py>(
-    py: Python<'py>,
-    func: &str,
-    q: &Inputs<'_>,
-    values: impl IntoIterator<Item = f64>,
-) -> PyResult<()> {
-    representable(values, q.p1.position(), q.p2.position()).map_err(|e| api_error(py, func, "", e))
+fn check<'py>(py: Python<'py>, func: &str, q: &Inputs<'_>, values: &[&[f64]]) -> PyResult<()> {
+    answer_representable(values, &q.p1, &q.p2).map_err(|e| api_error(py, func, "", e))
+}
+
+/// `Ok` when every number of `parts` is finite, otherwise the error the C functions return
+/// for an answer a double cannot hold (`dcol::ffi::boundary::representable`'s). The common case
+/// in one branch-free pass: x·0 is 0 for a finite x and NaN otherwise, so the sum is 0 exactly
+/// when every number is finite.
+pub fn answer_representable(parts: &[&[f64]], p1: &Pose, p2: &Pose) -> Result<(), dcol::Error> {
+    let zero = |part: &[f64]| part.iter().fold(0.0, |sum, v| sum + v * 0.0) == 0.0;
+    if parts.iter().all(|part| zero(part)) {
+        return Ok(());
+    }
+    let all = parts.iter().flat_map(|part| part.iter().copied());
+    representable(all, p1.position(), p2.position())
 }
 
 /// α*, x* and the contact points: the numbers of a proximity result the C functions check.
-pub fn proximity_numbers(p: &Proximity) -> impl Iterator<Item = f64> + '_ {
-    std::iter::once(p.alpha)
-        .chain(p.point.iter().copied())
-        .chain(p.contact1.iter().copied())
-        .chain(p.contact2.iter().copied())
+pub fn proximity_numbers(p: &Proximity) -> [f64; 10] {
+    let [x, y, z] = [p.point, p.contact1, p.contact2];
+    [p.alpha, x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z]
 }
 
 /// The distance, closest points and normal: the numbers of a distance result the C functions
 /// check.
-pub fn distance_numbers(d: &Distance) -> impl Iterator<Item = f64> + '_ {
-    std::iter::once(d.distance)
-        .chain(d.closest1.iter().copied())
-        .chain(d.closest2.iter().copied())
-        .chain(d.normal.iter().copied())
+pub fn distance_numbers(d: &Distance) -> [f64; 10] {
+    let [x, y, z] = [d.closest1, d.closest2, d.normal];
+    [d.distance, x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z]
+}
+
+/// `values` when `converged`, none otherwise (a derivative the C functions check only when
+/// the solve converged).
+fn if_converged(converged: bool, values: &[f64]) -> &[f64] {
+    if converged {
+        values
+    } else {
+        &[]
+    }
 }
 
 /// `value` when `status` converged; otherwise `dcol.Error` of status 5 with `value` as
@@ -131,7 +145,7 @@ pub fn proximity<'py>(
     let p = run(py, func, &q, |q| {
         dcol::proximity(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    check(py, func, &q, proximity_numbers(&p))?;
+    check(py, func, &q, &[&proximity_numbers(&p)])?;
     let value = Bound::new(py, PyProximity::from(&p))?.into_any();
     finish(py, func, &q, p.status, p.iterations, value)
 }
@@ -162,9 +176,8 @@ pub fn gradient<'py>(
     let (p, g) = run(py, func, &q, |q| {
         dcol::gradient(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    let converged = p.status.is_converged();
-    let grad = g.iter().copied().filter(|_| converged);
-    check(py, func, &q, proximity_numbers(&p).chain(grad))?;
+    let grad = if_converged(p.status.is_converged(), &g);
+    check(py, func, &q, &[&proximity_numbers(&p), grad])?;
     let value = (PyProximity::from(&p), PyArray1::from_slice(py, &g))
         .into_pyobject(py)?
         .into_any();
@@ -198,9 +211,8 @@ pub fn jacobian<'py>(
     let (p, j) = run(py, func, &q, |q| {
         dcol::jacobian(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    let converged = p.status.is_converged();
-    let jac = j.iter().flatten().copied().filter(|_| converged);
-    check(py, func, &q, proximity_numbers(&p).chain(jac))?;
+    let jac = if_converged(p.status.is_converged(), j.as_flattened());
+    check(py, func, &q, &[&proximity_numbers(&p), jac])?;
     let value = (PyProximity::from(&p), matrix(py, &j))
         .into_pyobject(py)?
         .into_any();
@@ -234,13 +246,15 @@ pub fn derivatives<'py>(
     let d = run(py, func, &q, |q| {
         dcol::derivatives(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    check(py, func, &q, proximity_numbers(&d.proximity))?;
+    check(py, func, &q, &[&proximity_numbers(&d.proximity)])?;
     if d.proximity.status.is_converged() {
-        let all = (d.dalpha.iter())
-            .chain(d.jacobian.iter().flatten())
-            .chain(d.dcontact1.iter().flatten())
-            .chain(d.dcontact2.iter().flatten());
-        check(py, func, &q, all.copied())?;
+        let all = [
+            &d.dalpha[..],
+            d.jacobian.as_flattened(),
+            d.dcontact1.as_flattened(),
+            d.dcontact2.as_flattened(),
+        ];
+        check(py, func, &q, &all)?;
     }
     let value = Bound::new(py, PyDerivatives::new(py, &d)?)?.into_any();
     let p = d.proximity;
@@ -274,7 +288,7 @@ pub fn distance<'py>(
     let d = run(py, func, &q, |q| {
         dcol::distance(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    check(py, func, &q, distance_numbers(&d))?;
+    check(py, func, &q, &[&distance_numbers(&d)])?;
     let value = Bound::new(py, PyDistance::from(&d))?.into_any();
     finish(py, func, &q, d.status, d.iterations, value)
 }
@@ -306,9 +320,8 @@ pub fn distance_gradient<'py>(
     let (d, g) = run(py, func, &q, |q| {
         dcol::distance_gradient(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    let converged = d.status.is_converged();
-    let grad = g.iter().copied().filter(|_| converged);
-    check(py, func, &q, distance_numbers(&d).chain(grad))?;
+    let grad = if_converged(d.status.is_converged(), &g);
+    check(py, func, &q, &[&distance_numbers(&d), grad])?;
     let value = (PyDistance::from(&d), PyArray1::from_slice(py, &g))
         .into_pyobject(py)?
         .into_any();
