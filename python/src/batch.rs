@@ -21,7 +21,7 @@ use numpy::PyUntypedArrayMethods;
 use numpy::{IntoPyArray, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyList, PyTuple};
 
 use crate::convert::{f64_array, pose_from, shape_text, Kw};
 use crate::errors::api_error;
@@ -52,6 +52,24 @@ fn shape_arg<'py>(
     if let Ok(s) = obj.cast::<PyShape>() {
         return Ok((vec![s.clone()], false));
     }
+    let shape = |i: usize, item: Bound<'py, PyAny>| {
+        item.cast_into::<PyShape>().map_err(|e| {
+            PyTypeError::new_err(format!(
+                "{name}[{i}] must be a dcol.Shape, got {}",
+                e.into_inner()
+                    .get_type()
+                    .name()
+                    .map_or("?".into(), |n| n.to_string())
+            ))
+        })
+    };
+    // A list (the usual case) read by index, without the iterator protocol's call per item.
+    if let Ok(list) = obj.cast::<PyList>() {
+        let v = (list.iter().enumerate())
+            .map(|(i, item)| shape(i, item))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok((v, true));
+    }
     let mut v = Vec::new();
     let items = obj.try_iter().map_err(|_| {
         PyTypeError::new_err(format!(
@@ -60,17 +78,7 @@ fn shape_arg<'py>(
         ))
     })?;
     for (i, item) in items.enumerate() {
-        let item = item?;
-        let s = item.cast_into::<PyShape>().map_err(|e| {
-            PyTypeError::new_err(format!(
-                "{name}[{i}] must be a dcol.Shape, got {}",
-                e.into_inner()
-                    .get_type()
-                    .name()
-                    .map_or("?".into(), |n| n.to_string())
-            ))
-        })?;
-        v.push(s);
+        v.push(shape(i, item?)?);
     }
     Ok((v, true))
 }

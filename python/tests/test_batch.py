@@ -151,6 +151,9 @@ def test_bad_arguments():
         dcol.proximity_batch([a, a], good, a, good)
     with pytest.raises(TypeError, match=r"shapes2\[1\] must be a dcol.Shape, got int"):
         dcol.proximity_batch(a, good, [a, 3, a], good)
+    # Other sequences than lists go through the iterator protocol: the same message.
+    with pytest.raises(TypeError, match=r"shapes1\[2\] must be a dcol.Shape, got str"):
+        dcol.proximity_batch((a, a, "x"), good, a, good)
     with pytest.raises(TypeError, match="shapes1 must be a dcol.Shape or a sequence"):
         dcol.proximity_batch(3.0, good, a, good)
     with pytest.raises(dcol.Error, match="dcol_proximity_batch: invalid options: argument "
