@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the whole test suite: the lints (rustfmt, clippy, rustdoc), the Rust tests, then the CMake
-# build with its C tests (ctest), once normally and once with AddressSanitizer + UBSan.
+# build with its C tests (ctest), once normally and once with AddressSanitizer + UBSan, then the
+# Python package (python/: built and installed into a venv under build/, tested with pytest).
 #
 #   ./scripts/test.sh
 #
@@ -87,4 +88,52 @@ echo "== time-vs-error benchmark against FCL and libccd: smoke run (benches/comp
 if [[ -f build/cmake-normal/dcol-bullet.cmake ]]; then
   echo "== Bullet with dcol as its narrow phase: benchmark smoke run (benches/engines/bullet)"
   ./benches/engines/bullet/run.sh --smoke
+fi
+
+echo "== Python package (python/): lints, pip install into a venv under build/ (with the jax"
+echo "   extra), pytest (against tests/data and the C library built above), benchmark smoke run"
+# Needs python3 (>= 3.9) with venv and pip, and PyPI (maturin, numpy, jax, pytest; coal and
+# python-fcl for the benchmark). When those are missing the run fails, unless DCOL_ALLOW_SKIP=1
+# (then the step is left out, saying so). Once they are there, every failure fails the run.
+py_venv=$PWD/build/python-venv
+py_target=$PWD/build/cargo-target-python
+python_env() {
+  # (Debian's python3 has the venv module but not ensurepip, which venv needs for pip.)
+  if ! command -v python3 >/dev/null 2>&1 || ! python3 -c 'import ensurepip, venv' 2>/dev/null
+  then
+    echo "python3 with the venv and ensurepip modules is missing (Debian: apt-get install" \
+      "python3-venv)"
+    return 1
+  fi
+  [[ -x $py_venv/bin/pip ]] || python3 -m venv "$py_venv" || return 1
+  # What the package and its tests need from PyPI (a network failure shows here).
+  "$py_venv/bin/pip" install --quiet "maturin>=1.9,<2" numpy "jax>=0.4.34" pytest coal \
+    python-fcl || return 1
+}
+if python_env; then
+  # The crate is its own workspace: format and lint it there (pyo3's build script reads the
+  # venv's interpreter).
+  if cargo fmt --version >/dev/null 2>&1; then
+    (cd python && cargo fmt --check)
+  fi
+  if cargo clippy --version >/dev/null 2>&1; then
+    (cd python && PYO3_PYTHON=$py_venv/bin/python CARGO_TARGET_DIR=$py_target \
+      cargo clippy --release -- -D warnings)
+  fi
+  # What the README says, `pip install ./python` (maturin builds it in an isolated environment).
+  CARGO_TARGET_DIR=$py_target "$py_venv/bin/pip" install --quiet --force-reinstall --no-deps \
+    ./python
+  # pytest from build/ (not python/, whose dcol/ folder is the uninstalled source), against the
+  # C library the CMake build made; the JAX tests must run, not skip.
+  py_lib=$PWD/build/cargo-target/release/libdcol.so
+  [[ -f $py_lib ]] || { echo "$py_lib is missing (the CMake build above makes it)"; exit 1; }
+  (cd build && DCOL_C_LIBRARY=$py_lib DCOL_REQUIRE_JAX=1 "$py_venv/bin/pytest" -q \
+    -p no:cacheprovider ../python/tests)
+  "$py_venv/bin/python" python/bench/bench.py --smoke
+elif [[ ${DCOL_ALLOW_SKIP:-0} == 1 ]]; then
+  echo "(not run, as DCOL_ALLOW_SKIP=1 allows: python3, its venv module, pip or PyPI is missing)"
+else
+  echo "python3, its venv module, pip or PyPI is missing (set DCOL_ALLOW_SKIP=1 to go on without"
+  echo "the Python package's tests)"
+  exit 1
 fi

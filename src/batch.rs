@@ -12,7 +12,8 @@ use crate::shapes::Shape;
 
 /// Pairs handed to a thread at a time: small enough that the threads finish together when
 /// pairs differ in cost, large enough that taking the next chunk costs nothing measurable.
-pub(crate) const CHUNK: usize = 16;
+/// Callers of [`for_each_parallel`] use it to cut their own arrays into items.
+pub const CHUNK: usize = 16;
 
 /// One pair of posed shapes.
 #[derive(Clone, Copy, Debug)]
@@ -53,7 +54,24 @@ fn pool() -> Option<&'static rayon::ThreadPool> {
 /// allocating). Otherwise the call allocates one pool job per task (the pool itself is created
 /// once, on the first such call), nothing per item. A panic in `work` propagates to the caller
 /// once every task has stopped.
-pub(crate) fn for_each_parallel<I>(items: I, threads: usize, work: impl Fn(I::Item) + Sync)
+///
+/// Public so that bindings (the Python package's batches of gradients and distances) run their
+/// own per-pair queries on the same pool as [`proximity_batch`] and `dcol_proximity_batch`:
+/// cut the outputs into chunks of [`CHUNK`] pairs and hand the chunks over as the items.
+///
+/// ```
+/// use dcol::batch::{for_each_parallel, CHUNK};
+/// let x: Vec<f64> = (0..100).map(f64::from).collect();
+/// let mut y = vec![0.0; x.len()];
+/// let items = x.chunks(CHUNK).zip(y.chunks_mut(CHUNK));
+/// for_each_parallel(items, 2, |(x, y)| {
+///     for (xi, yi) in x.iter().zip(y) {
+///         *yi = 2.0 * xi;
+///     }
+/// });
+/// assert_eq!(y[99], 198.0);
+/// ```
+pub fn for_each_parallel<I>(items: I, threads: usize, work: impl Fn(I::Item) + Sync)
 where
     I: Iterator + Send,
 {

@@ -10,6 +10,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::status::dcol_status;
 use crate::error::{Error, ErrorDetail, Value};
+use crate::math::Vec3;
 use crate::solver::SolveStatus;
 
 /// Size of the per-thread message buffer, NUL included. Longer messages are truncated.
@@ -69,14 +70,42 @@ impl Failure {
     }
 }
 
-/// The status code of a core error.
-pub(crate) fn status_of(error: &Error) -> dcol_status {
+/// The status code of a core error (public for bindings that report the C statuses: the
+/// Python package).
+pub fn status_of(error: &Error) -> dcol_status {
     match error {
         Error::InvalidShape(_) => dcol_status::DCOL_ERROR_INVALID_SHAPE,
         Error::InvalidPose(_) => dcol_status::DCOL_ERROR_INVALID_POSE,
         Error::InvalidOptions(_) => dcol_status::DCOL_ERROR_INVALID_OPTIONS,
         Error::Internal(_) => dcol_status::DCOL_ERROR_INTERNAL,
     }
+}
+
+/// `Ok` when every number in `values` (an answer about to be returned) is finite, otherwise
+/// the error the C functions return for an answer a double cannot hold: `InvalidPose` naming
+/// the largest coordinate of the origins `r1`, `r2` (shapes placed within their size of the
+/// largest double). The C functions check their outputs with it before writing them; public
+/// for the bindings that bind the Rust API and refuse what the C ABI refuses (the Python
+/// package).
+///
+/// ```
+/// use dcol::{ffi::boundary::representable, Vec3};
+/// let (r1, r2) = (Vec3::new(1.7e308, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.0));
+/// assert!(representable([1.0, 2.0], &r1, &r2).is_ok());
+/// assert!(matches!(
+///     representable([1.0, f64::INFINITY], &r1, &r2),
+///     Err(dcol::Error::InvalidPose(d)) if d.value == 1.7e308
+/// ));
+/// ```
+pub fn representable(
+    values: impl IntoIterator<Item = f64>,
+    r1: &Vec3,
+    r2: &Vec3,
+) -> Result<(), Error> {
+    if values.into_iter().all(f64::is_finite) {
+        return Ok(());
+    }
+    Err(crate::query::not_representable(r1, r2))
 }
 
 fn write_detail(w: &mut impl fmt::Write, context: &str, d: &ErrorDetail) -> fmt::Result {
@@ -142,6 +171,49 @@ fn describe(w: &mut impl fmt::Write, func: &str, failure: &Failure) -> fmt::Resu
             )
         }
     }
+}
+
+/// The sentence `dcol_last_error_message` gives after the C function `func` (e.g.
+/// `"dcol_proximity"`) rejected `error`, read from the C argument `context` (`"pose1->"`,
+/// `"options->"`, or `""` when the error names its argument itself). Public for bindings in
+/// other languages that bind the Rust API but report the C ABI's statuses and messages (the
+/// Python package); it allocates, unlike the C path.
+///
+/// ```
+/// use dcol::{ffi::boundary::error_message, Pose};
+/// let e = Pose::new([0.0, f64::NAN, 0.0], [1.0, 0.0, 0.0, 0.0]).unwrap_err();
+/// assert_eq!(
+///     error_message("dcol_proximity", "pose2->", e),
+///     "dcol_proximity: invalid pose: argument `pose2->position[1]` = NaN: must be finite"
+/// );
+/// ```
+pub fn error_message(func: &str, context: &'static str, error: Error) -> String {
+    let mut s = String::new();
+    // Formatting into a String cannot fail.
+    let _ = describe(&mut s, func, &Failure::Api { error, context });
+    s
+}
+
+/// The sentence `dcol_last_error_message` gives when `func`'s solve ended with `status` (not
+/// converged) after `iterations` iterations, under the iteration limit and tolerance of
+/// `options` (the status is `DCOL_ERROR_NOT_CONVERGED`). Public for the same bindings as
+/// [`error_message`].
+pub fn not_converged_message(
+    func: &str,
+    status: SolveStatus,
+    iterations: u32,
+    options: &crate::query::Options,
+) -> String {
+    let failure = Failure::NotConverged {
+        status,
+        iterations,
+        max_iterations: options.max_iterations,
+        tolerance: options.tolerance,
+    };
+    let mut s = String::new();
+    // Formatting into a String cannot fail.
+    let _ = describe(&mut s, func, &failure);
+    s
 }
 
 /// A `fmt::Write` into a fixed buffer that truncates at a character boundary and always leaves

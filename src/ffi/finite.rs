@@ -5,7 +5,7 @@
 
 use super::boundary::Failure;
 use crate::math::Vec3;
-use crate::query::{not_representable, Proximity};
+use crate::query::Proximity;
 
 /// `Ok` when every number in `values` is finite, otherwise the `DCOL_ERROR_INVALID_POSE`
 /// failure naming the largest coordinate of the origins `r1`, `r2`.
@@ -14,10 +14,7 @@ pub(crate) fn representable(
     r1: &Vec3,
     r2: &Vec3,
 ) -> Result<(), Failure> {
-    if values.into_iter().all(f64::is_finite) {
-        return Ok(());
-    }
-    Err(Failure::api(not_representable(r1, r2)))
+    super::boundary::representable(values, r1, r2).map_err(Failure::api)
 }
 
 /// The numbers of a proximity result: α*, x* and the contact points.
