@@ -5,7 +5,9 @@ Shapes (``Sphere``, ``Ellipsoid``, ``Polytope``, ``Box``, ``Capsule``, ``Cylinde
 (position, then the quaternion, scalar first, world from body; it need not be unit length).
 One pair at a time: ``proximity``, ``gradient``, ``jacobian``, ``derivatives``, ``distance``,
 ``distance_gradient``, ``signed_distance``, ``signed_distance_gradient``, ``contacts``,
-``intersect``, ``alpha_below``, ``alpha_bounds``. Many pairs on numpy arrays, without the GIL,
+``intersect``, ``alpha_below``, ``alpha_bounds``; the derivatives with respect to the shapes'
+own parameters (``Shape.parameters``): ``shape_gradient``, ``distance_shape_gradient``,
+``signed_distance_shape_gradient``. Many pairs on numpy arrays, without the GIL,
 on dcol's thread pool: ``proximity_batch``, ``gradient_batch``, ``distance_batch``. JAX:
 ``dcol.jax`` (``pip install dcol[jax]``).
 
@@ -44,12 +46,15 @@ from ._dcol import (
     derivatives,
     distance,
     distance_gradient,
+    distance_shape_gradient,
     gradient,
     intersect,
     jacobian,
     proximity,
+    shape_gradient,
     signed_distance,
     signed_distance_gradient,
+    signed_distance_shape_gradient,
 )
 from ._errors import Error, Status
 
@@ -170,12 +175,15 @@ __all__ = [
     "distance",
     "distance_batch",
     "distance_gradient",
+    "distance_shape_gradient",
     "gradient",
     "gradient_batch",
     "intersect",
     "jacobian",
     "proximity",
     "proximity_batch",
+    "shape_gradient",
     "signed_distance",
     "signed_distance_gradient",
+    "signed_distance_shape_gradient",
 ]

@@ -18,6 +18,10 @@ class Shape:
     def bounding_radius(self) -> float: ...
     @property
     def inscribed_radius(self) -> float: ...
+    @property
+    def parameters(self) -> np.ndarray: ...
+    @property
+    def parameter_count(self) -> int: ...
 
 class Sphere(Shape):
     radius: float
@@ -140,6 +144,21 @@ def signed_distance_gradient(
     tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
     method: Optional[Method] = None, smoothing: Optional[float] = None,
 ) -> Tuple[SignedDistance, np.ndarray]: ...
+def shape_gradient(
+    shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike, *,
+    tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
+    method: Optional[Method] = None, smoothing: Optional[float] = None,
+) -> Tuple[Proximity, np.ndarray, np.ndarray]: ...
+def distance_shape_gradient(
+    shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike, *,
+    tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
+    method: Optional[Method] = None, smoothing: Optional[float] = None,
+) -> Tuple[Distance, np.ndarray, np.ndarray]: ...
+def signed_distance_shape_gradient(
+    shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike, *,
+    tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
+    method: Optional[Method] = None, smoothing: Optional[float] = None,
+) -> Tuple[SignedDistance, np.ndarray, np.ndarray]: ...
 def contacts(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike,
              margin: float = 0.0, max_points: int = 16, *, tolerance: Optional[float] = None,
              max_iterations: Optional[int] = None, method: Optional[Method] = None,

@@ -11,6 +11,7 @@
 //! - [`errors`]: `dcol.Error` from dcol's errors, statuses and panics;
 //! - [`results`]: the result classes (`Proximity`, `Distance`, ...);
 //! - [`queries`]: one pair at a time (`proximity`, `gradient`, ..., `contacts`);
+//! - [`shape_gradients`]: the derivatives with respect to the shapes' parameters;
 //! - [`batch`]: many pairs on numpy arrays, without the GIL, on dcol's thread pool.
 
 mod batch;
@@ -18,6 +19,7 @@ mod convert;
 mod errors;
 mod queries;
 mod results;
+mod shape_gradients;
 mod shapes;
 
 use pyo3::prelude::*;
@@ -28,6 +30,7 @@ fn _dcol(m: &Bound<'_, PyModule>) -> PyResult<()> {
     shapes::register(m)?;
     results::register(m)?;
     queries::register(m)?;
+    shape_gradients::register(m)?;
     batch::register(m)?;
     m.add("MAX_CONTACTS", dcol::query::MAX_CONTACTS)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -15,15 +15,15 @@ use crate::results::{matrix, PyContact, PyDerivatives, PyDistance, PyProximity, 
 use crate::shapes::PyShape;
 
 /// The inputs of one query, validated.
-struct Inputs<'a> {
-    s1: &'a Shape,
-    p1: Pose,
-    s2: &'a Shape,
-    p2: Pose,
-    opts: Options,
+pub struct Inputs<'a> {
+    pub s1: &'a Shape,
+    pub p1: Pose,
+    pub s2: &'a Shape,
+    pub p2: Pose,
+    pub opts: Options,
 }
 
-fn inputs<'a>(
+pub fn inputs<'a>(
     func: &str,
     shape1: &'a Bound<'_, PyShape>,
     pose1: &Bound<'_, PyAny>,
@@ -44,7 +44,7 @@ fn inputs<'a>(
 }
 
 /// Runs `query` on the inputs under the panic guard; a rejected input becomes `dcol.Error`.
-fn run<T>(
+pub fn run<T>(
     py: Python<'_>,
     func: &str,
     q: &Inputs<'_>,
@@ -55,7 +55,7 @@ fn run<T>(
 
 /// Refuses an answer a double cannot hold (`values`, about to be returned), as the C function
 /// `func` refuses to write it: `dcol.Error` of status 3 naming the position.
-fn check<'py>(py: Python<'py>, func: &str, q: &Inputs<'_>, values: &[&[f64]]) -> PyResult<()> {
+pub fn check<'py>(py: Python<'py>, func: &str, q: &Inputs<'_>, values: &[&[f64]]) -> PyResult<()> {
     answer_representable(values, &q.p1, &q.p2).map_err(|e| api_error(py, func, "", e))
 }
 
@@ -97,7 +97,7 @@ fn if_converged(converged: bool, values: &[f64]) -> &[f64] {
 
 /// `value` when `status` converged; otherwise `dcol.Error` of status 5 with `value` as
 /// `.result`.
-fn finish<'py>(
+pub fn finish<'py>(
     py: Python<'py>,
     func: &str,
     q: &Inputs<'_>,

@@ -66,6 +66,23 @@ impl PyShape {
         self.inner.inscribed_radius()
     }
 
+    /// The numbers the constructor was given, in its order (`dcol_shape_parameters`): the
+    /// shape gradients are taken with respect to them. Sphere: radius; Ellipsoid: P row-major
+    /// (symmetrised, (P + Pᵀ)/2); Polytope: A row-major, then b; Box: the half extents;
+    /// Capsule, Cylinder: radius, length; Cone: height, half_angle; Polygon: C row-major, d,
+    /// radius; HalfSpace: depth; ConvexHull: the points row-major, then radius.
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let p = guard(py, "dcol_shape_parameters", || self.inner.parameters())?;
+        Ok(PyArray1::from_vec(py, p))
+    }
+
+    /// How many numbers `parameters` holds (`dcol_shape_parameter_count`).
+    #[getter]
+    fn parameter_count(&self) -> usize {
+        self.inner.parameter_count()
+    }
+
     fn __repr__(&self) -> String {
         self.repr.clone()
     }

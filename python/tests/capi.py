@@ -115,6 +115,11 @@ def load():
             "dcol_distance_gradient": pair + [P(Options), P(DistanceResult), dp],
             "dcol_signed_distance": pair + [P(Options), P(SignedDistanceResult)],
             "dcol_signed_distance_gradient": pair + [P(Options), P(SignedDistanceResult), dp],
+            "dcol_shape_gradient": pair + [P(Options), P(ProximityResult), dp, dp],
+            "dcol_distance_shape_gradient": pair + [P(Options), P(DistanceResult), dp, dp],
+            "dcol_signed_distance_shape_gradient": pair
+            + [P(Options), P(SignedDistanceResult), dp, dp],
+            "dcol_shape_parameters": [sp, dp, C.c_size_t],
             "dcol_contacts": pair
             + [C.c_double, P(Options), P(Contact), C.c_size_t, P(C.c_size_t)],
             "dcol_alpha_below": pair + [C.c_double, P(Options), P(C.c_int32)],
@@ -136,6 +141,8 @@ def load():
         f = getattr(lib, name)
         f.argtypes = args
         f.restype = ret
+    lib.dcol_shape_parameter_count.argtypes = [sp]
+    lib.dcol_shape_parameter_count.restype = C.c_size_t
     lib.dcol_shape_free.argtypes = [sp]
     lib.dcol_shape_free.restype = None
     lib.dcol_last_error_message.argtypes = []

@@ -71,7 +71,8 @@ BAD_POSES = [
     ([0, 0, 0, 1, 0, -INF, 0], "quaternion[2]` = -inf: must be finite"),
 ]
 QUERIES = ["proximity", "gradient", "jacobian", "derivatives", "distance", "distance_gradient",
-           "signed_distance", "signed_distance_gradient", "contacts", "intersect"]
+           "signed_distance", "signed_distance_gradient", "contacts", "intersect",
+           "shape_gradient", "distance_shape_gradient", "signed_distance_shape_gradient"]
 
 
 @pytest.mark.parametrize("query", QUERIES)
