@@ -14,9 +14,10 @@
 //! Against a half-space, the other shape's feature facing the plane is not clipped: each of its
 //! points within the margin is a contact (a box resting on a floor gives its four corners).
 
+use super::contact_boxes::End;
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
-use super::signed::{not_representable, signed_distance};
+use super::signed::{finite, not_representable, signed_distance};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
@@ -154,24 +155,36 @@ pub(crate) fn manifold(
         )));
     }
     let cap = max_points.min(MAX_CONTACTS);
-    // Two boxes: the closed form (`super::contact_boxes`).
+    // Two boxes: the closed form (`super::contact_boxes`), or the signed distance of an
+    // edge-pair overlap (the separating axes' answer, which `signed_distance` would compute
+    // again).
+    let mut known = None;
     if let (Some(h1), Some(h2)) = (shape1.centred_box(), shape2.centred_box()) {
         options.validate()?;
         let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-        if let Some(b) = super::contact_boxes::boxes(&h1, pose1, &h2, pose2, margin, ell) {
+        match super::contact_boxes::boxes(shape1, &h1, pose1, shape2, &h2, pose2, margin, ell) {
             // Boxes apart (by more than the margin, or less) take the distance query's answer
             // in Rust's manifold, whose signed distance is that query's to the last bit; the
             // C function reads only the points.
-            if (b.sd.distance <= 0.0 && !b.points.is_empty()) || !exact_distance {
+            End::Closed(b) if (b.sd.distance <= 0.0 && !b.points.is_empty()) || !exact_distance => {
                 let mut pts = Points::new();
                 for (p, d) in &b.points {
                     pts.push(*p, *d);
                 }
                 return finish(&b.sd, &pts, cap, out, (pose1, pose2));
             }
+            // As `signed_distance` checks its answers.
+            End::Edges(sd) if !finite(&sd) => {
+                return Err(not_representable(pose1.position(), pose2.position()));
+            }
+            End::Edges(sd) => known = Some(sd),
+            _ => {}
         }
     }
-    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
+    let sd = match known {
+        Some(sd) => sd,
+        None => signed_distance(shape1, pose1, shape2, pose2, options)?,
+    };
     if sd.distance > margin || cap == 0 {
         return finish(&sd, &Points::new(), 0, out, (pose1, pose2));
     }
@@ -522,11 +535,12 @@ fn build(
             (&f2, &f1)
         };
         let r2: ArrayVec<V2, MAX_FACE> = reference.pts.iter().map(proj).collect();
-        let i2: ArrayVec<V2, BUF> = incident.pts.iter().map(proj).collect();
         if incident.k() == 2 {
-            clip_segment(&r2, &[i2[0], i2[1]], &mut q)
+            let seg = [proj(&incident.pts[0]), proj(&incident.pts[1])];
+            clip_segment(&r2, &seg, &mut q)
         } else {
-            clip_polygon(&r2, i2, &mut q)
+            q.extend(incident.pts.iter().map(proj));
+            clip_polygon(&r2, &mut q)
         }
     }
     for qi in &q {
@@ -578,35 +592,42 @@ fn orientation(poly: &[V2]) -> Real {
     }
 }
 
-/// Sutherland–Hodgman: clips the polygon `inc` against the convex polygon `reference`, into
-/// `out`.
-fn clip_polygon(reference: &[V2], mut inc: ArrayVec<V2, BUF>, out: &mut ArrayVec<V2, BUF>) {
+/// Sutherland–Hodgman: clips the polygon `poly` against the convex polygon `reference`, in
+/// place (two buffers taking turns: moving a whole buffer per edge cost more than the clipping).
+fn clip_polygon(reference: &[V2], poly: &mut ArrayVec<V2, BUF>) {
     let s = orientation(reference);
     let mut tmp: ArrayVec<V2, BUF> = ArrayVec::new();
+    let (mut cur, mut next) = (poly, &mut tmp);
+    let mut turned = false;
     for e in 0..reference.len() {
         let a = reference[e];
-        let d = reference[(e + 1) % reference.len()] - a;
+        let d = reference[if e + 1 == reference.len() { 0 } else { e + 1 }] - a;
         let side = |p: &V2| s * cross2(&d, &(p - a));
-        tmp.clear();
-        let len = inc.len();
+        next.clear();
+        let len = cur.len();
         for i in 0..len {
-            let p = inc[i];
-            let c = inc[(i + 1) % len];
+            let p = cur[i];
+            let c = cur[if i + 1 == len { 0 } else { i + 1 }];
             let (sp, sc) = (side(&p), side(&c));
             if sp >= 0.0 {
-                let _ = tmp.try_push(p);
+                let _ = next.try_push(p);
             }
             if (sp >= 0.0) != (sc >= 0.0) {
                 let t = sp / (sp - sc);
-                let _ = tmp.try_push(p + (c - p) * t);
+                let _ = next.try_push(p + (c - p) * t);
             }
         }
-        std::mem::swap(&mut inc, &mut tmp);
-        if inc.is_empty() {
+        std::mem::swap(&mut cur, &mut next);
+        turned = !turned;
+        if cur.is_empty() {
             break;
         }
     }
-    out.extend(inc);
+    if turned {
+        // The result is in `tmp` (`cur`); `next` is the caller's buffer.
+        next.clear();
+        next.extend(cur.iter().copied());
+    }
 }
 
 /// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`, into `out`.
