@@ -392,8 +392,9 @@ fn offset_box(h: [f64; 3], delta: f64, pose: &Pose) -> (Shape, Pose) {
 /// `signed_distance`'s bit for bit (the separating axes' answer, now computed once). Every
 /// manifold's points are the general path's on the same boxes given as polytopes about
 /// another origin (the general polytopes' separating axes, then the faces clipped), as sets
-/// (positions within 1e-8 of the size, depths 1e-12), where the tilt (1e-6 or more) keeps the box edges' crossings well
-/// conditioned; every point, at every tilt, is midway between the two boxes' surfaces.
+/// (positions within 1e-8 of the size, depths 1e-12), where the tilt (1e-6 or more) keeps the
+/// box edges' crossings well conditioned; every point, at every tilt, is midway between the two
+/// boxes' surfaces.
 #[test]
 fn tilted_stacked_boxes_agree_with_the_general_path() {
     use dcol::contact_manifold;

@@ -181,6 +181,16 @@ pub(crate) fn manifold(
             _ => {}
         }
     }
+    // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
+    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
+    if known.is_none() {
+        options.validate()?;
+        if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
+            if let Some(()) = on_halfspace_alone(&pair, strict(pair.other), margin, cap, out)? {
+                return Ok(());
+            }
+        }
+    }
     let sd = match known {
         Some(sd) => sd,
         None => signed_distance(shape1, pose1, shape2, pose2, options)?,
@@ -189,8 +199,6 @@ pub(crate) fn manifold(
         return finish(&sd, &Points::new(), 0, out, (pose1, pose2));
     }
     let mut pts = Points::new();
-    // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
-    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
     if strict(shape1) || strict(shape2) {
         pts.push_witness(&sd);
         return finish(&sd, &pts, cap, out, (pose1, pose2));
@@ -215,6 +223,48 @@ pub(crate) fn manifold(
         pts.push_witness(&sd);
     }
     finish(&sd, &pts, cap, out, (pose1, pose2))
+}
+
+/// A shape against a half-space from one support point of the shape (the half-space's closed
+/// form: [`HalfspacePair::signed_distance_of_one_support`], the signed distance's value and
+/// normal to the last bit) and the shape's feature facing the plane: the manifold the general
+/// path gives (`Some`), without the tied support points' centroid, which the general path needs
+/// only for witnesses that are not a point of the feature (then `None`: the general path
+/// answers, as it does when a witness is not a finite number).
+fn on_halfspace_alone(
+    pair: &HalfspacePair<'_>,
+    strict: bool,
+    margin: Real,
+    cap: usize,
+    out: &mut Manifold,
+) -> Result<Option<()>, Error> {
+    let sd = pair.signed_distance_of_one_support()?;
+    let poses = (pair.pose_h, pair.pose_b);
+    let poses = if pair.hs_first {
+        poses
+    } else {
+        (poses.1, poses.0)
+    };
+    if !finite(&sd) {
+        return Ok(None);
+    }
+    let mut pts = Points::new();
+    if sd.distance > margin || cap == 0 {
+        return finish(&sd, &pts, 0, out, poses).map(Some);
+    }
+    if strict {
+        // One support point, the only one (a ball's or an ellipsoid's): the general path's
+        // witness.
+        pts.push_witness(&sd);
+        return finish(&sd, &pts, cap, out, poses).map(Some);
+    }
+    let ell = pair.ell();
+    on_halfspace(pair, &sd, margin, ell, &mut pts);
+    let deepest = pts.depth.iter().fold(Real::NEG_INFINITY, |m, d| m.max(*d));
+    if !(deepest >= -sd.distance - SEP_TOL * ell) {
+        return Ok(None);
+    }
+    finish(&sd, &pts, cap, out, poses).map(Some)
 }
 
 /// Fills `out` with the manifold of the candidate points `pts` for the signed distance `sd`:
@@ -710,43 +760,49 @@ fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize
         }
         return n;
     }
+    let (pos, depth) = (&pts.pos[..n], &pts.depth[..n]);
     let mut used = [false; BUF];
-    // The best unused candidate by `score`, each scored once.
-    let pick = |used: &[bool; BUF], score: &dyn Fn(usize) -> Real| {
-        let mut best: Option<(usize, Real)> = None;
-        for i in (0..n).filter(|&i| !used[i]) {
-            let s = score(i);
-            if best.map_or(true, |(_, b)| s > b) {
-                best = Some((i, s));
-            }
-        }
-        best.map(|(i, _)| i)
-    };
-    let deepest = pick(&used, &|i| pts.depth[i]).unwrap_or(0);
+    let deepest = pick(n, &used, |i| depth[i]).unwrap_or(0);
     chosen[0] = deepest;
     used[deepest] = true;
-    let p0 = pts.pos[deepest];
+    let p0 = pos[deepest];
     // Each candidate's distance to the nearest chosen point.
     let mut near = [0.0; BUF];
-    for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
-        *d = (p - p0).norm();
+    for i in 0..n {
+        near[i] = (pos[i] - p0).norm();
     }
     let mut k = 1;
     while k < cap {
         let best = if k == 2 {
-            let (a, e) = (pts.pos[chosen[0]], pts.pos[chosen[1]] - pts.pos[chosen[0]]);
-            pick(&used, &|i| e.cross(&(pts.pos[i] - a)).norm_squared())
+            let (a, e) = (pos[chosen[0]], pos[chosen[1]] - pos[chosen[0]]);
+            pick(n, &used, |i| e.cross(&(pos[i] - a)).norm_squared())
         } else {
-            pick(&used, &|i| near[i])
+            pick(n, &used, |i| near[i])
         };
         let Some(b) = best else { break };
         chosen[k] = b;
         used[b] = true;
-        let pb = pts.pos[b];
-        for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
-            *d = d.min((p - pb).norm());
+        let pb = pos[b];
+        for i in 0..n {
+            near[i] = near[i].min((pos[i] - pb).norm());
         }
         k += 1;
     }
     k
+}
+
+/// The first unused candidate of the best `score` (each scored once), `None` when all are used.
+#[inline]
+fn pick(n: usize, used: &[bool; BUF], score: impl Fn(usize) -> Real) -> Option<usize> {
+    let mut best: Option<(usize, Real)> = None;
+    for i in 0..n {
+        if used[i] {
+            continue;
+        }
+        let s = score(i);
+        if best.map_or(true, |(_, b)| s > b) {
+            best = Some((i, s));
+        }
+    }
+    best.map(|(i, _)| i)
 }

@@ -36,7 +36,9 @@ pub(crate) struct Boxes {
     pub points: ArrayVec<(Vec3, Real), MAX>,
 }
 
-/// What [`boxes`] found.
+/// What [`boxes`] found (on the stack: the hot path does not allocate, so the closed form's
+/// points are not boxed).
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum End {
     /// The closed-form manifold.
     Closed(Boxes),
