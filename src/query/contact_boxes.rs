@@ -238,29 +238,30 @@ fn clip_to_facet(
     ] {
         poly.push(p);
     }
-    // Clip to |p_i| ≤ href_i for the two in-plane axes.
+    // Clip to |p_i| ≤ href_i for the two in-plane axes (two buffers taking turns).
     let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
+    let (mut cur, mut next) = (&mut poly, &mut tmp);
     for i in [(k + 1) % 3, (k + 2) % 3] {
         for side in [1.0, -1.0] {
-            tmp.clear();
-            let n = poly.len();
+            next.clear();
+            let n = cur.len();
             for a in 0..n {
-                let (p, q) = (poly[a], poly[(a + 1) % n]);
+                let (p, q) = (cur[a], cur[if a + 1 == n { 0 } else { a + 1 }]);
                 let (fp, fq) = (side * p[i] - href[i], side * q[i] - href[i]);
                 if fp <= 0.0 {
-                    let _ = tmp.try_push(p);
+                    let _ = next.try_push(p);
                 }
                 if (fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0) {
-                    let _ = tmp.try_push(p + (q - p) * (fp / (fp - fq)));
+                    let _ = next.try_push(p + (q - p) * (fp / (fp - fq)));
                 }
             }
-            std::mem::swap(&mut poly, &mut tmp);
-            if poly.is_empty() {
+            std::mem::swap(&mut cur, &mut next);
+            if cur.is_empty() {
                 return ArrayVec::new();
             }
         }
     }
-    poly.iter()
+    cur.iter()
         .map(|p| (*p, plane - s * p[k]))
         .filter(|(_, d)| *d >= -margin)
         .collect()
