@@ -15,6 +15,7 @@
 //! points within the margin is a contact (a box resting on a floor gives its four corners).
 
 use super::contact_boxes::End;
+use super::contact_reduce::reduce;
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
 use super::signed::{finite, not_representable, signed_distance};
@@ -32,6 +33,7 @@ pub const MAX_CONTACTS: usize = 16;
 const MAX_FACE: usize = 32;
 /// Clipping output: at most one new point per reference edge.
 const BUF: usize = 2 * MAX_FACE;
+const _: () = assert!(BUF <= super::contact_reduce::MAX_CANDIDATES);
 /// Points of the regular polygon standing for a disc (a cylinder's cap, a cone's base).
 const DISC_POINTS: usize = 12;
 /// A curved shape's flat face (a disc, a padded polygon's side) is used when its normal is
@@ -284,7 +286,8 @@ fn finish(
     out.count = 0;
     if cap > 0 {
         let mut chosen = [0usize; MAX_CONTACTS];
-        let k = reduce(pts, cap, &mut chosen);
+        let n = pts.len();
+        let k = reduce(&pts.pos[..n], &pts.depth[..n], cap, &mut chosen);
         for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
             *slot = Contact {
                 position: pts.pos[i],
@@ -747,62 +750,4 @@ fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut ArrayVec<V2, BUF>) {
     if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
         out.push(a[0] + da * s);
     }
-}
-
-/// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
-/// largest triangle with those two, then each time the one farthest from those chosen (each
-/// candidate's distance to the chosen ones kept up to date, one pass per pick).
-fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize {
-    let n = pts.len();
-    if n <= cap {
-        for (i, c) in chosen.iter_mut().enumerate().take(n) {
-            *c = i;
-        }
-        return n;
-    }
-    let (pos, depth) = (&pts.pos[..n], &pts.depth[..n]);
-    let mut used = [false; BUF];
-    let deepest = pick(n, &used, |i| depth[i]).unwrap_or(0);
-    chosen[0] = deepest;
-    used[deepest] = true;
-    let p0 = pos[deepest];
-    // Each candidate's distance to the nearest chosen point.
-    let mut near = [0.0; BUF];
-    for i in 0..n {
-        near[i] = (pos[i] - p0).norm();
-    }
-    let mut k = 1;
-    while k < cap {
-        let best = if k == 2 {
-            let (a, e) = (pos[chosen[0]], pos[chosen[1]] - pos[chosen[0]]);
-            pick(n, &used, |i| e.cross(&(pos[i] - a)).norm_squared())
-        } else {
-            pick(n, &used, |i| near[i])
-        };
-        let Some(b) = best else { break };
-        chosen[k] = b;
-        used[b] = true;
-        let pb = pos[b];
-        for i in 0..n {
-            near[i] = near[i].min((pos[i] - pb).norm());
-        }
-        k += 1;
-    }
-    k
-}
-
-/// The first unused candidate of the best `score` (each scored once), `None` when all are used.
-#[inline]
-fn pick(n: usize, used: &[bool; BUF], score: impl Fn(usize) -> Real) -> Option<usize> {
-    let mut best: Option<(usize, Real)> = None;
-    for i in 0..n {
-        if used[i] {
-            continue;
-        }
-        let s = score(i);
-        if best.map_or(true, |(_, b)| s > b) {
-            best = Some((i, s));
-        }
-    }
-    best.map(|(i, _)| i)
 }
