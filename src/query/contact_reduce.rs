@@ -10,6 +10,7 @@ const BUF: usize = MAX_CANDIDATES;
 /// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
 /// largest triangle with those two, then each time the one farthest from those chosen (each
 /// candidate's distance to the chosen ones kept up to date, one pass per pick).
+#[inline]
 pub(crate) fn reduce(pos: &[Vec3], depth: &[Real], cap: usize, chosen: &mut [usize]) -> usize {
     let n = pos.len().min(depth.len()).min(BUF);
     let cap = cap.min(chosen.len());
