@@ -14,9 +14,11 @@
 //! Against a half-space, the other shape's feature facing the plane is not clipped: each of its
 //! points within the margin is a contact (a box resting on a floor gives its four corners).
 
+use super::contact_boxes::End;
+use super::contact_reduce::reduce;
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
-use super::signed::{not_representable, signed_distance};
+use super::signed::{finite, not_representable, signed_distance};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
@@ -31,6 +33,7 @@ pub const MAX_CONTACTS: usize = 16;
 const MAX_FACE: usize = 32;
 /// Clipping output: at most one new point per reference edge.
 const BUF: usize = 2 * MAX_FACE;
+const _: () = assert!(BUF <= super::contact_reduce::MAX_CANDIDATES);
 /// Points of the regular polygon standing for a disc (a cylinder's cap, a cone's base).
 const DISC_POINTS: usize = 12;
 /// A curved shape's flat face (a disc, a padded polygon's side) is used when its normal is
@@ -154,30 +157,50 @@ pub(crate) fn manifold(
         )));
     }
     let cap = max_points.min(MAX_CONTACTS);
-    // Two boxes: the closed form (`super::contact_boxes`).
+    // Two boxes: the closed form (`super::contact_boxes`), or the signed distance of an
+    // edge-pair overlap (the separating axes' answer, which `signed_distance` would compute
+    // again).
+    let mut known = None;
     if let (Some(h1), Some(h2)) = (shape1.centred_box(), shape2.centred_box()) {
         options.validate()?;
         let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-        if let Some(b) = super::contact_boxes::boxes(&h1, pose1, &h2, pose2, margin, ell) {
+        match super::contact_boxes::boxes(shape1, &h1, pose1, shape2, &h2, pose2, margin, ell) {
             // Boxes apart (by more than the margin, or less) take the distance query's answer
             // in Rust's manifold, whose signed distance is that query's to the last bit; the
             // C function reads only the points.
-            if (b.sd.distance <= 0.0 && !b.points.is_empty()) || !exact_distance {
+            End::Closed(b) if (b.sd.distance <= 0.0 && !b.points.is_empty()) || !exact_distance => {
                 let mut pts = Points::new();
                 for (p, d) in &b.points {
                     pts.push(*p, *d);
                 }
                 return finish(&b.sd, &pts, cap, out, (pose1, pose2));
             }
+            // As `signed_distance` checks its answers.
+            End::Edges(sd) if !finite(&sd) => {
+                return Err(not_representable(pose1.position(), pose2.position()));
+            }
+            End::Edges(sd) => known = Some(sd),
+            _ => {}
         }
     }
-    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
+    // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
+    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
+    if known.is_none() {
+        options.validate()?;
+        if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
+            if let Some(()) = on_halfspace_alone(&pair, strict(pair.other), margin, cap, out)? {
+                return Ok(());
+            }
+        }
+    }
+    let sd = match known {
+        Some(sd) => sd,
+        None => signed_distance(shape1, pose1, shape2, pose2, options)?,
+    };
     if sd.distance > margin || cap == 0 {
         return finish(&sd, &Points::new(), 0, out, (pose1, pose2));
     }
     let mut pts = Points::new();
-    // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
-    let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
     if strict(shape1) || strict(shape2) {
         pts.push_witness(&sd);
         return finish(&sd, &pts, cap, out, (pose1, pose2));
@@ -204,6 +227,48 @@ pub(crate) fn manifold(
     finish(&sd, &pts, cap, out, (pose1, pose2))
 }
 
+/// A shape against a half-space from one support point of the shape (the half-space's closed
+/// form: [`HalfspacePair::signed_distance_of_one_support`], the signed distance's value and
+/// normal to the last bit) and the shape's feature facing the plane: the manifold the general
+/// path gives (`Some`), without the tied support points' centroid, which the general path needs
+/// only for witnesses that are not a point of the feature (then `None`: the general path
+/// answers, as it does when a witness is not a finite number).
+fn on_halfspace_alone(
+    pair: &HalfspacePair<'_>,
+    strict: bool,
+    margin: Real,
+    cap: usize,
+    out: &mut Manifold,
+) -> Result<Option<()>, Error> {
+    let sd = pair.signed_distance_of_one_support()?;
+    let poses = (pair.pose_h, pair.pose_b);
+    let poses = if pair.hs_first {
+        poses
+    } else {
+        (poses.1, poses.0)
+    };
+    if !finite(&sd) {
+        return Ok(None);
+    }
+    let mut pts = Points::new();
+    if sd.distance > margin || cap == 0 {
+        return finish(&sd, &pts, 0, out, poses).map(Some);
+    }
+    if strict {
+        // One support point, the only one (a ball's or an ellipsoid's): the general path's
+        // witness.
+        pts.push_witness(&sd);
+        return finish(&sd, &pts, cap, out, poses).map(Some);
+    }
+    let ell = pair.ell();
+    on_halfspace(pair, &sd, margin, ell, &mut pts);
+    let deepest = pts.depth.iter().fold(Real::NEG_INFINITY, |m, d| m.max(*d));
+    if !(deepest >= -sd.distance - SEP_TOL * ell) {
+        return Ok(None);
+    }
+    finish(&sd, &pts, cap, out, poses).map(Some)
+}
+
 /// Fills `out` with the manifold of the candidate points `pts` for the signed distance `sd`:
 /// at most `cap` of them (`reduce`); `InvalidPose` (naming the poses' largest coordinate) when
 /// one of its numbers is not finite.
@@ -221,7 +286,8 @@ fn finish(
     out.count = 0;
     if cap > 0 {
         let mut chosen = [0usize; MAX_CONTACTS];
-        let k = reduce(pts, cap, &mut chosen);
+        let n = pts.len();
+        let k = reduce(&pts.pos[..n], &pts.depth[..n], cap, &mut chosen);
         for (slot, &i) in out.contacts.iter_mut().zip(&chosen[..k]) {
             *slot = Contact {
                 position: pts.pos[i],
@@ -522,11 +588,12 @@ fn build(
             (&f2, &f1)
         };
         let r2: ArrayVec<V2, MAX_FACE> = reference.pts.iter().map(proj).collect();
-        let i2: ArrayVec<V2, BUF> = incident.pts.iter().map(proj).collect();
         if incident.k() == 2 {
-            clip_segment(&r2, &[i2[0], i2[1]], &mut q)
+            let seg = [proj(&incident.pts[0]), proj(&incident.pts[1])];
+            clip_segment(&r2, &seg, &mut q)
         } else {
-            clip_polygon(&r2, i2, &mut q)
+            q.extend(incident.pts.iter().map(proj));
+            clip_polygon(&r2, &mut q)
         }
     }
     for qi in &q {
@@ -578,35 +645,42 @@ fn orientation(poly: &[V2]) -> Real {
     }
 }
 
-/// Sutherland–Hodgman: clips the polygon `inc` against the convex polygon `reference`, into
-/// `out`.
-fn clip_polygon(reference: &[V2], mut inc: ArrayVec<V2, BUF>, out: &mut ArrayVec<V2, BUF>) {
+/// Sutherland–Hodgman: clips the polygon `poly` against the convex polygon `reference`, in
+/// place (two buffers taking turns: moving a whole buffer per edge cost more than the clipping).
+fn clip_polygon(reference: &[V2], poly: &mut ArrayVec<V2, BUF>) {
     let s = orientation(reference);
     let mut tmp: ArrayVec<V2, BUF> = ArrayVec::new();
+    let (mut cur, mut next) = (poly, &mut tmp);
+    let mut turned = false;
     for e in 0..reference.len() {
         let a = reference[e];
-        let d = reference[(e + 1) % reference.len()] - a;
+        let d = reference[if e + 1 == reference.len() { 0 } else { e + 1 }] - a;
         let side = |p: &V2| s * cross2(&d, &(p - a));
-        tmp.clear();
-        let len = inc.len();
+        next.clear();
+        let len = cur.len();
         for i in 0..len {
-            let p = inc[i];
-            let c = inc[(i + 1) % len];
+            let p = cur[i];
+            let c = cur[if i + 1 == len { 0 } else { i + 1 }];
             let (sp, sc) = (side(&p), side(&c));
             if sp >= 0.0 {
-                let _ = tmp.try_push(p);
+                let _ = next.try_push(p);
             }
             if (sp >= 0.0) != (sc >= 0.0) {
                 let t = sp / (sp - sc);
-                let _ = tmp.try_push(p + (c - p) * t);
+                let _ = next.try_push(p + (c - p) * t);
             }
         }
-        std::mem::swap(&mut inc, &mut tmp);
-        if inc.is_empty() {
+        std::mem::swap(&mut cur, &mut next);
+        turned = !turned;
+        if cur.is_empty() {
             break;
         }
     }
-    out.extend(inc);
+    if turned {
+        // The result is in `tmp` (`cur`); `next` is the caller's buffer.
+        next.clear();
+        next.extend(cur.iter().copied());
+    }
 }
 
 /// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`, into `out`.
@@ -676,56 +750,4 @@ fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut ArrayVec<V2, BUF>) {
     if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
         out.push(a[0] + da * s);
     }
-}
-
-/// Chooses at most `cap` of the points: the deepest, the farthest from it, the one spanning the
-/// largest triangle with those two, then each time the one farthest from those chosen (each
-/// candidate's distance to the chosen ones kept up to date, one pass per pick).
-fn reduce(pts: &Points, cap: usize, chosen: &mut [usize; MAX_CONTACTS]) -> usize {
-    let n = pts.len();
-    if n <= cap {
-        for (i, c) in chosen.iter_mut().enumerate().take(n) {
-            *c = i;
-        }
-        return n;
-    }
-    let mut used = [false; BUF];
-    // The best unused candidate by `score`, each scored once.
-    let pick = |used: &[bool; BUF], score: &dyn Fn(usize) -> Real| {
-        let mut best: Option<(usize, Real)> = None;
-        for i in (0..n).filter(|&i| !used[i]) {
-            let s = score(i);
-            if best.map_or(true, |(_, b)| s > b) {
-                best = Some((i, s));
-            }
-        }
-        best.map(|(i, _)| i)
-    };
-    let deepest = pick(&used, &|i| pts.depth[i]).unwrap_or(0);
-    chosen[0] = deepest;
-    used[deepest] = true;
-    let p0 = pts.pos[deepest];
-    // Each candidate's distance to the nearest chosen point.
-    let mut near = [0.0; BUF];
-    for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
-        *d = (p - p0).norm();
-    }
-    let mut k = 1;
-    while k < cap {
-        let best = if k == 2 {
-            let (a, e) = (pts.pos[chosen[0]], pts.pos[chosen[1]] - pts.pos[chosen[0]]);
-            pick(&used, &|i| e.cross(&(pts.pos[i] - a)).norm_squared())
-        } else {
-            pick(&used, &|i| near[i])
-        };
-        let Some(b) = best else { break };
-        chosen[k] = b;
-        used[b] = true;
-        let pb = pts.pos[b];
-        for (d, p) in near.iter_mut().zip(pts.pos.iter()) {
-            *d = d.min((p - pb).norm());
-        }
-        k += 1;
-    }
-    k
 }

@@ -8,13 +8,18 @@
 //!
 //! Answers boxes that overlap, touch, or are apart by less than the margin across a facet (a
 //! clipped point as far from the facet as the facet's axis separates the boxes: that is their
-//! distance), and boxes apart along an axis by more than the margin (no contact); edge against
-//! edge, and apart boxes whose nearest points are not across a facet, are the general path's.
+//! distance), and boxes apart along an axis by more than the margin (no contact). Overlapping
+//! boxes whose least axis is an edge pair (boxes nearly face to face and slightly turned, as in
+//! a settling stack or pyramid) get the signed distance the general path computes for them (the
+//! separating axes' edge witnesses, `crate::solver::sat::box_edges`) without computing the
+//! axes a second time; their points are then the general path's. Apart boxes whose nearest
+//! points are not across a facet are the general path's.
 
 use super::context::DistancePath;
 use super::context::SignedDistance;
 use crate::math::{Mat3, Pose, Real, Vec3};
-use crate::solver::sat::{two_boxes, Axis};
+use crate::shapes::Shape;
+use crate::solver::sat::{self, two_boxes, Axis, Placed};
 use crate::solver::SolveStatus;
 use arrayvec::ArrayVec;
 
@@ -31,29 +36,46 @@ pub(crate) struct Boxes {
     pub points: ArrayVec<(Vec3, Real), MAX>,
 }
 
-/// Two centred boxes of half extents `h1`, `h2` at `pose1`, `pose2`: their manifold within
-/// `margin`, or `None` where the general path answers (`scale`: the boxes' size).
+/// What [`boxes`] found (on the stack: the hot path does not allocate, so the closed form's
+/// points are not boxed).
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum End {
+    /// The closed-form manifold.
+    Closed(Boxes),
+    /// Overlapping boxes whose least axis is an edge pair: the signed distance the general path
+    /// computes for them (its points are the general path's to find).
+    Edges(SignedDistance),
+    /// The general path answers.
+    General,
+}
+
+/// Two centred boxes `shape1`, `shape2` of half extents `h1`, `h2` at `pose1`, `pose2`: their
+/// manifold within `margin`, the signed distance of an edge-pair overlap, or the general path
+/// (`scale`: the boxes' size).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn boxes(
+    shape1: &Shape,
     h1: &Vec3,
     pose1: &Pose,
+    shape2: &Shape,
     h2: &Vec3,
     pose2: &Pose,
     margin: Real,
     scale: Real,
-) -> Option<Boxes> {
+) -> End {
     let (r1, r2) = (pose1.rotation(), pose2.rotation());
     let c = r1.tr_mul(r2);
     let t = r1.tr_mul(&(pose2.position() - pose1.position()));
-    let (depth, _, axis) = match two_boxes(h1, h2, &c, &t, margin) {
+    let (depth, n, axis) = match two_boxes(h1, h2, &c, &t, margin) {
         Ok(best) => best,
         // Separated along an axis by more than the margin: no contact at all.
-        Err(gap) => return Some(apart(gap)),
+        Err(gap) => return End::Closed(apart(gap)),
     };
     // The reference facet's box, frame and facet, and the incident box in that frame.
     let (k, s, first) = match axis {
         Axis::Face1(k) => (k % 3, if k < 3 { 1.0 } else { -1.0 }, true),
         Axis::Face2(k) => (k % 3, if k < 3 { 1.0 } else { -1.0 }, false),
-        Axis::Edges(_) => return None,
+        Axis::Edges(len) => return edges(shape1, pose1, shape2, pose2, (depth, n, len), scale),
     };
     let (href, hinc, pref, cinc, tinc) = if first {
         (h1, h2, pose1, c, t)
@@ -67,7 +89,7 @@ pub(crate) fn boxes(
     // clipped point is that far and no farther. To rounding, else the general path decides.
     let deepest = pts.iter().map(|p| p.1).fold(Real::NEG_INFINITY, Real::max);
     if !((deepest - depth).abs() <= 1e-9 * scale) {
-        return None;
+        return End::General;
     }
     // World: the reference facet's outward normal, from shape 1 to shape 2 when the facet is
     // shape 1's.
@@ -91,7 +113,10 @@ pub(crate) fn boxes(
     } else {
         (w_inc, w_ref)
     };
-    Some(Boxes {
+    if !((closest2 - closest1 + normal * depth).norm() <= 1e-9 * scale) {
+        return End::General;
+    }
+    End::Closed(Boxes {
         sd: SignedDistance {
             distance: -depth,
             normal,
@@ -103,7 +128,53 @@ pub(crate) fn boxes(
         },
         points,
     })
-    .filter(|_| (closest2 - closest1 + normal * depth).norm() <= 1e-9 * scale)
+}
+
+/// Overlapping boxes (`depth ≥ 0`: every axis overlaps) whose least axis is the edge pair of
+/// cross-product length `len` and unit normal `n` (shape 1's frame): the signed distance of the
+/// general path (`super::signed`'s separating axes: `two_boxes` without a margin finds the same
+/// least axis when every axis overlaps, then the edges' witnesses), or [`End::General`] where
+/// that path does not answer by the separating axes (boxes apart by less than the margin, ill
+/// conditioned or unwitnessed edges).
+fn edges(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    (depth, n, len): (Real, Vec3, Real),
+    scale: Real,
+) -> End {
+    let (Some(p1), Some(p2)) = (shape1.as_polytope(), shape2.as_polytope()) else {
+        return End::General;
+    };
+    if !(depth >= 0.0) {
+        return End::General;
+    }
+    let a = Placed {
+        poly: p1,
+        rot: pose1.rotation(),
+        pos: *pose1.position(),
+    };
+    let b = Placed {
+        poly: p2,
+        rot: pose2.rotation(),
+        pos: *pose2.position(),
+    };
+    let Some(o) = sat::box_edges(&a, &b, depth, pose1.rotation() * n, len, scale) else {
+        return End::General;
+    };
+    // As `super::signed`'s separating axes write it (no padding).
+    let (pad1, pad2) = (0.0, 0.0);
+    let n = o.normal;
+    End::Edges(SignedDistance {
+        distance: -(o.depth + pad1 + pad2),
+        normal: n,
+        closest1: o.closest1 + n * pad1,
+        closest2: o.closest2 - n * pad2,
+        iterations: 0,
+        status: SolveStatus::Converged,
+        path: DistancePath::SeparatingAxes,
+    })
 }
 
 /// No contact: the boxes are apart by `gap` (more than the margin) along an axis.
@@ -167,29 +238,30 @@ fn clip_to_facet(
     ] {
         poly.push(p);
     }
-    // Clip to |p_i| ≤ href_i for the two in-plane axes.
+    // Clip to |p_i| ≤ href_i for the two in-plane axes (two buffers taking turns).
     let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
+    let (mut cur, mut next) = (&mut poly, &mut tmp);
     for i in [(k + 1) % 3, (k + 2) % 3] {
         for side in [1.0, -1.0] {
-            tmp.clear();
-            let n = poly.len();
+            next.clear();
+            let n = cur.len();
             for a in 0..n {
-                let (p, q) = (poly[a], poly[(a + 1) % n]);
+                let (p, q) = (cur[a], cur[if a + 1 == n { 0 } else { a + 1 }]);
                 let (fp, fq) = (side * p[i] - href[i], side * q[i] - href[i]);
                 if fp <= 0.0 {
-                    let _ = tmp.try_push(p);
+                    let _ = next.try_push(p);
                 }
                 if (fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0) {
-                    let _ = tmp.try_push(p + (q - p) * (fp / (fp - fq)));
+                    let _ = next.try_push(p + (q - p) * (fp / (fp - fq)));
                 }
             }
-            std::mem::swap(&mut poly, &mut tmp);
-            if poly.is_empty() {
+            std::mem::swap(&mut cur, &mut next);
+            if cur.is_empty() {
                 return ArrayVec::new();
             }
         }
     }
-    poly.iter()
+    cur.iter()
         .map(|p| (*p, plane - s * p[k]))
         .filter(|(_, d)| *d >= -margin)
         .collect()

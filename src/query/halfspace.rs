@@ -141,7 +141,9 @@ impl HalfspacePair<'_> {
         }
     }
 
-    fn support(&self) -> Result<Support, Error> {
+    /// `g = n·(r_B − r_H)`, B's support point `s` in the direction `m = −R_Bᵀn`, its piece and
+    /// `h = m·s`.
+    fn support_point(&self) -> Result<(Real, Vec3, u32, Vec3, Real), Error> {
         let n = self.normal;
         let rot = self.pose_b.rotation();
         let g = n.dot(&(self.pose_b.position() - self.pose_h.position()));
@@ -152,10 +154,16 @@ impl HalfspacePair<'_> {
                 "the distance between the two origins overflows a double",
             )));
         }
-        let b = self.other;
         let m = -(rot.tr_mul(&n));
-        let (s, id) = b.support(&m);
+        let (s, id) = self.other.support(&m);
         let h = s.dot(&m);
+        Ok((g, m, id, s, h))
+    }
+
+    fn support(&self) -> Result<Support, Error> {
+        let rot = self.pose_b.rotation();
+        let b = self.other;
+        let (g, m, id, s, h) = self.support_point()?;
         // Thin shapes (aspect above 1e3): relative to a thousand inscribed radii instead, so
         // that a box's two large faces never tie.
         let tol = TIE * b.bounding_radius().min(1e3 * b.inscribed_radius());
@@ -321,9 +329,23 @@ impl HalfspacePair<'_> {
     /// The signed distance, its normal (from shape 1 to shape 2) and witness points.
     pub(crate) fn signed_distance(&self) -> Result<SignedDistance, Error> {
         let sp = self.support()?;
+        self.answer(sp.g, sp.h, &sp.w)
+    }
+
+    /// [`Self::signed_distance`]'s distance and normal (the same bits: they depend on the
+    /// support value alone), its witnesses from one support point instead of the centroid of
+    /// the tied ones: for the contact manifold, which needs the witnesses only where its points
+    /// miss the deepest one (and then asks for [`Self::signed_distance`]).
+    pub(crate) fn signed_distance_of_one_support(&self) -> Result<SignedDistance, Error> {
+        let (g, _, _, s, h) = self.support_point()?;
+        self.answer(g, h, &(self.pose_b.rotation() * s))
+    }
+
+    /// The signed distance `g − c − h` with the witness `r_B + w` on B.
+    fn answer(&self, g: Real, h: Real, w: &Vec3) -> Result<SignedDistance, Error> {
         let n = self.normal;
-        let sd = sp.g - self.depth - sp.h;
-        let on_b = self.pose_b.position() + sp.w;
+        let sd = g - self.depth - h;
+        let on_b = self.pose_b.position() + w;
         let on_h = on_b - n * sd;
         let (normal, closest1, closest2) = if self.hs_first {
             (n, on_h, on_b)

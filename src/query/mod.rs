@@ -4,6 +4,7 @@
 mod assemble;
 mod contact;
 mod contact_boxes;
+mod contact_reduce;
 mod context;
 mod cores;
 mod derivatives;

@@ -249,7 +249,7 @@ pub(crate) fn not_representable(r1: &Vec3, r2: &Vec3) -> Error {
 }
 
 /// Whether every number of a signed distance is finite.
-fn finite(sd: &SignedDistance) -> bool {
+pub(crate) fn finite(sd: &SignedDistance) -> bool {
     sd.distance.is_finite()
         && sd
             .normal

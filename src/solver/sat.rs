@@ -224,6 +224,21 @@ pub(crate) fn two_boxes(
     Ok(best)
 }
 
+/// The overlap of two centred boxes whose least axis (`two_boxes`, every axis overlapping) is
+/// the cross product of two edges of length `len`, its depth `depth` and world normal `n`: the
+/// witnesses [`overlap`] finds for it (the same numbers), or `None` where it leaves the pair to
+/// the general path.
+pub(crate) fn box_edges(
+    a: &Placed<'_>,
+    b: &Placed<'_>,
+    depth: Real,
+    n: Vec3,
+    len: Real,
+    scale: Real,
+) -> Option<Overlap> {
+    witnesses(a, b, depth, n, Axis::Edges(len), scale)?.ok()
+}
+
 /// The witness points of the winning candidate (`n` world, from shape 1 to shape 2).
 fn witnesses(
     a: &Placed<'_>,
