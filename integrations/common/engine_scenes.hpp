@@ -1,6 +1,6 @@
-// What the Bullet scene program (examples/bullet/bullet_scenes.cpp) uses: the scene constants, the
-// check counter, a clock, the six dcol primitives of the drop scenes and the floor (a dcol
-// half-space). (The ODE scene programs moved to integrations/ode/tests, with their own copy.)
+// What the Bullet and ODE adapters' scene tests share (integrations/bullet/tests,
+// integrations/ode/tests): the scene constants, the check counter, a clock, the six dcol
+// primitives of the drop scenes and the floor (a dcol half-space).
 #pragma once
 
 #include <dcol.h>
