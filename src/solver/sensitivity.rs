@@ -44,7 +44,7 @@ const POINT_TOL: Real = 1e-9;
 /// A disc faces the normal when the cosine of their angle is at least this.
 const DISC_COS: Real = 1.0 - 1e-13;
 /// Two segments closer to parallel than this (sine of their angle) do not pin x*.
-const PARALLEL_SIN: Real = 1e-6;
+pub(crate) const PARALLEL_SIN: Real = 1e-6;
 /// Newton steps that refine the solution on its features before it is differentiated.
 const NEWTON: usize = 3;
 /// A residual this small (normalised) needs no Newton step: the derivatives' own rounding is
@@ -547,17 +547,22 @@ pub(crate) fn refine<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Optio
 
 /// The sensitivities of the geometric solution `sol`, or `None` where x* is not unique, the
 /// features cannot be identified, or their system is singular (the caller falls back).
+///
+/// `round[i]`: shape i ignores its attitude (a sphere); its rotation columns are left zero
+/// instead of being computed (they are exactly zero).
 pub(crate) fn sensitivity<S: SupportMap>(
     pair: &Pair<'_, S>,
     sol: &Solution,
     axes: &[[Vec3; 4]; 2],
+    round: [bool; 2],
 ) -> Option<Sensitivity> {
     let mut lu = [[0.0; DIM]; DIM];
     let s = solve_features(pair, sol, &mut lu)?;
-    Some(adjoint(&s.sides, &lu, &s.ipiv, s.dim, &s.z, axes))
+    Some(adjoint(&s.sides, &lu, &s.ipiv, s.dim, &s.z, axes, round))
 }
 
 /// The outputs' sensitivities by one transposed solve with four right-hand sides.
+#[allow(clippy::too_many_arguments)]
 fn adjoint(
     sides: &[Side; 2],
     lu: &[[Real; DIM]; DIM],
@@ -565,6 +570,7 @@ fn adjoint(
     dim: usize,
     z: &[Real; DIM],
     axes: &[[Vec3; 4]; 2],
+    round: [bool; 2],
 ) -> Sensitivity {
     let n = Vec3::new(z[0], z[1], z[2]);
     let mu = z[3];
@@ -623,6 +629,9 @@ fn adjoint(
     let mut dmu_dtheta = [0.0; 8];
     let mut da_dtheta = [Vec3::zeros(); 8];
     for (i, side) in sides.iter().enumerate() {
+        if round[i] {
+            continue;
+        }
         for k in 0..4 {
             let w = axes[i][k];
             let wn = w.cross(&n);
