@@ -550,7 +550,7 @@ pub fn proximity(
 }
 
 /// The geometric answer with exact derivatives, without the full query's room (its zeroing
-/// and the copies of the 4×14 Jacobian it carries were about half the cost of a sphere–sphere
+/// and the copies of the 4×14 Jacobian it carries were about a third of a sphere–sphere
 /// gradient): the gradient, and the Jacobian into `jacobian` when given. `None` wherever
 /// [`query_full`] would answer otherwise (another method, smoothing, a half-space, coincident
 /// or overflowing origins, a geometric fallback, a gradient that overflows, derivatives that
