@@ -144,18 +144,7 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3, t: &mut Tied)
     let (p, _) = posed.shape.support(&m);
     let h = p.dot(&m);
     let tol = TIE_TOL * unit * m.norm();
-    t.count = 0;
-    for id in 0..posed.shape.piece_count() {
-        let e = posed.shape.piece(id, &m)?;
-        if e.value >= h - tol {
-            if t.count == MAX_TIED {
-                return None;
-            }
-            t.ids[t.count] = id;
-            t.pts[t.count] = e.grad;
-            t.count += 1;
-        }
-    }
+    tied_pieces(posed.shape, &m, h - tol, t, true)?;
     if t.count == 0 {
         return None;
     }
@@ -178,6 +167,46 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3, t: &mut Tied)
     });
     let dim = if off > tol { 2 } else { 1 };
     Some(Found::Tied(dim, posed.rot * e))
+}
+
+/// Collects into `t` the pieces of `shape` whose value at `m` is at least `floor`; `None` when a
+/// piece cannot be evaluated or more than [`MAX_TIED`] tie. With `vertices`, a polytope's
+/// pieces are taken as the dot products of its vertices (the same values and points).
+fn tied_pieces<S: SupportMap>(
+    shape: &S,
+    m: &Vec3,
+    floor: Real,
+    t: &mut Tied,
+    vertices: bool,
+) -> Option<()> {
+    t.count = 0;
+    if let Some(points) = shape.vertex_pieces().filter(|_| vertices) {
+        // Piece `id` is `v·m` with gradient `v` (what `piece` gives, without forming its zero
+        // Hessian).
+        for (id, v) in points.iter().enumerate() {
+            if v.dot(m) >= floor {
+                if t.count == MAX_TIED {
+                    return None;
+                }
+                t.ids[t.count] = id as u32;
+                t.pts[t.count] = *v;
+                t.count += 1;
+            }
+        }
+        return Some(());
+    }
+    for id in 0..shape.piece_count() {
+        let e = shape.piece(id, m)?;
+        if e.value >= floor {
+            if t.count == MAX_TIED {
+                return None;
+            }
+            t.ids[t.count] = id;
+            t.pts[t.count] = e.grad;
+            t.count += 1;
+        }
+    }
+    Some(())
 }
 
 /// The feature of a shape from its tied pieces and its contact point `q` (body, shape units).
@@ -669,5 +698,69 @@ fn adjoint(
         da_dtheta,
         mu,
         a,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{tied_pieces, Tied};
+    use crate::math::Vec3;
+    use crate::shapes::{Shape, SupportMap};
+
+    /// A polytope's ties from its vertices' dot products are those of evaluating every piece:
+    /// on 20 000 directions, half of them a facet's normal or the sum of two (where vertices
+    /// tie), for a box and a 12-facet polytope.
+    #[test]
+    fn vertex_ties_match_the_piece_evaluation() {
+        let mut a = Vec::new();
+        let mut b = Vec::new();
+        for k in 0..12 {
+            let t = k as f64 * 0.9;
+            let v = Vec3::new(
+                t.cos() * (1.0 + 0.1 * k as f64),
+                t.sin(),
+                (k as f64 - 5.5) * 0.2,
+            );
+            a.push(v.normalize().into());
+            b.push(0.5 + 0.01 * k as f64);
+        }
+        let shapes = [
+            Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
+            Shape::polytope(&a, &b).unwrap(),
+        ];
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut fast, mut slow) = (Tied::EMPTY, Tied::EMPTY);
+        let mut ties = 0;
+        for shape in &shapes {
+            let normals: Vec<Vec3> = (0..64)
+                .filter_map(|_| {
+                    let m = Vec3::new(unit(), unit(), unit());
+                    shape.flat_face(&m, -1.0)
+                })
+                .collect();
+            for k in 0..10_000 {
+                let m = match k % 4 {
+                    0 => normals[k % normals.len()],
+                    1 => normals[k % normals.len()] + normals[(k / 7) % normals.len()],
+                    _ => Vec3::new(unit(), unit(), unit()),
+                };
+                let (p, _) = shape.support(&m);
+                let floor = p.dot(&m) - 1e-10 * m.norm();
+                let a = tied_pieces(shape, &m, floor, &mut fast, true);
+                let b = tied_pieces(shape, &m, floor, &mut slow, false);
+                assert_eq!(a, b);
+                assert_eq!(fast.count, slow.count, "direction {m:?}");
+                assert_eq!(fast.ids[..fast.count], slow.ids[..slow.count]);
+                assert_eq!(fast.pts[..fast.count], slow.pts[..slow.count]);
+                ties += usize::from(fast.count > 1);
+            }
+        }
+        assert!(ties > 5_000, "{ties}");
     }
 }
