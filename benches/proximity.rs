@@ -57,6 +57,10 @@ const METHODS: &[(&str, Method)] = &[
     ("jacobian", |a, pa, b, pb, o| {
         jacobian(a, pa, b, pb, o).map(|r| black_box(r).0.iterations)
     }),
+    ("derivatives", |a, pa, b, pb, o| {
+        // The Jacobian with both contact points' (`dcol_derivatives`).
+        dcol::derivatives(a, pa, b, pb, o).map(|r| black_box(r).proximity.iterations)
+    }),
     ("shape_gradient", |a, pa, b, pb, o| {
         // Both shapes' derivatives, into buffers kept between calls (as a caller would).
         SHAPE_BUFFERS.with(|cell| {

@@ -3,7 +3,7 @@
 //! ([`super::proximity`]) asking for more outputs; the computation is in `derivatives/`.
 
 use super::context::{Options, Proximity, Want};
-use super::proximity::query;
+use super::proximity::{plain_derivatives, query};
 use crate::error::Error;
 use crate::math::{Pose, Real};
 use crate::shapes::Shape;
@@ -30,6 +30,9 @@ pub fn gradient(
     pose2: &Pose,
     options: &Options,
 ) -> Result<(Proximity, [Real; 14]), Error> {
+    if let Some(answer) = plain_derivatives(shape1, pose1, shape2, pose2, options, None) {
+        return Ok(answer);
+    }
     let f = query(shape1, pose1, shape2, pose2, options, Want::Gradient)?;
     Ok((f.prox, f.gradient))
 }
@@ -45,6 +48,10 @@ pub fn jacobian(
     pose2: &Pose,
     options: &Options,
 ) -> Result<(Proximity, [[Real; 14]; 4]), Error> {
+    let mut j = [[0.0; 14]; 4];
+    if let Some((p, _)) = plain_derivatives(shape1, pose1, shape2, pose2, options, Some(&mut j)) {
+        return Ok((p, j));
+    }
     let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
     Ok((f.prox, f.jacobian))
 }
@@ -73,12 +80,22 @@ pub fn derivatives(
     pose2: &Pose,
     options: &Options,
 ) -> Result<Derivatives, Error> {
-    let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
-    let p = f.prox;
+    // The geometric answer where it has exact derivatives (no full query's room), else the
+    // full query.
+    let mut jacobian = [[0.0; 14]; 4];
+    let (p, dalpha) =
+        match plain_derivatives(shape1, pose1, shape2, pose2, options, Some(&mut jacobian)) {
+            Some(answer) => answer,
+            None => {
+                let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
+                jacobian = f.jacobian;
+                (f.prox, f.gradient)
+            }
+        };
     let mut d = Derivatives {
         proximity: p,
-        dalpha: f.gradient,
-        jacobian: f.jacobian,
+        dalpha,
+        jacobian,
         dcontact1: [[0.0; 14]; 3],
         dcontact2: [[0.0; 14]; 3],
     };
@@ -90,8 +107,8 @@ pub fn derivatives(
             for row in 0..3 {
                 for col in 0..14 {
                     let dr = if col == 7 * i + row { 1.0 } else { 0.0 };
-                    out[row][col] = dr + (f.jacobian[row][col] - dr) * inv
-                        - rel[row] * f.jacobian[3][col] * inv * inv;
+                    out[row][col] = dr + (jacobian[row][col] - dr) * inv
+                        - rel[row] * jacobian[3][col] * inv * inv;
                 }
             }
         }

@@ -24,7 +24,7 @@ use crate::solver::direct::{after_cast, direct};
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
-use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution};
+use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution, PARALLEL_SIN};
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
 /// Portal refinements before the polish takes over.
@@ -242,6 +242,9 @@ pub(crate) fn unique_contact(
     if strict(shapes[0]) || strict(shapes[1]) {
         return true;
     }
+    if !general_only() && capsules_not_parallel(shapes, poses) {
+        return true;
+    }
     let (pair, sol, _) = normalised(prox, dalpha_dd, shapes, poses);
     contact_is_unique(&pair, &sol)
 }
@@ -261,10 +264,24 @@ pub(crate) fn jacobian(
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
 ) -> Option<[[Real; 14]; 4]> {
+    if !general_only() {
+        if let Some(j) = two_spheres_jacobian(prox, dalpha_dd, shapes) {
+            return Some(j);
+        }
+    }
     let (pair, sol, s) = normalised(prox, dalpha_dd, shapes, poses);
     let (ell, inv) = (1.0 / pair.one.inv_scale, pair.one.inv_scale);
-    let axes = [rotation_axes(poses[0]), rotation_axes(poses[1])];
-    let sens = sensitivity(&pair, &sol, &axes)?;
+    let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
+    // A sphere's rotation columns are exactly zero: neither its axes nor its columns are formed.
+    let axes_of = |i: usize| {
+        if round[i] {
+            [Vec3::zeros(); 4]
+        } else {
+            rotation_axes(poses[i])
+        }
+    };
+    let axes = [axes_of(0), axes_of(1)];
+    let sens = sensitivity(&pair, &sol, &axes, round)?;
     let alpha_n = 1.0 / sens.mu;
     let alpha = s * alpha_n;
     let a = sens.a;
@@ -279,7 +296,6 @@ pub(crate) fn jacobian(
             j[i][c] = if i == c { 1.0 } else { 0.0 } - dx;
         }
     }
-    let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
     for (t, col) in [3, 4, 5, 6, 10, 11, 12, 13].into_iter().enumerate() {
         if round[t / 4] {
             continue;
@@ -292,6 +308,64 @@ pub(crate) fn jacobian(
         }
     }
     j.iter().flatten().all(|v| v.is_finite()).then_some(j)
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Makes [`jacobian`] and [`unique_contact`] skip their closed forms (this thread only), so
+    /// that a test can compare them with the general feature solve.
+    pub(crate) static GENERAL_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+#[cfg(test)]
+fn general_only() -> bool {
+    GENERAL_ONLY.with(|f| f.get())
+}
+
+#[cfg(not(test))]
+#[inline(always)]
+fn general_only() -> bool {
+    false
+}
+
+/// Two capsules whose axes are far from parallel: each one's contact feature is a cap's point
+/// or its side (affine dimension at most one), so x* is unique unless both are sides and
+/// parallel, which the general test ([`contact_is_unique`]) rejects below a sine of
+/// [`PARALLEL_SIN`] between the world directions of the two sides: the capsules' axes. Twice
+/// that margin leaves its decision unchanged by the rounding of its directions; closer to
+/// parallel the general test decides. Saves finding both features (every piece evaluated
+/// with its Hessian) on every capsule-capsule gradient.
+fn capsules_not_parallel(shapes: [&Shape; 2], poses: [&Pose; 2]) -> bool {
+    if shapes.iter().any(|s| s.solver_kind() != ShapeKind::Capsule) {
+        return false;
+    }
+    let axis = |p: &Pose| p.rotation().column(0).into_owned();
+    axis(poses[0]).cross(&axis(poses[1])).norm() > 2.0 * PARALLEL_SIN
+}
+
+/// The Jacobian of two spheres in closed form: α* = d/(R₁ + R₂) and
+/// x* = r₁ + R₁/(R₁ + R₂)·(r₂ − r₁), so the x rows are `R₂/(R₁+R₂)·I` (r₁) and `R₁/(R₁+R₂)·I`
+/// (r₂), the α row is the gradient `∓ñ` proximity found, and nothing depends on the
+/// quaternions. `None` unless both shapes are spheres.
+fn two_spheres_jacobian(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+) -> Option<[[Real; 14]; 4]> {
+    if shapes.iter().any(|s| s.solver_kind() != ShapeKind::Sphere) {
+        return None;
+    }
+    let (_, r1) = shapes[0].rounded_segment()?;
+    let (_, r2) = shapes[1].rounded_segment()?;
+    let (k1, k2) = (r1 / (r1 + r2), r2 / (r1 + r2));
+    let mut j = [[0.0; 14]; 4];
+    for c in 0..3 {
+        j[c][c] = k2;
+        j[c][7 + c] = k1;
+        j[3][c] = -dalpha_dd[c];
+        j[3][7 + c] = dalpha_dd[c];
+    }
+    (prox.alpha.is_finite() && j.iter().flatten().all(|v| v.is_finite())).then_some(j)
 }
 
 /// `Err((below, bound))` when the cast's bracket decided the threshold: the bracket's end on

@@ -11,6 +11,8 @@ mod derivatives;
 mod differentiate;
 mod distance;
 mod early_exit;
+#[cfg(test)]
+mod fast_derivatives_tests;
 mod geometric;
 mod halfspace;
 mod proximity;

@@ -549,6 +549,60 @@ pub fn proximity(
     query(shape1, pose1, shape2, pose2, options, Want::Proximity).map(|f| f.prox)
 }
 
+/// The geometric answer with exact derivatives, without the full query's room (its zeroing
+/// and the copies of the 4×14 Jacobian it carries were about a third of a sphere–sphere
+/// gradient): the gradient, and the Jacobian into `jacobian` when given. `None` wherever
+/// [`query_full`] would answer otherwise (another method, smoothing, a half-space, coincident
+/// or overflowing origins, a geometric fallback, a gradient that overflows, derivatives that
+/// are not exact): the caller then asks the full query, which gives the same answer.
+pub(crate) fn plain_derivatives(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    jacobian: Option<&mut [[Real; 14]; 4]>,
+) -> Option<(Proximity, [Real; 14])> {
+    let plain = options.method == Method::Auto && options.smoothing == 0.0;
+    let bounded = shape1.solver_kind() != ShapeKind::Halfspace
+        && shape2.solver_kind() != ShapeKind::Halfspace;
+    if !(plain && bounded && options.validate().is_ok()) {
+        return None;
+    }
+    let dist = robust_norm(&(pose2.position() - pose1.position()));
+    if !(dist > 0.0 && dist.is_finite()) {
+        return None;
+    }
+    let geometric::Outcome::Answer(mut prox, dalpha_dd) =
+        geometric::proximity(shape1, pose1, shape2, pose2, options, dist, None)
+    else {
+        return None;
+    };
+    let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
+    let g = geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2);
+    if !g.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let exact = match jacobian {
+        Some(out) => {
+            let ell = shape1.bounding_radius().max(shape2.bounding_radius());
+            match geometric::jacobian(&prox, &dalpha_dd, shapes, poses) {
+                Some(j) if derivatives::consistent(&j, &g, ell) => {
+                    *out = j;
+                    true
+                }
+                _ => false,
+            }
+        }
+        None => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
+    };
+    if !exact {
+        return None;
+    }
+    prox.derivatives = DerivativeKind::Exact;
+    Some((prox, g))
+}
+
 #[cfg(test)]
 mod tests {
     use super::TEST_START_ALPHA_FACTOR;

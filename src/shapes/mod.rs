@@ -581,6 +581,9 @@ impl SupportMap for Shape {
     fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
         dispatch!(self, s => s.disc(m, cos_min))
     }
+    fn vertex_pieces(&self) -> Option<&[Vec3]> {
+        dispatch!(self, s => s.vertex_pieces())
+    }
 }
 
 pub(crate) fn positive_finite(name: &'static str, v: Real) -> Result<(), Error> {

@@ -168,6 +168,12 @@ pub(crate) trait SupportMap {
     fn disc(&self, _m: &Vec3, _cos_min: Real) -> Option<(Vec3, Real)> {
         None
     }
+    /// The pieces' points (body frame) when every piece is a plain vertex, `p(m) = v·m` with
+    /// piece `id` the `id`-th point (a polytope): a search over all pieces can then take the
+    /// dot products instead of evaluating each piece with its Hessian.
+    fn vertex_pieces(&self) -> Option<&[Vec3]> {
+        None
+    }
 }
 
 /// The normal of a ball piece about `center` at `p`.

@@ -44,7 +44,7 @@ const POINT_TOL: Real = 1e-9;
 /// A disc faces the normal when the cosine of their angle is at least this.
 const DISC_COS: Real = 1.0 - 1e-13;
 /// Two segments closer to parallel than this (sine of their angle) do not pin x*.
-const PARALLEL_SIN: Real = 1e-6;
+pub(crate) const PARALLEL_SIN: Real = 1e-6;
 /// Newton steps that refine the solution on its features before it is differentiated.
 const NEWTON: usize = 3;
 /// A residual this small (normalised) needs no Newton step: the derivatives' own rounding is
@@ -144,18 +144,7 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3, t: &mut Tied)
     let (p, _) = posed.shape.support(&m);
     let h = p.dot(&m);
     let tol = TIE_TOL * unit * m.norm();
-    t.count = 0;
-    for id in 0..posed.shape.piece_count() {
-        let e = posed.shape.piece(id, &m)?;
-        if e.value >= h - tol {
-            if t.count == MAX_TIED {
-                return None;
-            }
-            t.ids[t.count] = id;
-            t.pts[t.count] = e.grad;
-            t.count += 1;
-        }
-    }
+    tied_pieces(posed.shape, &m, h - tol, t, true)?;
     if t.count == 0 {
         return None;
     }
@@ -178,6 +167,46 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3, t: &mut Tied)
     });
     let dim = if off > tol { 2 } else { 1 };
     Some(Found::Tied(dim, posed.rot * e))
+}
+
+/// Collects into `t` the pieces of `shape` whose value at `m` is at least `floor`; `None` when a
+/// piece cannot be evaluated or more than [`MAX_TIED`] tie. With `vertices`, a polytope's
+/// pieces are taken as the dot products of its vertices (the same values and points).
+fn tied_pieces<S: SupportMap>(
+    shape: &S,
+    m: &Vec3,
+    floor: Real,
+    t: &mut Tied,
+    vertices: bool,
+) -> Option<()> {
+    t.count = 0;
+    if let Some(points) = shape.vertex_pieces().filter(|_| vertices) {
+        // Piece `id` is `v·m` with gradient `v` (what `piece` gives, without forming its zero
+        // Hessian).
+        for (id, v) in points.iter().enumerate() {
+            if v.dot(m) >= floor {
+                if t.count == MAX_TIED {
+                    return None;
+                }
+                t.ids[t.count] = id as u32;
+                t.pts[t.count] = *v;
+                t.count += 1;
+            }
+        }
+        return Some(());
+    }
+    for id in 0..shape.piece_count() {
+        let e = shape.piece(id, m)?;
+        if e.value >= floor {
+            if t.count == MAX_TIED {
+                return None;
+            }
+            t.ids[t.count] = id;
+            t.pts[t.count] = e.grad;
+            t.count += 1;
+        }
+    }
+    Some(())
 }
 
 /// The feature of a shape from its tied pieces and its contact point `q` (body, shape units).
@@ -547,17 +576,22 @@ pub(crate) fn refine<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Optio
 
 /// The sensitivities of the geometric solution `sol`, or `None` where x* is not unique, the
 /// features cannot be identified, or their system is singular (the caller falls back).
+///
+/// `round[i]`: shape i ignores its attitude (a sphere); its rotation columns are left zero
+/// instead of being computed (they are exactly zero).
 pub(crate) fn sensitivity<S: SupportMap>(
     pair: &Pair<'_, S>,
     sol: &Solution,
     axes: &[[Vec3; 4]; 2],
+    round: [bool; 2],
 ) -> Option<Sensitivity> {
     let mut lu = [[0.0; DIM]; DIM];
     let s = solve_features(pair, sol, &mut lu)?;
-    Some(adjoint(&s.sides, &lu, &s.ipiv, s.dim, &s.z, axes))
+    Some(adjoint(&s.sides, &lu, &s.ipiv, s.dim, &s.z, axes, round))
 }
 
 /// The outputs' sensitivities by one transposed solve with four right-hand sides.
+#[allow(clippy::too_many_arguments)]
 fn adjoint(
     sides: &[Side; 2],
     lu: &[[Real; DIM]; DIM],
@@ -565,6 +599,7 @@ fn adjoint(
     dim: usize,
     z: &[Real; DIM],
     axes: &[[Vec3; 4]; 2],
+    round: [bool; 2],
 ) -> Sensitivity {
     let n = Vec3::new(z[0], z[1], z[2]);
     let mu = z[3];
@@ -623,6 +658,9 @@ fn adjoint(
     let mut dmu_dtheta = [0.0; 8];
     let mut da_dtheta = [Vec3::zeros(); 8];
     for (i, side) in sides.iter().enumerate() {
+        if round[i] {
+            continue;
+        }
         for k in 0..4 {
             let w = axes[i][k];
             let wn = w.cross(&n);
@@ -660,5 +698,69 @@ fn adjoint(
         da_dtheta,
         mu,
         a,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{tied_pieces, Tied};
+    use crate::math::Vec3;
+    use crate::shapes::{Shape, SupportMap};
+
+    /// A polytope's ties from its vertices' dot products are those of evaluating every piece:
+    /// on 20 000 directions, half of them a facet's normal or the sum of two (where vertices
+    /// tie), for a box and a 12-facet polytope.
+    #[test]
+    fn vertex_ties_match_the_piece_evaluation() {
+        let mut a = Vec::new();
+        let mut b = Vec::new();
+        for k in 0..12 {
+            let t = k as f64 * 0.9;
+            let v = Vec3::new(
+                t.cos() * (1.0 + 0.1 * k as f64),
+                t.sin(),
+                (k as f64 - 5.5) * 0.2,
+            );
+            a.push(v.normalize().into());
+            b.push(0.5 + 0.01 * k as f64);
+        }
+        let shapes = [
+            Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
+            Shape::polytope(&a, &b).unwrap(),
+        ];
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut fast, mut slow) = (Tied::EMPTY, Tied::EMPTY);
+        let mut ties = 0;
+        for shape in &shapes {
+            let normals: Vec<Vec3> = (0..64)
+                .filter_map(|_| {
+                    let m = Vec3::new(unit(), unit(), unit());
+                    shape.flat_face(&m, -1.0)
+                })
+                .collect();
+            for k in 0..10_000 {
+                let m = match k % 4 {
+                    0 => normals[k % normals.len()],
+                    1 => normals[k % normals.len()] + normals[(k / 7) % normals.len()],
+                    _ => Vec3::new(unit(), unit(), unit()),
+                };
+                let (p, _) = shape.support(&m);
+                let floor = p.dot(&m) - 1e-10 * m.norm();
+                let a = tied_pieces(shape, &m, floor, &mut fast, true);
+                let b = tied_pieces(shape, &m, floor, &mut slow, false);
+                assert_eq!(a, b);
+                assert_eq!(fast.count, slow.count, "direction {m:?}");
+                assert_eq!(fast.ids[..fast.count], slow.ids[..slow.count]);
+                assert_eq!(fast.pts[..fast.count], slow.pts[..slow.count]);
+                ties += usize::from(fast.count > 1);
+            }
+        }
+        assert!(ties > 5_000, "{ties}");
     }
 }

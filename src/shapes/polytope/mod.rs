@@ -264,6 +264,9 @@ impl SupportMap for Polytope {
     fn piece_count(&self) -> u32 {
         self.vertices.len() as u32
     }
+    fn vertex_pieces(&self) -> Option<&[Vec3]> {
+        Some(&self.vertices)
+    }
 }
 
 impl ConicShape for Polytope {
