@@ -298,12 +298,15 @@ fn finish(
         out.count = k;
     }
     // Points of shapes within their size of the largest double can pass it.
-    let finite = out.signed_distance.is_finite()
-        && out.normal.iter().all(|v| v.is_finite())
-        && out
-            .contacts()
-            .iter()
-            .all(|c| c.depth.is_finite() && c.position.iter().all(|v| v.is_finite()));
+    // `v · 0` is 0 for a finite `v` and NaN otherwise: one sum tests every number.
+    let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
+    let sum = out
+        .contacts()
+        .iter()
+        .fold(out.signed_distance * 0.0 + zero(&out.normal), |s, c| {
+            s + c.depth * 0.0 + zero(&c.position)
+        });
+    let finite = sum == 0.0;
     if !finite {
         return Err(not_representable(pose1.position(), pose2.position()));
     }
