@@ -18,7 +18,7 @@ use super::contact_boxes::End;
 use super::contact_reduce::reduce;
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
-use super::signed::{finite, not_representable, signed_distance};
+use super::signed::{finite, not_representable, signed_distance_validated};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
@@ -195,7 +195,8 @@ pub(crate) fn manifold(
     }
     let sd = match known {
         Some(sd) => sd,
-        None => signed_distance(shape1, pose1, shape2, pose2, options)?,
+        // `options` validated above (both branches).
+        None => signed_distance_validated(shape1, pose1, shape2, pose2, options)?,
     };
     if sd.distance > margin || cap == 0 {
         return finish(&sd, &Points::new(), 0, out, (pose1, pose2));

@@ -64,6 +64,18 @@ pub fn signed_distance(
     options: &Options,
 ) -> Result<SignedDistance, Error> {
     options.validate()?;
+    signed_distance_validated(shape1, pose1, shape2, pose2, options)
+}
+
+/// [`signed_distance`] with `options` already validated (the contact manifold validates them
+/// once for its closed forms and this).
+pub(crate) fn signed_distance_validated(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<SignedDistance, Error> {
     // Every answer is checked at its return: the witnesses `r + ℓa` (a half-space's: the other's
     // projection onto the plane) pass the largest double when the shapes sit within their size
     // of it. (A wrapper around the whole function cost 50 instructions a query, moving the
