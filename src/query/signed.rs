@@ -146,8 +146,10 @@ pub(crate) fn signed_distance_validated(
         u.dot(&d) - u.dot(&pair.support(&u).w) <= 0.0
     };
     let probed = !inscribed && rounded && probe_overlaps();
-    // A sphere or capsule pair with a closed form (two rounded segments, or a sphere against a
-    // centred box, cylinder, cone, ellipsoid or a polytope about its centre) that finds the
+    let tol = (options.tolerance * MARGIN).max(TOL_FLOOR);
+    // A sphere or capsule pair with a closed form (two rounded segments, a sphere against a
+    // centred box, cylinder, cone, ellipsoid or a polytope about its centre, a capsule against
+    // a centred box, cylinder or cone whose segment stays outside it) that finds the
     // shapes touching or overlapping: its answer, which the general path reaches after the
     // distance query's try anyway (separated pairs keep the distance query's answer). A sphere
     // resting on a box no longer runs GJK to learn that it overlaps (5 600 instructions a
@@ -155,7 +157,11 @@ pub(crate) fn signed_distance_validated(
     let early = if !(inscribed || probed)
         && (shape1.rounded_segment().is_some() || shape2.rounded_segment().is_some())
     {
-        closed_forms(&pair, &d).filter(|(p, _)| p.sd <= 0.0)
+        closed_forms(&pair, &d)
+            .or_else(|| {
+                capsule_and_solid(&pair, &d, tol).map(|p| (p, Some(DistancePath::ClosedForm)))
+            })
+            .filter(|(p, _)| p.sd <= 0.0)
     } else {
         None
     };
@@ -177,7 +183,6 @@ pub(crate) fn signed_distance_validated(
     let curved = [shape1, shape2]
         .iter()
         .any(|s| s.solver_kind() != ShapeKind::Polytope);
-    let tol = (options.tolerance * MARGIN).max(TOL_FLOOR);
     // The path, where it is not told by the penetration's own record.
     let (end, path) = match early.or_else(|| closed_forms(&pair, &d)) {
         Some((p, path)) => (EpaEnd::Closed(p), path),
