@@ -18,7 +18,7 @@ use super::contact_boxes::End;
 use super::contact_reduce::reduce;
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
-use super::signed::{finite, not_representable, signed_distance};
+use super::signed::{finite, not_representable, signed_distance_validated};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
@@ -195,7 +195,8 @@ pub(crate) fn manifold(
     }
     let sd = match known {
         Some(sd) => sd,
-        None => signed_distance(shape1, pose1, shape2, pose2, options)?,
+        // `options` validated above (both branches).
+        None => signed_distance_validated(shape1, pose1, shape2, pose2, options)?,
     };
     if sd.distance > margin || cap == 0 {
         return finish(&sd, &Points::new(), 0, out, (pose1, pose2));
@@ -298,12 +299,15 @@ fn finish(
         out.count = k;
     }
     // Points of shapes within their size of the largest double can pass it.
-    let finite = out.signed_distance.is_finite()
-        && out.normal.iter().all(|v| v.is_finite())
-        && out
-            .contacts()
-            .iter()
-            .all(|c| c.depth.is_finite() && c.position.iter().all(|v| v.is_finite()));
+    // `v · 0` is 0 for a finite `v` and NaN otherwise: one sum tests every number.
+    let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
+    let sum = out
+        .contacts()
+        .iter()
+        .fold(out.signed_distance * 0.0 + zero(&out.normal), |s, c| {
+            s + c.depth * 0.0 + zero(&c.position)
+        });
+    let finite = sum == 0.0;
     if !finite {
         return Err(not_representable(pose1.position(), pose2.position()));
     }

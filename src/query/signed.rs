@@ -64,6 +64,18 @@ pub fn signed_distance(
     options: &Options,
 ) -> Result<SignedDistance, Error> {
     options.validate()?;
+    signed_distance_validated(shape1, pose1, shape2, pose2, options)
+}
+
+/// [`signed_distance`] with `options` already validated (the contact manifold validates them
+/// once for its closed forms and this).
+pub(crate) fn signed_distance_validated(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Result<SignedDistance, Error> {
     // Every answer is checked at its return: the witnesses `r + ℓa` (a half-space's: the other's
     // projection onto the plane) pass the largest double when the shapes sit within their size
     // of it. (A wrapper around the whole function cost 50 instructions a query, moving the
@@ -134,7 +146,26 @@ pub fn signed_distance(
         u.dot(&d) - u.dot(&pair.support(&u).w) <= 0.0
     };
     let probed = !inscribed && rounded && probe_overlaps();
-    if !(inscribed || probed) {
+    let tol = (options.tolerance * MARGIN).max(TOL_FLOOR);
+    // A sphere or capsule pair with a closed form (two rounded segments, a sphere against a
+    // centred box, cylinder, cone, ellipsoid or a polytope about its centre, a capsule against
+    // a centred box, cylinder or cone whose segment stays outside it) that finds the
+    // shapes touching or overlapping: its answer, which the general path reaches after the
+    // distance query's try anyway (separated pairs keep the distance query's answer). A sphere
+    // resting on a box no longer runs GJK to learn that it overlaps (5 600 instructions a
+    // contact call in ODE, 1 900 after).
+    let early = if !(inscribed || probed)
+        && (shape1.rounded_segment().is_some() || shape2.rounded_segment().is_some())
+    {
+        closed_forms(&pair, &d)
+            .or_else(|| {
+                capsule_and_solid(&pair, &d, tol).map(|p| (p, Some(DistancePath::ClosedForm)))
+            })
+            .filter(|(p, _)| p.sd <= 0.0)
+    } else {
+        None
+    };
+    if !(inscribed || probed || early.is_some()) {
         if let super::separated::Settled::Apart(d, _, _) = super::separated::separated(
             shape1,
             pose1,
@@ -152,11 +183,10 @@ pub fn signed_distance(
     let curved = [shape1, shape2]
         .iter()
         .any(|s| s.solver_kind() != ShapeKind::Polytope);
-    let tol = (options.tolerance * MARGIN).max(TOL_FLOOR);
     // The path, where it is not told by the penetration's own record.
-    let (end, path) = match segments(&pair, &d) {
-        Some(p) => (EpaEnd::Closed(p), None),
-        None => match sphere_and_solid(&pair, &d).or_else(|| capsule_and_solid(&pair, &d, tol)) {
+    let (end, path) = match early.or_else(|| closed_forms(&pair, &d)) {
+        Some((p, path)) => (EpaEnd::Closed(p), path),
+        None => match capsule_and_solid(&pair, &d, tol) {
             Some(p) => (EpaEnd::Closed(p), Some(DistancePath::ClosedForm)),
             None => match cored(&pair, &d, tol, start) {
                 Some((end, path)) => (end, path),
@@ -250,13 +280,10 @@ pub(crate) fn not_representable(r1: &Vec3, r2: &Vec3) -> Error {
 
 /// Whether every number of a signed distance is finite.
 pub(crate) fn finite(sd: &SignedDistance) -> bool {
-    sd.distance.is_finite()
-        && sd
-            .normal
-            .iter()
-            .chain(sd.closest1.iter())
-            .chain(sd.closest2.iter())
-            .all(|v| v.is_finite())
+    // `v · 0` is 0 for a finite `v` and NaN otherwise: one sum tests all ten numbers without
+    // branches (the chained iterators it replaces cost 200 instructions a contact call).
+    let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
+    sd.distance * 0.0 + zero(&sd.normal) + zero(&sd.closest1) + zero(&sd.closest2) == 0.0
 }
 
 /// [`signed_distance`] and its gradient with respect to (r₁, q₁, r₂, q₂): 14 numbers, the
@@ -420,6 +447,16 @@ fn cored(
         GjkEnd::Overlap => epa(None),
         GjkEnd::Inside { .. } => epa(Some(&tet).filter(|_| polyhedral)),
         _ => None,
+    }
+}
+
+/// The closed forms tried first on a pair that is not known apart: two rounded segments
+/// (spheres and capsules; the path told by the answer), else a sphere against a solid
+/// (`DistancePath::ClosedForm`).
+fn closed_forms(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<(Penetration, Option<DistancePath>)> {
+    match segments(pair, d) {
+        Some(p) => Some((p, None)),
+        None => sphere_and_solid(pair, d).map(|p| (p, Some(DistancePath::ClosedForm))),
     }
 }
 
