@@ -17,6 +17,7 @@ use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
     Answer, Solved,
 };
+use super::sphere_jacobian::sphere_jacobian;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
@@ -266,6 +267,10 @@ pub(crate) fn jacobian(
 ) -> Option<[[Real; 14]; 4]> {
     if !general_only() {
         if let Some(j) = two_spheres_jacobian(prox, dalpha_dd, shapes) {
+            return Some(j);
+        }
+        let g = gradient(prox, dalpha_dd, shapes, poses[0], poses[1]);
+        if let Some(j) = sphere_jacobian(prox, &g, dalpha_dd, shapes, poses) {
             return Some(j);
         }
     }
