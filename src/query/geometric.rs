@@ -250,7 +250,9 @@ pub(crate) fn unique_contact(
     contact_is_unique(&pair, &sol)
 }
 
-/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution, by
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
+/// its gradient `g` ([`gradient`]): in closed form for two spheres and for a sphere against a
+/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
 /// `None` where x* is not unique or the features' system is singular.
 ///
@@ -262,6 +264,7 @@ pub(crate) fn unique_contact(
 pub(crate) fn jacobian(
     prox: &Proximity,
     dalpha_dd: &Vec3,
+    g: &[Real; 14],
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
 ) -> Option<[[Real; 14]; 4]> {
@@ -269,8 +272,7 @@ pub(crate) fn jacobian(
         if let Some(j) = two_spheres_jacobian(prox, dalpha_dd, shapes) {
             return Some(j);
         }
-        let g = gradient(prox, dalpha_dd, shapes, poses[0], poses[1]);
-        if let Some(j) = sphere_jacobian(prox, &g, dalpha_dd, shapes, poses) {
+        if let Some(j) = sphere_jacobian(prox, g, dalpha_dd, shapes, poses) {
             return Some(j);
         }
     }

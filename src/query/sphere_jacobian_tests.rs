@@ -37,7 +37,56 @@ fn gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
     worst
 }
 
-/// The closed form where it answers (and how often it does), else `None`.
+/// The feature of `shape` (box, capsule, cylinder or cone) its contact point `c` (world) lies
+/// on, from its body coordinates: 0 a vertex or the apex, 1 an edge or a rim, 2 a face or a
+/// flat base, 3 a curved side (a capsule's cap counts as a vertex: a point of its segment).
+fn feature(shape: &Shape, pose: &Pose, c: &crate::Vec3) -> usize {
+    let b = pose.rotation().tr_mul(&(c - pose.position()));
+    let on = |v: Real, w: Real| (v - w).abs() < 1e-9;
+    let radial = b.y.hypot(b.z);
+    if let Some(e) = shape.centred_box() {
+        let pinned = (0..3).filter(|&i| on(b[i].abs(), e[i])).count();
+        return 3 - pinned;
+    }
+    if let Some((h, rho)) = shape.rounded_segment() {
+        return if b.x.abs() < h - 1e-9 && on(radial, rho) {
+            3
+        } else {
+            0
+        };
+    }
+    if let Some((rho, h)) = shape.cylinder_dims() {
+        return match (on(b.x.abs(), h), on(radial, rho)) {
+            (true, true) => 1,
+            (true, false) => 2,
+            _ => 3,
+        };
+    }
+    let (section, _) = shape.revolution_section().unwrap();
+    let (apex, (base, rho)) = (section[0].0, section[2]);
+    match (on(b.x, apex), on(b.x, base), on(radial, rho)) {
+        (true, _, _) => 0,
+        (_, true, true) => 1,
+        (_, true, false) => 2,
+        _ => 3,
+    }
+}
+
+/// The closed form where it answers, with the feature of the contact on the other shape.
+fn closed_at(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], usize)> {
+    let o = Options::default();
+    let dist = robust_norm(&(p[1].position() - p[0].position()));
+    let Outcome::Answer(prox, dad) = geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None)
+    else {
+        return None;
+    };
+    let g = geometric::gradient(&prox, &dad, s, p[0], p[1]);
+    let j = sphere_jacobian(&prox, &g, &dad, s, p)?;
+    let b = usize::from(s[0].kind() == crate::ShapeKind::Sphere);
+    Some((j, feature(s[b], p[b], &[prox.contact1, prox.contact2][b])))
+}
+
+/// The closed form where it answers, else `None`.
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
     let o = Options::default();
     let dist = robust_norm(&(p[1].position() - p[0].position()));
@@ -53,7 +102,9 @@ fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
 /// and sphere radii (separated and overlapping): wherever the closed form answers (at least
 /// 95 % of the poses) the general feature solve answers too, and the two agree to 1e-12
 /// (non-dimensional; 2e-12 for the cylinder, where the general solve is the less accurate:
-/// see the next test); the public `jacobian` returns the closed form's numbers.
+/// see the next test); the public `jacobian` returns the closed form's numbers; and every
+/// feature of each shape (vertices, edges, faces; caps and side; rims, bases, sides; the apex)
+/// is touched at least 20 times.
 #[test]
 fn sphere_closed_form_matches_the_feature_solve() {
     let others = [
@@ -67,6 +118,7 @@ fn sphere_closed_form_matches_the_feature_solve() {
     for other in &others {
         for order in 0..2 {
             let (mut worst, mut hits, total): (Real, usize, usize) = (0.0, 0, 3000);
+            let mut seen = [0usize; 4];
             for _ in 0..total {
                 let ball = Shape::sphere(rng.uniform(0.05, 1.5)).unwrap();
                 let (p1, p2) = (rng.pose(1.0), rng.pose(1.0));
@@ -75,10 +127,11 @@ fn sphere_closed_form_matches_the_feature_solve() {
                 } else {
                     [other, &ball]
                 };
-                let Some(jc) = closed(s, [&p1, &p2]) else {
+                let Some((jc, f)) = closed_at(s, [&p1, &p2]) else {
                     continue;
                 };
                 hits += 1;
+                seen[f] += 1;
                 GENERAL_ONLY.with(|g| g.set(true));
                 let general = jacobian(s[0], &p1, s[1], &p2, &o).unwrap();
                 GENERAL_ONLY.with(|g| g.set(false));
@@ -99,6 +152,16 @@ fn sphere_closed_form_matches_the_feature_solve() {
                 1e-12
             };
             assert!(hits * 100 >= total * 95, "{kind:?} {order}: {hits}");
+            // Every feature the shape has was touched (point, edge or rim, face, curved side).
+            let has = match kind {
+                crate::ShapeKind::Polytope => [true, true, true, false],
+                crate::ShapeKind::Capsule => [true, false, false, true],
+                crate::ShapeKind::Cylinder => [false, true, true, true],
+                _ => [true, true, true, true],
+            };
+            for f in 0..4 {
+                assert_eq!(seen[f] >= 20, has[f], "{kind:?} {order}: {seen:?}");
+            }
             assert!(worst < tol, "{kind:?} {order}: {worst:e}");
         }
     }
