@@ -10,8 +10,9 @@
 //! (world frame) is `M = (R·I + H)⁻¹H` for the support function's Hessian `H` at the unit
 //! normal `n̂ = (y − w)/R`: `0` at a vertex or an apex, `ttᵀ` on an edge of direction `t`,
 //! `I − n̂n̂ᵀ` on a face, and `ttᵀ + k ccᵀ` (`k = ρ/(R + ρ)`, `ρ` the radius of curvature
-//! across the line `t`) on the side of a capsule, a cylinder or a cone; `k ccᵀ` on a rim or a
-//! capsule's cap. A rotation `ω` of `B` moves `w` by `ω × w + M(dy − ω × y)`, so
+//! across the line `t`) on the side of a capsule, a cylinder or a cone; `k ccᵀ` on a rim
+//! (`c` its tangent, `ρ` the rim's radius over `‖m_yz‖`, `m` the body normal); `k(I − n̂n̂ᵀ)` on
+//! a capsule's cap. A rotation `ω` of `B` moves `w` by `ω × w + M(dy − ω × y)`, so
 //!
 //! ```text
 //! dx* = dr_b + α* dw + w dα* = M dr_s + (I − M) dr_b + α*(ω × w − M(ω × y)) + (w − My) dα*
