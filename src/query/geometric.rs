@@ -17,6 +17,7 @@ use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
     Answer, Solved,
 };
+use super::sphere_jacobian::sphere_jacobian;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
@@ -249,7 +250,9 @@ pub(crate) fn unique_contact(
     contact_is_unique(&pair, &sol)
 }
 
-/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution, by
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
+/// its gradient `g` ([`gradient`]): in closed form for two spheres and for a sphere against a
+/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
 /// `None` where x* is not unique or the features' system is singular.
 ///
@@ -261,11 +264,15 @@ pub(crate) fn unique_contact(
 pub(crate) fn jacobian(
     prox: &Proximity,
     dalpha_dd: &Vec3,
+    g: &[Real; 14],
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
 ) -> Option<[[Real; 14]; 4]> {
     if !general_only() {
         if let Some(j) = two_spheres_jacobian(prox, dalpha_dd, shapes) {
+            return Some(j);
+        }
+        if let Some(j) = sphere_jacobian(prox, g, dalpha_dd, shapes, poses) {
             return Some(j);
         }
     }

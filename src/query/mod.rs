@@ -20,6 +20,9 @@ mod separated;
 mod shape_gradient;
 mod shortcuts;
 mod signed;
+mod sphere_jacobian;
+#[cfg(test)]
+mod sphere_jacobian_tests;
 
 pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};

@@ -308,7 +308,7 @@ pub(crate) fn query_full(
                     let exact = match want {
                         Want::Jacobian => {
                             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-                            geometric::jacobian(&prox, &dalpha_dd, shapes, poses)
+                            geometric::jacobian(&prox, &dalpha_dd, &g, shapes, poses)
                                 .filter(|j| derivatives::consistent(j, &g, ell))
                                 .map(|j| jacobian = j)
                                 .is_some()
@@ -586,7 +586,7 @@ pub(crate) fn plain_derivatives(
     let exact = match jacobian {
         Some(out) => {
             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-            match geometric::jacobian(&prox, &dalpha_dd, shapes, poses) {
+            match geometric::jacobian(&prox, &dalpha_dd, &g, shapes, poses) {
                 Some(j) if derivatives::consistent(&j, &g, ell) => {
                     *out = j;
                     true

@@ -1,0 +1,200 @@
+//! The Jacobian of `(x*, α*)` in closed form for a sphere against a box, a capsule, a
+//! cylinder or a cone, where the general feature solve (`crate::solver::sensitivity`) costs
+//! ~9 000 instructions.
+//!
+//! With the sphere `s` (radius `R`, centre `r_s`) and the other shape `B` (origin `r_b`,
+//! attitude `Q`), the scaled shapes touch where `B` scaled by α* about `r_b` is at distance
+//! `α*R` from `r_s`: with `y = (r_s − r_b)/α*` and `w` the point of `Q·B` closest to `y`
+//! (`w = p_b − r_b`, `p_b` the contact point on `B`), `‖y − w‖ = R` and `x* = r_b + α*w`.
+//! `w = Q P(Qᵀy)` with `P` the closest-point projection onto the body shape, whose derivative
+//! (world frame) is `M = (R·I + H)⁻¹H` for the support function's Hessian `H` at the unit
+//! normal `n̂ = (y − w)/R`: `0` at a vertex or an apex, `ttᵀ` on an edge of direction `t`,
+//! `I − n̂n̂ᵀ` on a face, and `ttᵀ + k ccᵀ` (`k = ρ/(R + ρ)`, `ρ` the radius of curvature
+//! across the line `t`) on the side of a capsule, a cylinder or a cone; `k ccᵀ` on a rim
+//! (`c` its tangent, `ρ` the rim's radius over `‖m_yz‖`, `m` the body normal); `k(I − n̂n̂ᵀ)` on
+//! a capsule's cap. A rotation `ω` of `B` moves `w` by `ω × w + M(dy − ω × y)`, so
+//!
+//! ```text
+//! dx* = dr_b + α* dw + w dα* = M dr_s + (I − M) dr_b + α*(ω × w − M(ω × y)) + (w − My) dα*
+//! ```
+//!
+//! with `dα*` the gradient the envelope theorem gave (its row of the Jacobian). The feature is
+//! read from the optimal normal as the general solve reads it (the support pieces tied within
+//! its tolerance, its disc test); close to either decision (within a factor 100) the answer is
+//! `None` and the general solve decides.
+
+use super::context::Proximity;
+use super::derivatives::rotation_axes;
+use crate::math::{Mat3, Pose, Real, Vec3};
+use crate::shapes::{Shape, ShapeKind};
+
+/// The general solve's tie tolerance on support values, over `ℓ` (`sensitivity::TIE_TOL`).
+const TIE: Real = 1e-10;
+/// The general solve's disc test: `1 − cos` of the normal and a flat face's at most this
+/// (`sensitivity::DISC_COS`).
+const DISC: Real = 1e-13;
+/// A decision this close (as a factor) to either tolerance is left to the general solve.
+const MARGIN: Real = 100.0;
+
+/// How a tolerance test came out: clearly within, clearly beyond, or too close to call.
+fn decide(value: Real, tol: Real) -> Option<bool> {
+    if value <= tol / MARGIN {
+        Some(true)
+    } else if value >= tol * MARGIN {
+        Some(false)
+    } else {
+        None
+    }
+}
+
+/// `uuᵀ·k`.
+fn outer(u: &Vec3, k: Real) -> Mat3 {
+    u * u.transpose() * k
+}
+
+/// `M` (world) for `B` touched by a sphere of radius `radius` at the unit normal `n` (outward
+/// from `B`) and the contact point `w` (world, relative to `B`'s origin), ties decided within
+/// `TIE·ℓ` (`ℓ` the pair's length scale, as the general solve); `None` for other shapes or
+/// undecided features.
+fn projection_jacobian(
+    b: &Shape,
+    pose: &Pose,
+    n: &Vec3,
+    w: &Vec3,
+    radius: Real,
+    ell: Real,
+) -> Option<Mat3> {
+    let rot = pose.rotation();
+    let m = rot.tr_mul(n);
+    let tau = TIE * ell;
+    let axis = rot.column(0).into_owned();
+    // A line of direction `t` with radius of curvature `rho` across it (∞ along it).
+    let side = |t: Vec3, rho: Real| {
+        let c = t.cross(n).normalize();
+        outer(&t, 1.0) + outer(&c, rho / (radius + rho))
+    };
+    // A circle of radius `rho` about the axis, seen at the normal: radius of curvature
+    // `rho/‖m_yz‖` along its tangent `c`, taken from the contact point's azimuth (the normal's
+    // is ill-conditioned where it is close to the axis: up to 1e-12 off).
+    let p = rot.tr_mul(w);
+    let rim = |rho: Real| {
+        let s = m.y.hypot(m.z);
+        let c = rot * (Vec3::new(0.0, -p.z, p.y) / p.y.hypot(p.z));
+        let h = rho / s;
+        outer(&c, h / (radius + h))
+    };
+    let face = |a: Vec3| Mat3::identity() - outer(&a, 1.0);
+    match b.solver_kind() {
+        ShapeKind::Polytope => {
+            let e = b.centred_box()?;
+            let mut zero = [false; 3];
+            for i in 0..3 {
+                zero[i] = decide(2.0 * e[i] * m[i].abs(), tau)?;
+            }
+            match zero.iter().filter(|z| **z).count() {
+                0 => Some(Mat3::zeros()),
+                1 => {
+                    let i = zero.iter().position(|z| *z)?;
+                    Some(outer(&rot.column(i).into_owned(), 1.0))
+                }
+                2 => {
+                    let k = zero.iter().position(|z| !*z)?;
+                    Some(face(rot.column(k).into_owned()))
+                }
+                _ => None,
+            }
+        }
+        ShapeKind::Capsule => {
+            let (h, rho) = b.rounded_segment()?;
+            if decide(2.0 * h * m.x.abs(), tau)? {
+                Some(side(axis, rho))
+            } else {
+                let k = rho / (radius + rho);
+                Some((Mat3::identity() - outer(n, 1.0)) * k)
+            }
+        }
+        ShapeKind::Cylinder => {
+            let (rho, h) = b.cylinder_dims()?;
+            if decide(1.0 - m.x.abs(), DISC)? {
+                return Some(face(axis));
+            }
+            if decide(2.0 * h * m.x.abs(), tau)? {
+                Some(side(axis, rho))
+            } else {
+                Some(rim(rho))
+            }
+        }
+        ShapeKind::Cone => {
+            let (section, _) = b.revolution_section()?;
+            let (apex_x, (base_x, rho)) = (section[0].0, section[2]);
+            if decide(1.0 - m.x, DISC)? {
+                return Some(face(axis));
+            }
+            // The apex's support value against the rim's.
+            let s = m.y.hypot(m.z);
+            let gap = base_x * m.x + rho * s - apex_x * m.x;
+            if decide(gap.abs(), tau)? {
+                // A generator: curvature radius ρ_p/‖m_yz‖ across it at the contact point,
+                // ρ_p its distance from the axis.
+                let c = axis.cross(n) / s;
+                let g = c.cross(n);
+                let hc = p.y.hypot(p.z) / s;
+                Some(outer(&g, 1.0) + outer(&c, hc / (radius + hc)))
+            } else if gap < 0.0 {
+                Some(Mat3::zeros())
+            } else {
+                Some(rim(rho))
+            }
+        }
+        _ => None,
+    }
+}
+
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder or a cone
+/// (either order), from the geometric answer and its gradient `g` (the α row); `None` for
+/// other pairs, undecided features or a non-finite answer.
+pub(crate) fn sphere_jacobian(
+    prox: &Proximity,
+    g: &[Real; 14],
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+) -> Option<[[Real; 14]; 4]> {
+    let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
+    let (s, b) = match round {
+        [true, false] => (0, 1),
+        [false, true] => (1, 0),
+        _ => return None,
+    };
+    let (_, radius) = shapes[s].rounded_segment()?;
+    let alpha = prox.alpha;
+    if !(alpha > 0.0 && alpha.is_finite()) {
+        return None;
+    }
+    let (rs, rb) = (poses[s].position(), poses[b].position());
+    let y = (rs - rb) / alpha;
+    let w = [prox.contact1, prox.contact2][b] - rb;
+    // ∂α*/∂r₂ points from shape 1 to shape 2; B's outward normal points to the sphere.
+    let sign = if s == 0 { -1.0 } else { 1.0 };
+    let n = dalpha_dd * (sign / dalpha_dd.norm());
+    let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
+    let m = projection_jacobian(shapes[b], poses[b], &n, &w, radius, ell)?;
+    let v = w - m * y;
+    let (cs, cb) = (7 * s, 7 * b);
+    let mut j = [[0.0; 14]; 4];
+    for c in 0..3 {
+        for i in 0..3 {
+            let id = if i == c { 1.0 } else { 0.0 };
+            j[i][cs + c] = m[(i, c)] + v[i] * g[cs + c];
+            j[i][cb + c] = id - m[(i, c)] + v[i] * g[cb + c];
+        }
+    }
+    for (k, omega) in rotation_axes(poses[b]).iter().enumerate() {
+        let dx = (omega.cross(&w) - m * omega.cross(&y)) * alpha + v * g[cb + 3 + k];
+        for i in 0..3 {
+            j[i][cb + 3 + k] = dx[i];
+        }
+    }
+    j[3] = *g;
+    j.iter().flatten().all(|v| v.is_finite()).then_some(j)
+}
