@@ -6,7 +6,7 @@
 //! trajectory passes through separated, touching and (for some) overlapping poses, and the
 //! contact features change as the shapes turn.
 //!
-//! For each query (proximity, gradient, Jacobian, derivatives) the whole trajectory is timed
+//! For each query (proximity, gradient, Jacobian, distance, derivatives) the whole trajectory is timed
 //! cold (the plain query) and cached (one `dcol::Cache` carried through it), interleaved,
 //! `DCOL_WARM_ROUNDS` times (default 5); per pair the median round, per step. Then the same
 //! on random jumps (every step a new random pose of the pair, the cache carried along), where
@@ -16,8 +16,8 @@
 //! `cargo bench --bench warm` (`-- --test`: a smoke run of 20 steps, 1 round).
 
 use dcol::{
-    derivatives, derivatives_cached, gradient, gradient_cached, jacobian, jacobian_cached,
-    proximity, proximity_cached, Cache, Options, Pose, Shape,
+    derivatives, derivatives_cached, distance, distance_cached, gradient, gradient_cached,
+    jacobian, jacobian_cached, proximity, proximity_cached, Cache, Options, Pose, Shape,
 };
 use std::hint::black_box;
 use std::time::Instant;
@@ -184,6 +184,11 @@ const QUERIES: &[(&str, Cold, Warm)] = &[
         |a, p, b, q, o, c| jacobian_cached(a, p, b, q, o, c).unwrap().0.alpha,
     ),
     (
+        "distance",
+        |a, p, b, q, o| distance(a, p, b, q, o).unwrap().distance,
+        |a, p, b, q, o, c| distance_cached(a, p, b, q, o, c).unwrap().distance,
+    ),
+    (
         "derivatives",
         |a, p, b, q, o| derivatives(a, p, b, q, o).unwrap().proximity.alpha,
         |a, p, b, q, o, c| {
@@ -266,11 +271,12 @@ fn main() {
                         }
                         tw.push(t.elapsed().as_nanos() as f64 / steps as f64);
                     }
-                    if qi == 0 {
+                    if qi == 0 || qi == 3 {
                         let mut cache = Cache::new();
                         for (p, q) in &traj {
                             let (x, y) = (cold(a, p, b, q, &o), warm(a, p, b, q, &o, &mut cache));
-                            worst = worst.max((x - y).abs() / x.abs().max(1e-300));
+                            let scale = if qi == 0 { x.abs() } else { 1.0 };
+                            worst = worst.max((x - y).abs() / scale.max(1e-300));
                         }
                     }
                     let (c, w) = (median(&mut tc), median(&mut tw));
@@ -296,6 +302,6 @@ fn main() {
             .iter()
             .map(|r| format!("{:.2}", r.iter().cloned().fold(0.0, f64::max)))
             .collect();
-        println!("\nworst pair ratio per query: {}; largest relative difference in alpha, cached vs cold: {worst:.1e}", maxr.join(", "));
+        println!("\nworst pair ratio per query: {}; largest difference cached vs cold (alpha relative, distance absolute): {worst:.1e}", maxr.join(", "));
     }
 }

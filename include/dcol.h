@@ -282,11 +282,11 @@ typedef struct dcol_cache {
   /**
    * Private to dcol.
    */
-  uint32_t words[14];
+  uint32_t words[24];
   /**
    * Private to dcol.
    */
-  double numbers[34];
+  double numbers[67];
 } dcol_cache;
 
 /**
@@ -762,6 +762,21 @@ enum dcol_status dcol_distance(const struct dcol_shape *shape1,
                                struct dcol_distance_result *result);
 
 /**
+ * dcol_distance with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+ * answer, certified the same way; the cache then holds this one.
+ *
+ * # Safety
+ * As dcol_distance; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_distance_cached(const struct dcol_shape *shape1,
+                                      const struct dcol_pose *pose1,
+                                      const struct dcol_shape *shape2,
+                                      const struct dcol_pose *pose2,
+                                      const struct dcol_options *options,
+                                      struct dcol_cache *cache,
+                                      struct dcol_distance_result *result);
+
+/**
  * The signed distance (as dcol_signed_distance) and its gradient with respect to
  * (r1, q1, r2, q2): 14 numbers, in that order, the quaternion columns with respect to the
  * four numbers given (through the normalisation): d/d r2 = normal = -d/d r1, the rotation
@@ -805,6 +820,22 @@ enum dcol_status dcol_distance_gradient(const struct dcol_shape *shape1,
                                         const struct dcol_options *options,
                                         struct dcol_distance_result *result,
                                         double *gradient);
+
+/**
+ * dcol_distance_gradient with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+ * answer, certified the same way; the cache then holds this one.
+ *
+ * # Safety
+ * As dcol_distance_gradient; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_distance_gradient_cached(const struct dcol_shape *shape1,
+                                               const struct dcol_pose *pose1,
+                                               const struct dcol_shape *shape2,
+                                               const struct dcol_pose *pose2,
+                                               const struct dcol_options *options,
+                                               struct dcol_cache *cache,
+                                               struct dcol_distance_result *result,
+                                               double *gradient);
 
 /**
  * The signed distance, the normal from shape 1 to shape 2 and the witness points.

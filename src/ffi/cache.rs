@@ -16,9 +16,9 @@ use crate::query::Cache;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct dcol_cache {
     /// Private to dcol.
-    pub words: [u32; 14],
+    pub words: [u32; 24],
     /// Private to dcol.
-    pub numbers: [f64; 34],
+    pub numbers: [f64; 67],
 }
 
 // `dcol_cache` and `Cache` are both `repr(C)` with the same fields in the same order: the

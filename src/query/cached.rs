@@ -2,8 +2,9 @@
 //! plain queries, certified the same way, starting from the pair's last answer where the poses
 //! moved little since.
 
-use super::context::{Options, Proximity};
+use super::context::{Distance, Options, Proximity};
 use super::differentiate::{derivatives_warm, gradient_warm, jacobian_warm, Derivatives};
+use super::distance::distance_query_warm;
 use super::proximity::proximity_warm;
 pub use super::warm::Cache;
 use crate::error::Error;
@@ -72,4 +73,31 @@ pub fn derivatives_cached(
     cache: &mut Cache,
 ) -> Result<Derivatives, Error> {
     derivatives_warm(shape1, pose1, shape2, pose2, options, Some(cache))
+}
+
+/// [`crate::distance`] with a warm start: between two polytopes, the closest features of the
+/// pair's last answer, re-solved in closed form and certified as GJK's answer is (the same
+/// distance to the tolerance); other pairs, and poses where the features changed, answer
+/// cold. Keep one [`Cache`] per pair.
+pub fn distance_cached(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    cache: &mut Cache,
+) -> Result<Distance, Error> {
+    distance_query_warm(shape1, pose1, shape2, pose2, options, false, cache).map(|(d, _)| d)
+}
+
+/// [`crate::distance_gradient`] with a warm start (see [`distance_cached`]).
+pub fn distance_gradient_cached(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    cache: &mut Cache,
+) -> Result<(Distance, [Real; 14]), Error> {
+    distance_query_warm(shape1, pose1, shape2, pose2, options, true, cache)
 }

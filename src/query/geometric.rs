@@ -18,7 +18,7 @@ use super::shortcuts::{
     Answer, Solved,
 };
 use super::sphere_jacobian::sphere_jacobian;
-use super::warm::Cache;
+use super::warm::{Cache, Kind};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
@@ -96,8 +96,8 @@ pub(crate) fn proximity(
     );
     if let Some(cache) = warm {
         match &solved {
-            Ok(Some(_)) => cache.keep_poses(&pair, [pose1, pose2]),
-            _ => cache.forget(),
+            Ok(Some(_)) => cache.keep_poses(Kind::Proximity, [shape1, shape2], ell, [pose1, pose2]),
+            _ => cache.forget(Kind::Proximity),
         }
     }
     let ans = match solved {
@@ -497,7 +497,14 @@ fn solve(
     }
     let solved = solve_cold(pair, ray, iota, tol, stop);
     if let Ok(Some(ans)) = &solved {
-        cache.keep_answer(ans, ray);
+        cache.keep_answer(
+            Kind::Proximity,
+            &ans.normal,
+            1.0 / ans.alpha,
+            ray,
+            &ans.a,
+            &ans.b,
+        );
     }
     solved
 }

@@ -25,8 +25,12 @@ mod sphere_jacobian;
 #[cfg(test)]
 mod sphere_jacobian_tests;
 mod warm;
+mod warm_distance;
 
-pub use cached::{derivatives_cached, gradient_cached, jacobian_cached, proximity_cached, Cache};
+pub use cached::{
+    derivatives_cached, distance_cached, distance_gradient_cached, gradient_cached,
+    jacobian_cached, proximity_cached, Cache,
+};
 pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
 pub(crate) use context::Want;

@@ -14,7 +14,7 @@ use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::context::{Context, Frame, Full, Options, Proximity, ShapeSink, Want};
 use super::derivatives;
 use super::geometric;
-use super::warm::Cache;
+use super::warm::{Cache, Kind};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape, ShapeKind};
@@ -570,7 +570,7 @@ pub(crate) fn proximity_warm(
         }
     }
     if let Some(cache) = warm {
-        cache.forget();
+        cache.forget(Kind::Proximity);
     }
     query(shape1, pose1, shape2, pose2, options, Want::Proximity).map(|f| f.prox)
 }

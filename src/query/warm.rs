@@ -30,31 +30,43 @@ const GATE_MOVE: Real = 0.25;
 /// and trying would cost more than it saves.
 const GATE_COS_HALF: Real = 0.984_807_753_012_208;
 
-/// What the cache holds (`Cache::words[0]`).
+/// What a kind's state word holds: nothing,
 const COLD: u32 = 0;
-/// A cold answer: normal, `μ`, points and poses; features not identified yet.
+/// a cold answer (normal, points, poses; features not identified yet),
 const SOLUTION: u32 = 0x6463_6f01;
-/// Features identified (a warm answer, or a cold one identified since).
+/// or identified features (a warm answer, or a cold one identified since).
 const FEATURES: u32 = 0x6463_6f02;
 
-/// Feature tags in the words.
+/// A feature of pieces, in the words.
 const TAG_PIECES: u32 = 1;
-const TAG_DISC: u32 = 2;
 
-// The words: [0] state, [1] piece count of shape 1, [2] of shape 2, then per side (offset
-// 3 + 5i) the tag, the count and three piece ids.
-const W_SIDE: usize = 3;
-/// The numbers: the unit normal (world), μ, the ray, the points a and b (normalised), the two
-/// poses (position, quaternion), per side three feature numbers (multipliers or a disc's
-/// coordinates).
+/// Words: the two kinds' states, the shapes' piece counts, then per kind two sides of five
+/// words (a tag, a count, three piece ids).
+const WORDS: usize = 24;
+const W_COUNTS: usize = 2;
+const W_FEATURES: usize = 4;
+/// Numbers: per kind a block of [`BLOCK`] (the unit normal, world; `μ` or the distance's lower
+/// bound; the ray; the points a and b, normalised, relative to their origins; the two poses,
+/// position and quaternion; per side three feature weights), then ℓ.
+const BLOCK: usize = 33;
+const NUMBERS: usize = 2 * BLOCK + 1;
 const N_NORMAL: usize = 0;
-const N_MU: usize = 3;
+const N_VALUE: usize = 3;
 const N_RAY: usize = 4;
 const N_A: usize = 7;
 const N_B: usize = 10;
 const N_POSE: usize = 13;
 const N_FEATURE: usize = 27;
-const N_ELL: usize = 33;
+const N_ELL: usize = 2 * BLOCK;
+
+/// The queries a cache keeps an answer for, each in its own part of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Kind {
+    /// The proximity family (α*): the kept facet of K.
+    Proximity = 0,
+    /// The distance: the kept closest features.
+    Distance = 1,
+}
 
 /// A per-pair warm-start cache for the proximity queries: all zeros ([`Cache::new`],
 /// `Default`) is cold. Keep one per pair of shapes and pass it to every query on that pair
@@ -66,8 +78,8 @@ const N_ELL: usize = 33;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cache {
-    pub(crate) words: [u32; 14],
-    pub(crate) numbers: [Real; 34],
+    pub(crate) words: [u32; WORDS],
+    pub(crate) numbers: [Real; NUMBERS],
 }
 
 impl Default for Cache {
@@ -80,14 +92,16 @@ impl Cache {
     /// A cold cache.
     pub const fn new() -> Cache {
         Cache {
-            words: [0; 14],
-            numbers: [0.0; 34],
+            words: [0; WORDS],
+            numbers: [0.0; NUMBERS],
         }
     }
 
     /// Whether the cache holds an answer to start from (false: the next query is cold).
     pub fn is_warm(&self) -> bool {
-        matches!(self.words[0], SOLUTION | FEATURES)
+        self.words[..2]
+            .iter()
+            .any(|w| matches!(*w, SOLUTION | FEATURES))
     }
 
     /// Forgets what the cache holds.
@@ -103,16 +117,16 @@ impl Cache {
         self.numbers[at..at + 3].copy_from_slice(v.as_slice());
     }
 
-    fn pose(&self, i: usize) -> (Vec3, [Real; 4]) {
-        let at = N_POSE + 7 * i;
+    fn pose(&self, kind: Kind, i: usize) -> (Vec3, [Real; 4]) {
+        let at = base(kind) + N_POSE + 7 * i;
         let q = &self.numbers[at + 3..at + 7];
         (self.vec(at), [q[0], q[1], q[2], q[3]])
     }
 
     /// Whether the poses are near enough the kept ones for the kept answer to be tried.
-    fn near(&self, poses: [&Pose; 2], ell: Real) -> bool {
+    fn near(&self, kind: Kind, poses: [&Pose; 2], ell: Real) -> bool {
         (0..2).all(|i| {
-            let (p, q) = self.pose(i);
+            let (p, q) = self.pose(kind, i);
             let q2 = poses[i].quaternion();
             let dot = q.iter().zip(&q2).map(|(a, b)| a * b).sum::<Real>().abs();
             (poses[i].position() - p).norm() <= GATE_MOVE * ell && dot >= GATE_COS_HALF
@@ -130,28 +144,11 @@ impl Cache {
         iota: Real,
         tol: Real,
     ) -> Option<Answer> {
-        let state = self.words[0];
-        let ell = 1.0 / pair.one.inv_scale;
-        if !(state == SOLUTION || state == FEATURES)
-            || self.words[1] != pair.one.shape.piece_count()
-            || self.words[2] != pair.two.shape.piece_count()
-            || self.numbers[N_ELL] != ell
-            || !self.near(poses, ell)
-        {
-            return None;
-        }
         let (verts1, verts2) = (
             pair.one.shape.vertex_pieces()?,
             pair.two.shape.vertex_pieces()?,
         );
-        let feats = if state == FEATURES {
-            [self.feature(pair, 0)?, self.feature(pair, 1)?]
-        } else {
-            let feats = self.identify_kept(pair)?;
-            // Remember them, so that a query that fails below does not identify them again.
-            self.keep_ids(&feats);
-            feats
-        };
+        let feats = self.kept_features(Kind::Proximity, pair, poses)?;
         let (
             Feature::Pieces {
                 ids: i1, count: c1, ..
@@ -183,7 +180,7 @@ impl Cache {
         if !(lo.is_finite() && lo > 0.0 && hi - lo <= tol * lo) {
             return None;
         }
-        self.keep_features(&n, 1.0 / lo, &facet.lam);
+        self.keep_features(Kind::Proximity, &n, 1.0 / lo, &facet.lam);
         Some(Answer {
             alpha: lo,
             normal: n,
@@ -199,70 +196,133 @@ impl Cache {
         pair.one.shape.vertex_pieces().is_some() && pair.two.shape.vertex_pieces().is_some()
     }
 
-    /// Keeps a cold answer (features identified lazily, on the next warm call).
-    pub(super) fn keep_answer(&mut self, ans: &Answer, ray: &Vec3) {
-        let Some(unit) = ans.normal.try_normalize(0.0) else {
-            self.words[0] = COLD;
-            return;
-        };
-        self.words[0] = SOLUTION;
-        self.put(N_NORMAL, &unit);
-        self.numbers[N_MU] = 1.0 / ans.alpha;
-        self.put(N_RAY, ray);
-        self.put(N_A, &ans.a);
-        self.put(N_B, &ans.b);
+    /// The kept features of `kind`'s last answer, when the cache holds one for these shapes
+    /// and the poses moved little since: identified now (at the poses it was found at) if
+    /// the answer was a cold one.
+    pub(super) fn kept_features(
+        &mut self,
+        kind: Kind,
+        pair: &Pair<'_, Shape>,
+        poses: [&Pose; 2],
+    ) -> Option<[Feature; 2]> {
+        let state = self.words[kind as usize];
+        let ell = 1.0 / pair.one.inv_scale;
+        if !(state == SOLUTION || state == FEATURES)
+            || self.words[W_COUNTS] != pair.one.shape.piece_count()
+            || self.words[W_COUNTS + 1] != pair.two.shape.piece_count()
+            || self.numbers[N_ELL] != ell
+            || !self.near(kind, poses, ell)
+        {
+            return None;
+        }
+        if state == FEATURES {
+            return Some([self.feature(kind, pair, 0)?, self.feature(kind, pair, 1)?]);
+        }
+        let feats = self.identify_kept(kind, pair);
+        match &feats {
+            // Kept, so that a query that fails after does not identify them again.
+            Some(f) => self.keep_ids(kind, f),
+            None => self.words[kind as usize] = COLD,
+        }
+        feats
     }
 
-    /// Records the poses and the shapes the kept answer belongs to (after every answer).
-    pub(super) fn keep_poses(&mut self, pair: &Pair<'_, Shape>, poses: [&Pose; 2]) {
-        self.words[1] = pair.one.shape.piece_count();
-        self.words[2] = pair.two.shape.piece_count();
-        self.numbers[N_ELL] = 1.0 / pair.one.inv_scale;
+    /// Keeps a cold answer of `kind` (features identified lazily, on the next warm call):
+    /// `normal` (any length), `value` (`μ`, or the distance), the ray (proximity), the points.
+    pub(super) fn keep_answer(
+        &mut self,
+        kind: Kind,
+        normal: &Vec3,
+        value: Real,
+        ray: &Vec3,
+        a: &Vec3,
+        b: &Vec3,
+    ) {
+        let Some(unit) = normal.try_normalize(0.0) else {
+            self.words[kind as usize] = COLD;
+            return;
+        };
+        let at = base(kind);
+        self.words[kind as usize] = SOLUTION;
+        self.put(at + N_NORMAL, &unit);
+        self.numbers[at + N_VALUE] = value;
+        self.put(at + N_RAY, ray);
+        self.put(at + N_A, a);
+        self.put(at + N_B, b);
+    }
+
+    /// Records the poses and the shapes `kind`'s kept answer belongs to (after every answer).
+    pub(super) fn keep_poses(
+        &mut self,
+        kind: Kind,
+        shapes: [&Shape; 2],
+        ell: Real,
+        poses: [&Pose; 2],
+    ) {
+        let (n1, n2) = (shapes[0].piece_count(), shapes[1].piece_count());
+        let same = self.words[W_COUNTS] == n1
+            && self.words[W_COUNTS + 1] == n2
+            && self.numbers[N_ELL] == ell;
+        if !same {
+            // Other shapes: the other kind's answer is not theirs.
+            self.words[1 - kind as usize] = COLD;
+            self.words[W_COUNTS] = n1;
+            self.words[W_COUNTS + 1] = n2;
+            self.numbers[N_ELL] = ell;
+        }
         for (i, pose) in poses.iter().enumerate() {
-            let at = N_POSE + 7 * i;
+            let at = base(kind) + N_POSE + 7 * i;
             self.put(at, pose.position());
             self.numbers[at + 3..at + 7].copy_from_slice(&pose.quaternion());
         }
     }
 
-    /// Marks the cache cold (the answer was not the geometric path's).
-    pub(super) fn forget(&mut self) {
-        self.words[0] = COLD;
+    /// Marks `kind`'s part cold (the answer was not one the cache can start from).
+    pub(super) fn forget(&mut self, kind: Kind) {
+        self.words[kind as usize] = COLD;
     }
 
-    fn keep_features(&mut self, normal: &Vec3, mu: Real, lam: &[[Real; MAX_SIDE]; 2]) {
+    /// Keeps a warm answer's normal, value and feature weights (the ids are kept already).
+    pub(super) fn keep_features(
+        &mut self,
+        kind: Kind,
+        normal: &Vec3,
+        value: Real,
+        lam: &[[Real; MAX_SIDE]; 2],
+    ) {
         let Some(unit) = normal.try_normalize(0.0) else {
-            self.words[0] = COLD;
+            self.words[kind as usize] = COLD;
             return;
         };
-        self.words[0] = FEATURES;
-        self.put(N_NORMAL, &unit);
-        self.numbers[N_MU] = mu;
+        let at = base(kind);
+        self.words[kind as usize] = FEATURES;
+        self.put(at + N_NORMAL, &unit);
+        self.numbers[at + N_VALUE] = value;
         for (i, l) in lam.iter().enumerate() {
-            let n = N_FEATURE + 3 * i;
+            let n = at + N_FEATURE + 3 * i;
             self.numbers[n..n + 3].copy_from_slice(l);
         }
     }
 
     /// Keeps identified features' piece ids (the state becomes [`FEATURES`]).
-    fn keep_ids(&mut self, feats: &[Feature; 2]) {
-        self.words[0] = FEATURES;
+    fn keep_ids(&mut self, kind: Kind, feats: &[Feature; 2]) {
+        self.words[kind as usize] = FEATURES;
         for (i, f) in feats.iter().enumerate() {
-            let w = W_SIDE + 5 * i;
+            let w = W_FEATURES + 10 * kind as usize + 5 * i;
             match f {
                 Feature::Pieces { ids, count, .. } => {
                     self.words[w] = TAG_PIECES;
                     self.words[w + 1] = *count as u32;
                     self.words[w + 2..w + 5].copy_from_slice(ids);
                 }
-                Feature::Disc { .. } => self.words[w] = TAG_DISC,
+                Feature::Disc { .. } => self.words[w] = COLD,
             }
         }
     }
 
-    /// Side `i`'s kept feature, checked against the shape (piece ids in range).
-    fn feature(&self, pair: &Pair<'_, Shape>, i: usize) -> Option<Feature> {
-        let w = W_SIDE + 5 * i;
+    /// Side `i`'s kept feature of `kind`, checked against the shape (piece ids in range).
+    fn feature(&self, kind: Kind, pair: &Pair<'_, Shape>, i: usize) -> Option<Feature> {
+        let w = W_FEATURES + 10 * kind as usize + 5 * i;
         if self.words[w] != TAG_PIECES {
             return None;
         }
@@ -286,16 +346,21 @@ impl Cache {
         })
     }
 
-    /// The features of a kept cold answer, identified at the poses it was found at.
-    fn identify_kept(&self, pair: &Pair<'_, Shape>) -> Option<[Feature; 2]> {
-        let rots = [0, 1].map(|i| rotation_from_quaternion(self.pose(i).1));
+    /// The features of `kind`'s kept cold answer, identified at the poses it was found at.
+    fn identify_kept(&self, kind: Kind, pair: &Pair<'_, Shape>) -> Option<[Feature; 2]> {
+        let at = base(kind);
+        let rots = [0, 1].map(|i| rotation_from_quaternion(self.pose(kind, i).1));
         let then = Pair::new(
             [pair.one.shape, pair.two.shape],
             [&rots[0], &rots[1]],
             pair.one.inv_scale,
         );
-        let ray = self.vec(N_RAY);
-        let unit = self.vec(N_NORMAL);
+        let unit = self.vec(at + N_NORMAL);
+        let ray = match kind {
+            Kind::Proximity => self.vec(at + N_RAY),
+            // The ties do not depend on the ray.
+            Kind::Distance => unit,
+        };
         let along = unit.dot(&ray);
         if !(along > 0.0) {
             return None;
@@ -303,12 +368,17 @@ impl Cache {
         let sol = Solution {
             r: ray,
             normal: unit / along,
-            mu: self.numbers[N_MU],
-            a: self.vec(N_A),
-            b: self.vec(N_B),
+            mu: self.numbers[at + N_VALUE],
+            a: self.vec(at + N_A),
+            b: self.vec(at + N_B),
         };
         identify(&then, &sol)
     }
+}
+
+/// Where `kind`'s block of numbers starts.
+fn base(kind: Kind) -> usize {
+    BLOCK * kind as usize
 }
 
 /// A point of a facet of K on the ray: its normal (`n·r = 1`), the points of shape 1 and 2
