@@ -19,8 +19,9 @@
 
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real};
-use crate::query::{query_until, Options, Proximity, Want};
-use crate::shapes::Shape;
+use crate::query::{query_until, query_until_warm, Cache, Options, Proximity, Want};
+use crate::shapes::{Shape, SupportMap};
+use std::collections::HashMap;
 
 /// A body's index in its scene.
 pub type BodyId = usize;
@@ -62,6 +63,11 @@ pub struct Scene {
     poses: Vec<Pose>,
     /// Scratch reused across steps: (interval min, body) sorted by min.
     order: Vec<(Real, BodyId)>,
+    /// The warm-start caches of the pairs of polytopes that reached the narrow phase in the
+    /// last step, and that step's number (older ones are dropped).
+    caches: HashMap<(BodyId, BodyId), (u64, Cache)>,
+    /// Steps taken.
+    steps: u64,
 }
 
 impl Scene {
@@ -125,6 +131,8 @@ impl Scene {
         crate::query::check_threshold(threshold)?;
         options.validate()?;
         out.clear();
+        self.steps += 1;
+        let step = self.steps;
         let n = self.shapes.len();
         let mut stats = StepStats {
             pairs_total: n * n.saturating_sub(1) / 2,
@@ -171,7 +179,15 @@ impl Scene {
                 } else {
                     Some((t, false))
                 };
-                let f = query_until(s1, p1, s2, p2, options, Want::Proximity, thresh)?;
+                // Pairs of polytopes start from their last answer (`crate::Cache`); the
+                // others answer cold.
+                let f = if s1.vertex_pieces().is_some() && s2.vertex_pieces().is_some() {
+                    let (seen, cache) = self.caches.entry((b1, b2)).or_default();
+                    *seen = step;
+                    query_until_warm(s1, p1, s2, p2, options, Want::Proximity, thresh, cache)?
+                } else {
+                    query_until(s1, p1, s2, p2, options, Want::Proximity, thresh)?
+                };
                 if f.decided == Some(false) {
                     stats.early_exits += 1;
                     continue;
@@ -186,6 +202,8 @@ impl Scene {
                 }
             }
         }
+        // Pairs that left the narrow phase lose their caches (no allocation: it only shrinks).
+        self.caches.retain(|_, (seen, _)| *seen == step);
         out.sort_unstable_by_key(|a| (a.body1, a.body2));
         stats.reported = out.len();
         Ok(stats)

@@ -108,7 +108,31 @@ fn scene_equals_single_calls() {
                 assert_eq!(got.len(), expected.len(), "seed {seed} step {step} t {t}");
                 for (g, e) in got.iter().zip(&expected) {
                     assert_eq!((g.body1, g.body2), (e.0, e.1));
-                    assert_eq!(g.proximity, e.2, "identical results for ({}, {})", e.0, e.1);
+                    // The scene starts pairs of polytopes from their last answer (a per-pair
+                    // `dcol::Cache`): the answer of a single call, certified the same way, to
+                    // the cache's agreement (tests/warm_start.rs): α* within 1e-12 relative,
+                    // the points within 1e-11 ℓ.
+                    let (x, y) = (&g.proximity, &e.2);
+                    let ell = scene
+                        .shape(e.0)
+                        .unwrap()
+                        .bounding_radius()
+                        .max(scene.shape(e.1).unwrap().bounding_radius());
+                    let far = [
+                        (x.point, y.point),
+                        (x.contact1, y.contact1),
+                        (x.contact2, y.contact2),
+                    ]
+                    .iter()
+                    .map(|(a, b)| (a - b).norm() / ell)
+                    .fold(0.0, f64::max);
+                    assert!(
+                        (x.alpha - y.alpha).abs() <= 1e-12 * y.alpha && far <= 1e-11,
+                        "results for ({}, {}): {x:?} vs {y:?}",
+                        e.0,
+                        e.1
+                    );
+                    assert_eq!((x.status, x.derivatives), (y.status, y.derivatives));
                 }
                 assert_eq!(stats.reported, out.len());
                 assert_eq!(stats.pairs_total, n * (n - 1) / 2);
@@ -145,4 +169,92 @@ fn batch_equals_single_calls_on_any_thread_count() {
     }
     let mut short = vec![Err(dcol::Error::Internal("unset")); 1];
     assert!(proximity_batch(&pairs, &opts, 1, &mut short).is_err());
+}
+
+/// A scene of boxes and hulls drifting 1 mm and about a degree per step: the pairs it reports
+/// are those of single calls (α* within 1e-12 relative), and the per-pair caches answer most
+/// of the reported pairs after the first step (`Solver::Polish`, where a single cold call's
+/// ray cast answers).
+#[test]
+fn scene_starts_pairs_of_polytopes_from_their_last_answer() {
+    let mut rng = Rng(0x5eed_cafe);
+    let pts: Vec<[f64; 3]> = (0..24)
+        .map(|_| {
+            [
+                rng.range(-0.5, 0.5),
+                rng.range(-0.4, 0.4),
+                rng.range(-0.3, 0.3),
+            ]
+        })
+        .collect();
+    let hull = Shape::convex_hull(&pts, 0.0).unwrap();
+    let boxed = Shape::cuboid(0.4, 0.3, 0.2).unwrap();
+    let n = 12;
+    let mut scene = Scene::new();
+    let mut state = Vec::new();
+    for i in 0..n {
+        let r = [
+            rng.range(-1.2, 1.2),
+            rng.range(-1.2, 1.2),
+            rng.range(-1.2, 1.2),
+        ];
+        let q = [
+            1.0,
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        ];
+        let v = [
+            rng.range(-1e-3, 1e-3),
+            rng.range(-1e-3, 1e-3),
+            rng.range(-1e-3, 1e-3),
+        ];
+        let shape = if i % 2 == 0 {
+            hull.clone()
+        } else {
+            boxed.clone()
+        };
+        scene.add(shape, Pose::new(r, q).unwrap());
+        state.push((r, q, v));
+    }
+    let opts = Options::default();
+    let mut out = Vec::new();
+    let (mut reported, mut warm) = (0usize, 0usize);
+    for step in 0..60 {
+        for (id, (r, q, v)) in state.iter_mut().enumerate() {
+            *r = [r[0] + v[0], r[1] + v[1], r[2] + v[2]];
+            q[1] += 0.01;
+            scene.set_pose(id, Pose::new(*r, *q).unwrap()).unwrap();
+        }
+        scene.pairs_within(1.3, &opts, &mut out).unwrap();
+        for sp in &out {
+            let (s1, p1) = (
+                scene.shape(sp.body1).unwrap(),
+                scene.pose(sp.body1).unwrap(),
+            );
+            let (s2, p2) = (
+                scene.shape(sp.body2).unwrap(),
+                scene.pose(sp.body2).unwrap(),
+            );
+            let cold = proximity(s1, p1, s2, p2, &opts).unwrap();
+            let a = sp.proximity.alpha;
+            assert!(
+                (a - cold.alpha).abs() <= 1e-12 * cold.alpha,
+                "step {step}: {a} vs {}",
+                cold.alpha
+            );
+            if step > 0 {
+                reported += 1;
+                warm += usize::from(
+                    sp.proximity.solver == dcol::Solver::Polish
+                        && cold.solver != dcol::Solver::Polish,
+                );
+            }
+        }
+    }
+    assert!(reported > 100, "only {reported} pairs reported");
+    assert!(
+        warm * 2 > reported,
+        "{warm} of {reported} reported pairs warm"
+    );
 }

@@ -489,7 +489,7 @@ fn solve(
     }
     // No bracket can be certified much below the rounding of the bounds themselves.
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
-    let Some(cache) = warm.filter(|_| Cache::applies(pair)) else {
+    let Some(cache) = warm else {
         return solve_cold(pair, ray, iota, tol, stop);
     };
     if let Some(ans) = cache.solve(pair, poses, ray, iota, tol) {

@@ -41,7 +41,7 @@ pub(crate) use early_exit::check_threshold;
 pub use early_exit::{alpha_below, alpha_bounds, intersect, DecidedBy, Decision};
 pub(crate) use halfspace::check as check_halfspace_pair;
 pub use proximity::proximity;
-pub(crate) use proximity::query_until;
+pub(crate) use proximity::{query_until, query_until_warm};
 pub use shape_gradient::{distance_shape_gradient, shape_gradient, signed_distance_shape_gradient};
 pub(crate) use signed::not_representable;
 pub use signed::{signed_distance, signed_distance_gradient};

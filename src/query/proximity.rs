@@ -185,7 +185,35 @@ pub(crate) fn query_until(
     want: Want,
     threshold: Option<(Real, bool)>,
 ) -> Result<Full, Error> {
-    query_full(shape1, pose1, shape2, pose2, options, want, threshold, None)
+    query_full(
+        shape1, pose1, shape2, pose2, options, want, threshold, None, None,
+    )
+}
+
+/// [`query_until`] starting from what `warm` kept of the pair's last answer (and keeping this
+/// one): the same answers.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn query_until_warm(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    want: Want,
+    threshold: Option<(Real, bool)>,
+    warm: &mut Cache,
+) -> Result<Full, Error> {
+    query_full(
+        shape1,
+        pose1,
+        shape2,
+        pose2,
+        options,
+        want,
+        threshold,
+        None,
+        Some(warm),
+    )
 }
 
 /// [`query_until`] that also writes the derivatives of α* with respect to the shapes'
@@ -204,6 +232,7 @@ pub(crate) fn query_full(
     want: Want,
     threshold: Option<(Real, bool)>,
     sink: Option<&mut ShapeSink<'_>>,
+    warm: Option<&mut Cache>,
 ) -> Result<Full, Error> {
     options.validate()?;
     // A half-space against anything: closed forms (two half-spaces: an error), or the cone
@@ -276,7 +305,7 @@ pub(crate) fn query_full(
     // the smoothing.
     let smoothed = options.smoothing > 0.0 && threshold.is_none();
     if options.method == Method::Auto && !smoothed && halfspace.is_none() {
-        match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold, None) {
+        match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold, warm) {
             geometric::Outcome::Answer(mut prox, dalpha_dd) => {
                 let g = if want >= Want::Gradient {
                     geometric::gradient(&prox, &dalpha_dd, [shape1, shape2], pose1, pose2)

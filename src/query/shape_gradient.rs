@@ -87,6 +87,7 @@ pub fn shape_gradient(
         Want::Gradient,
         None,
         Some(&mut sink),
+        None,
     )?;
     let mut prox = full.prox;
     if !sink.written {

@@ -144,6 +144,25 @@ impl Cache {
         iota: Real,
         tol: Real,
     ) -> Option<Answer> {
+        // Other pairs answer cold: Newton's method on their kept pieces (the polish's, from
+        // the kept normal and multipliers) was measured slower than the cold path on every
+        // such pair type (`docs/performance-notes.md`).
+        if Self::polytopes(pair) {
+            self.solve_facet(pair, poses, ray, iota, tol)
+        } else {
+            None
+        }
+    }
+
+    /// Two polytopes: the kept facet of K in closed form.
+    fn solve_facet(
+        &mut self,
+        pair: &Pair<'_, Shape>,
+        poses: [&Pose; 2],
+        ray: &Vec3,
+        iota: Real,
+        tol: Real,
+    ) -> Option<Answer> {
         let (verts1, verts2) = (
             pair.one.shape.vertex_pieces()?,
             pair.two.shape.vertex_pieces()?,
@@ -190,10 +209,22 @@ impl Cache {
         })
     }
 
-    /// Whether the cache applies to the pair: two polytopes (boxes, polytopes, hulls without
-    /// padding), whose contact is a facet of K found in closed form from its features.
-    pub(super) fn applies(pair: &Pair<'_, Shape>) -> bool {
+    /// Two polytopes (boxes, polytopes, hulls without padding), whose contact is a facet of K
+    /// found in closed form from its features.
+    fn polytopes(pair: &Pair<'_, Shape>) -> bool {
         pair.one.shape.vertex_pieces().is_some() && pair.two.shape.vertex_pieces().is_some()
+    }
+
+    /// Whether `kind`'s kept answer may be tried: it is one, of these shapes, and the poses
+    /// moved little since.
+    fn usable(&self, kind: Kind, pair: &Pair<'_, Shape>, poses: [&Pose; 2]) -> bool {
+        let state = self.words[kind as usize];
+        let ell = 1.0 / pair.one.inv_scale;
+        (state == SOLUTION || state == FEATURES)
+            && self.words[W_COUNTS] == pair.one.shape.piece_count()
+            && self.words[W_COUNTS + 1] == pair.two.shape.piece_count()
+            && self.numbers[N_ELL] == ell
+            && self.near(kind, poses, ell)
     }
 
     /// The kept features of `kind`'s last answer, when the cache holds one for these shapes
@@ -205,17 +236,10 @@ impl Cache {
         pair: &Pair<'_, Shape>,
         poses: [&Pose; 2],
     ) -> Option<[Feature; 2]> {
-        let state = self.words[kind as usize];
-        let ell = 1.0 / pair.one.inv_scale;
-        if !(state == SOLUTION || state == FEATURES)
-            || self.words[W_COUNTS] != pair.one.shape.piece_count()
-            || self.words[W_COUNTS + 1] != pair.two.shape.piece_count()
-            || self.numbers[N_ELL] != ell
-            || !self.near(kind, poses, ell)
-        {
+        if !self.usable(kind, pair, poses) {
             return None;
         }
-        if state == FEATURES {
+        if self.words[kind as usize] == FEATURES {
             return Some([self.feature(kind, pair, 0)?, self.feature(kind, pair, 1)?]);
         }
         let feats = self.identify_kept(kind, pair);
