@@ -58,6 +58,18 @@ static int same_result(const dcol_proximity_result *a, const dcol_proximity_resu
          a->iterations == b->iterations;
 }
 
+/* The same proximity to the solver's tolerance: alpha* within 1e-12 relative, the points
+ * within 1e-11 (the scene's shapes are of unit size), the same iterations. A scene's pairs of
+ * polytopes start from their last answer (dcol_cache), which agrees with a cold one to that. */
+static int close_result(const dcol_proximity_result *a, const dcol_proximity_result *b) {
+  int i, ok = fabs(a->alpha - b->alpha) <= 1e-12 * fabs(b->alpha) && a->iterations == b->iterations;
+  for (i = 0; i < 3; i++) {
+    ok = ok && fabs(a->point[i] - b->point[i]) <= 1e-11 && fabs(a->contact1[i] - b->contact1[i]) <= 1e-11 &&
+         fabs(a->contact2[i] - b->contact2[i]) <= 1e-11;
+  }
+  return ok;
+}
+
 /* The last error message must name the function and contain both needles. */
 static void expect_error(int line, const char *func, dcol_status st, dcol_status want,
                          int outputs_untouched, const char *needle1, const char *needle2) {
@@ -862,8 +874,8 @@ static void test_scene_values(void) {
                 (pairs[k - 1].body1 == pairs[k].body1 && pairs[k - 1].body2 < pairs[k].body2));
         }
       }
-      /* Brute force over dcol_proximity: the same pairs, the same results bit for bit, outside
-       * a 1e-7 band around the threshold. */
+      /* Brute force over dcol_proximity: the same pairs, the same results (bit for bit but
+       * between polytopes: see close_result), outside a 1e-7 band around the threshold. */
       k = 0;
       for (i = 0; i < BODIES; i++) {
         for (j = i + 1; j < BODIES; j++) {
@@ -877,7 +889,7 @@ static void test_scene_values(void) {
           listed = k < count && pairs[k].body1 == (size_t)i && pairs[k].body2 == (size_t)j;
           in_band = fabs(r.alpha - th) < 1e-7 * th;
           if (listed) {
-            CHECK_MSG(same_result(&pairs[k].proximity, &r), "pair (%d, %d) differs", i, j);
+            CHECK_MSG(close_result(&pairs[k].proximity, &r), "pair (%d, %d) differs", i, j);
             compared++;
           }
           if (!in_band) {

@@ -269,14 +269,16 @@ typedef struct dcol_proximity_result {
 
 /**
  * A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
- * dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached): plain data that
- * dcol reads and writes, all zeros meaning cold (`dcol_cache c = DCOL_CACHE_INIT;` or
- * memset to 0). Keep one per pair of shapes, and pass it to every query on that pair; copy
- * it, zero it, or move it between threads freely. Its contents are private to dcol: any
- * bit pattern in it gives a correct answer (a cache of another pair, or after a shape
- * changed, only makes that call cold). Warm answers are certified exactly as cold ones.
- * Today a warm start is taken between two polytopes (boxes, polytopes, unpadded hulls);
- * other pairs answer cold.
+ * dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached, dcol_distance_cached,
+ * dcol_distance_gradient_cached): plain data that dcol reads and writes, all zeros meaning
+ * cold (`dcol_cache c = DCOL_CACHE_INIT;` or memset to 0). Keep one per pair of shapes, and
+ * pass it to every query on that pair; copy it, zero it, or move it between threads freely.
+ * Its contents are private to dcol: any bit pattern in it gives a correct answer (a cache of
+ * another pair, or after a shape changed, only makes that call cold). Warm answers are
+ * certified exactly as cold ones and agree with them to the solver's tolerance (alpha* and
+ * distances within 1e-12 relative; a warm proximity reports DCOL_SOLVER_POLISH). A warm start is taken between two polytopes (boxes,
+ * polytopes, unpadded hulls) whose poses moved less than a quarter of their size and 20
+ * degrees since the pair's last answer; other pairs answer cold (and cost the same).
  */
 typedef struct dcol_cache {
   /**
@@ -1236,9 +1238,11 @@ enum dcol_status dcol_scene_size(const struct dcol_scene *scene, size_t *size);
  * prune on the bounding spheres scaled by the threshold, then the exact bounding-sphere test)
  * skips the pairs it can, the inscribed-sphere bound proves some pairs close without a
  * threshold test, and the remaining solves stop as soon as alpha* > threshold is proven. Each
- * reported pair carries its full proximity, equal bit for bit to dcol_proximity on the two
- * bodies (lower id first); pairs within about the solver tolerance of the threshold may be
- * reported or not.
+ * reported pair carries its full proximity, that of dcol_proximity on the two bodies (lower
+ * id first): bit for bit, except between two polytopes (boxes, polytopes, unpadded hulls),
+ * whose pairs keep a dcol_cache from step to step and start from their last answer (the same
+ * answer to the solver's tolerance: alpha* within 1e-12 relative). Pairs within about the
+ * solver tolerance of the threshold may be reported or not.
  *
  * The pairs are written to pairs[0..*count] in increasing (body1, body2) order. `capacity` is
  * the number of elements `pairs` can hold; `pairs` may be NULL when capacity is 0 (to learn the

@@ -346,6 +346,83 @@ inline dcol_derivatives_result derivatives(const Shape &shape1, const dcol_pose 
   return d;
 }
 
+/// A per-pair warm-start cache for the `*_cached` queries (a dcol_cache, cold when made or
+/// cleared). Keep one per pair of shapes; copyable, movable, plain data.
+class Cache {
+ public:
+  Cache() : cache_() {}
+  dcol_cache *get() { return &cache_; }
+  const dcol_cache *get() const { return &cache_; }
+  /// Forgets what the cache holds (the next query is cold).
+  void clear() { cache_ = dcol_cache(); }
+
+ private:
+  dcol_cache cache_;
+};
+
+/// dcol::proximity starting from the pair's last answer (dcol_proximity_cached): the same
+/// answer, certified the same way; `cache` then holds this one.
+inline dcol_proximity_result proximity_cached(const Shape &shape1, const dcol_pose &pose1,
+                                              const Shape &shape2, const dcol_pose &pose2,
+                                              Cache &cache, const dcol_options *options = nullptr) {
+  dcol_proximity_result r;
+  check(dcol_proximity_cached(shape1.get(), &pose1, shape2.get(), &pose2, options, cache.get(),
+                              &r));
+  return r;
+}
+
+/// dcol::gradient with a warm start (dcol_gradient_cached).
+inline Gradient gradient_cached(const Shape &shape1, const dcol_pose &pose1, const Shape &shape2,
+                                const dcol_pose &pose2, Cache &cache,
+                                const dcol_options *options = nullptr) {
+  Gradient g;
+  check(dcol_gradient_cached(shape1.get(), &pose1, shape2.get(), &pose2, options, cache.get(),
+                             &g.result, g.gradient.data()));
+  return g;
+}
+
+/// dcol::jacobian with a warm start (dcol_jacobian_cached).
+inline Jacobian jacobian_cached(const Shape &shape1, const dcol_pose &pose1, const Shape &shape2,
+                                const dcol_pose &pose2, Cache &cache,
+                                const dcol_options *options = nullptr) {
+  Jacobian j;
+  check(dcol_jacobian_cached(shape1.get(), &pose1, shape2.get(), &pose2, options, cache.get(),
+                             &j.result, j.jacobian.data()));
+  return j;
+}
+
+/// dcol::derivatives with a warm start (dcol_derivatives_cached).
+inline dcol_derivatives_result derivatives_cached(const Shape &shape1, const dcol_pose &pose1,
+                                                  const Shape &shape2, const dcol_pose &pose2,
+                                                  Cache &cache,
+                                                  const dcol_options *options = nullptr) {
+  dcol_derivatives_result d;
+  check(dcol_derivatives_cached(shape1.get(), &pose1, shape2.get(), &pose2, options, cache.get(),
+                                &d));
+  return d;
+}
+
+/// dcol::distance with a warm start (dcol_distance_cached).
+inline dcol_distance_result distance_cached(const Shape &shape1, const dcol_pose &pose1,
+                                            const Shape &shape2, const dcol_pose &pose2,
+                                            Cache &cache, const dcol_options *options = nullptr) {
+  dcol_distance_result d;
+  check(dcol_distance_cached(shape1.get(), &pose1, shape2.get(), &pose2, options, cache.get(),
+                             &d));
+  return d;
+}
+
+/// dcol::distance_gradient with a warm start (dcol_distance_gradient_cached).
+inline DistanceGradient distance_gradient_cached(const Shape &shape1, const dcol_pose &pose1,
+                                                 const Shape &shape2, const dcol_pose &pose2,
+                                                 Cache &cache,
+                                                 const dcol_options *options = nullptr) {
+  DistanceGradient g;
+  check(dcol_distance_gradient_cached(shape1.get(), &pose1, shape2.get(), &pose2, options,
+                                      cache.get(), &g.result, g.gradient.data()));
+  return g;
+}
+
 /// The proximity result and d alpha* / d(r1, p1, r2, p2) for attitudes given as modified
 /// Rodrigues parameters p (q = [1 - p.p, 2 p] / (1 + p.p)): 12 numbers.
 struct GradientMrp {

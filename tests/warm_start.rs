@@ -101,7 +101,12 @@ fn trajectory(a: &Shape, b: &Shape, rng: &mut Rng, steps: usize, start: f64) -> 
     let mut v = rng.unit::<3>().map(|x| x * 1e-3);
     let mut out = Vec::with_capacity(steps);
     for k in 0..steps {
-        out.push((Pose::new([0.0; 3], q1).unwrap(), Pose::new(r2, q2).unwrap()));
+        // Quaternions of any length (as a caller may pass them): the same rotations.
+        let (s1, s2) = (0.7 + 0.6 * rng.next(), 0.7 + 0.6 * rng.next());
+        out.push((
+            Pose::new([0.0; 3], q1.map(|x| x * s1)).unwrap(),
+            Pose::new(r2, q2.map(|x| x * s2)).unwrap(),
+        ));
         if k % 150 == 149 {
             v = v.map(|x| -x);
         }

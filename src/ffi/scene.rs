@@ -234,9 +234,11 @@ pub unsafe extern "C" fn dcol_scene_size(
 /// prune on the bounding spheres scaled by the threshold, then the exact bounding-sphere test)
 /// skips the pairs it can, the inscribed-sphere bound proves some pairs close without a
 /// threshold test, and the remaining solves stop as soon as alpha* > threshold is proven. Each
-/// reported pair carries its full proximity, equal bit for bit to dcol_proximity on the two
-/// bodies (lower id first); pairs within about the solver tolerance of the threshold may be
-/// reported or not.
+/// reported pair carries its full proximity, that of dcol_proximity on the two bodies (lower
+/// id first): bit for bit, except between two polytopes (boxes, polytopes, unpadded hulls),
+/// whose pairs keep a dcol_cache from step to step and start from their last answer (the same
+/// answer to the solver's tolerance: alpha* within 1e-12 relative). Pairs within about the
+/// solver tolerance of the threshold may be reported or not.
 ///
 /// The pairs are written to pairs[0..*count] in increasing (body1, body2) order. `capacity` is
 /// the number of elements `pairs` can hold; `pairs` may be NULL when capacity is 0 (to learn the

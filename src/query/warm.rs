@@ -128,8 +128,13 @@ impl Cache {
         (0..2).all(|i| {
             let (p, q) = self.pose(kind, i);
             let q2 = poses[i].quaternion();
+            // Quaternions are kept as given (any length): the cosine of the half angle is
+            // their normalised dot product.
             let dot = q.iter().zip(&q2).map(|(a, b)| a * b).sum::<Real>().abs();
-            (poses[i].position() - p).norm() <= GATE_MOVE * ell && dot >= GATE_COS_HALF
+            let norms =
+                q.iter().map(|a| a * a).sum::<Real>() * q2.iter().map(|a| a * a).sum::<Real>();
+            (poses[i].position() - p).norm() <= GATE_MOVE * ell
+                && dot >= GATE_COS_HALF * norms.sqrt()
         })
     }
 
