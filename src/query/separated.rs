@@ -45,10 +45,11 @@ pub(crate) enum Settled {
 #[derive(Clone, Copy)]
 pub(crate) enum Start {
     /// GJK's tetrahedron on a certified overlap ([`GjkEnd::Inside`]): support vertices whose
-    /// `w` hold `d` strictly inside, a start for EPA. They are of the cores ([`Cores::of`])
-    /// when `cored`, else of the shapes.
+    /// `w` hold `d` strictly inside, a start for EPA. They are of the cores when `cored` (a
+    /// padded polygon's plane polygon where [`Cores::flat`], else those of [`Cores::of`]),
+    /// else of the shapes.
     Tet { cored: bool, tet: [Vertex; 4] },
-    /// The cores ([`Cores::of`]) certified apart, but not by more than their radii and the
+    /// The cores (as for `Tet`) certified apart, but not by more than their radii and the
     /// tolerance: their GJK answer (the cores' distance and witnesses, not padded), from which
     /// the signed distance is the distance less the radii.
     CoresApart(Separation),
@@ -308,7 +309,8 @@ struct Close {
     common: Option<Vec3>,
 }
 
-/// GJK on the cores when a shape is a sphere or capsule (`crate::query::cores`): the cores'
+/// GJK on the cores when a shape is a sphere or capsule, or a padded polygon against a
+/// polytope, polygon, sphere or capsule (`crate::query::cores`): the cores'
 /// certified distance minus the radii, the witnesses moved by the radii along the normal.
 /// Only a gap certified positive (the cores' bracket above the radii) is an answer;
 /// `GjkEnd::Beyond` when the cores' lower bound exceeds the cutoff plus the radii; `None`
@@ -321,7 +323,14 @@ fn cored(
     cutoff: Option<Real>,
     tet: Option<&mut [Vertex; 4]>,
 ) -> Result<Option<GjkEnd>, Close> {
-    let Some(cores) = Cores::of(pair) else {
+    // A padded polygon by its plane polygon where that makes the cores polyhedral (GJK then
+    // ends exactly, as for a sphere or capsule against a polytope); against a curved shape it
+    // stays whole (measured on bench_posesets' first pose set, separated: cylinder–polygon
+    // 2.1 -> 2.7 µs and cone–polygon 2.3 -> 2.6 µs with the plane polygon).
+    let Some(cores) = Cores::with_polygons(pair)
+        .filter(Cores::polyhedral)
+        .or_else(|| Cores::of(pair))
+    else {
         return Ok(None);
     };
     let pad = cores.pad();
@@ -377,5 +386,11 @@ fn newton_first(kinds: [ShapeKind; 2]) -> bool {
     let has = |k: ShapeKind| kinds.contains(&k);
     let polytopes = kinds.iter().all(|k| *k == Polytope);
     let cored = has(Polytope) && (has(Sphere) || has(Capsule));
-    !polytopes && !cored
+    // A padded polygon's core is its plane polygon: against a polytope, a polygon, a sphere or a
+    // capsule GJK on the cores ends exactly too.
+    let flat = has(Polygon)
+        && kinds
+            .iter()
+            .all(|k| matches!(k, Polytope | Polygon | Sphere | Capsule));
+    !polytopes && !cored && !flat
 }
