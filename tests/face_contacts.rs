@@ -383,7 +383,8 @@ fn sphere_overlapping_a_solid_gives_a_common_point() {
             continue;
         }
         // Overlapping beyond doubt: the sphere's centre within ρ/2 of the solid, or inside it.
-        if !(s1.excess(&off) < 0.5 * rho) {
+        let centre = s1.excess(&off);
+        if centre.is_nan() || centre >= 0.5 * rho {
             continue;
         }
         overlapping += 1;

@@ -151,7 +151,8 @@ fn certificate(
     if !(gap <= d.distance + tol && gap >= d.distance - tol) {
         return Err(format!("slab gap {gap} vs distance {}", d.distance));
     }
-    if !((span - d.distance).abs() <= tol) {
+    let off = (span - d.distance).abs();
+    if off.is_nan() || off > tol {
         return Err(format!("witnesses {span} apart, distance {}", d.distance));
     }
     if !(e1 <= tol && e2 <= tol) {
@@ -163,7 +164,7 @@ fn certificate(
 #[test]
 fn polygon_pairs_match_interior_point_and_oracle() {
     let names = ["polytope", "box", "polygon", "sphere", "capsule", "hull"];
-    let mut rng = Rng(0x9017_600C_0E5);
+    let mut rng = Rng(0x0901_7600_C0E5);
     let opts = Options::default();
     let mut failures = Vec::new();
     for (k, name) in names.iter().enumerate() {

@@ -390,7 +390,7 @@ fn face_contact(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separatio
             } else {
                 (-out, -out.dot(d) + out.dot(&p) - off * s)
             };
-            if best.is_none_or(|(gb, ..)| g > gb) {
+            if best.map_or(true, |(gb, ..)| g > gb) {
                 best = Some((g, n, p, first));
             }
         });
