@@ -20,7 +20,7 @@ fn main() {
         .expect("cbindgen.toml is valid");
     let version = |k: &str| env::var(k).expect("cargo sets the version variables");
     config.after_includes = Some(format!(
-        "\n#define DCOL_VERSION_MAJOR {}\n#define DCOL_VERSION_MINOR {}\n#define DCOL_VERSION_PATCH {}\n#define DCOL_VERSION_STRING \"{}\"",
+        "\n#define DCOL_VERSION_MAJOR {}\n#define DCOL_VERSION_MINOR {}\n#define DCOL_VERSION_PATCH {}\n#define DCOL_VERSION_STRING \"{}\"\n\n/** A cold dcol_cache (all zeros). */\n#define DCOL_CACHE_INIT {{ {{ 0 }}, {{ 0 }} }}",
         version("CARGO_PKG_VERSION_MAJOR"),
         version("CARGO_PKG_VERSION_MINOR"),
         version("CARGO_PKG_VERSION_PATCH"),

@@ -44,6 +44,9 @@
 #define DCOL_VERSION_PATCH 0
 #define DCOL_VERSION_STRING "0.1.0"
 
+/** A cold dcol_cache (all zeros). */
+#define DCOL_CACHE_INIT { { 0 }, { 0 } }
+
 /**
  * dcol_options.method: closed forms and the certified ray cast, interior point as fallback.
  */
@@ -263,6 +266,28 @@ typedef struct dcol_proximity_result {
    */
   uint32_t derivatives;
 } dcol_proximity_result;
+
+/**
+ * A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
+ * dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached): plain data that
+ * dcol reads and writes, all zeros meaning cold (`dcol_cache c = DCOL_CACHE_INIT;` or
+ * memset to 0). Keep one per pair of shapes, and pass it to every query on that pair; copy
+ * it, zero it, or move it between threads freely. Its contents are private to dcol: any
+ * bit pattern in it gives a correct answer (a cache of another pair, or after a shape
+ * changed, only makes that call cold). Warm answers are certified exactly as cold ones.
+ * Today a warm start is taken between two polytopes (boxes, polytopes, unpadded hulls);
+ * other pairs answer cold.
+ */
+typedef struct dcol_cache {
+  /**
+   * Private to dcol.
+   */
+  uint32_t words[24];
+  /**
+   * Private to dcol.
+   */
+  double numbers[67];
+} dcol_cache;
 
 /**
  * The exact Euclidean distance between two posed (unscaled) shapes, with witness points.
@@ -619,6 +644,23 @@ enum dcol_status dcol_proximity(const struct dcol_shape *shape1,
                                 struct dcol_proximity_result *result);
 
 /**
+ * dcol_proximity with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+ * time, then what the last call on the pair left in it). The answer is certified as dcol_proximity's
+ * and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+ * of another pair or of changed shapes is harmless (that call runs cold).
+ *
+ * # Safety
+ * As dcol_proximity; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_proximity_cached(const struct dcol_shape *shape1,
+                                       const struct dcol_pose *pose1,
+                                       const struct dcol_shape *shape2,
+                                       const struct dcol_pose *pose2,
+                                       const struct dcol_options *options,
+                                       struct dcol_cache *cache,
+                                       struct dcol_proximity_result *result);
+
+/**
  * The gradient of alpha* with respect to (r1, q1, r2, q2): 14 numbers, in that order, the
  * quaternion columns with respect to the four numbers given (through the normalisation).
  * result->derivatives says its kind: exact where the contact points are unique (from the
@@ -640,6 +682,24 @@ enum dcol_status dcol_gradient(const struct dcol_shape *shape1,
                                const struct dcol_options *options,
                                struct dcol_proximity_result *result,
                                double *gradient);
+
+/**
+ * dcol_gradient with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+ * time, then what the last call on the pair left in it). The answer is certified as dcol_gradient's
+ * and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+ * of another pair or of changed shapes is harmless (that call runs cold).
+ *
+ * # Safety
+ * As dcol_gradient; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_gradient_cached(const struct dcol_shape *shape1,
+                                      const struct dcol_pose *pose1,
+                                      const struct dcol_shape *shape2,
+                                      const struct dcol_pose *pose2,
+                                      const struct dcol_options *options,
+                                      struct dcol_cache *cache,
+                                      struct dcol_proximity_result *result,
+                                      double *gradient);
 
 /**
  * The Jacobian of (x*, alpha*) with respect to (r1, q1, r2, q2): 4 x 14, row-major (56
@@ -666,6 +726,24 @@ enum dcol_status dcol_jacobian(const struct dcol_shape *shape1,
                                double *jacobian);
 
 /**
+ * dcol_jacobian with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+ * time, then what the last call on the pair left in it). The answer is certified as dcol_jacobian's
+ * and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+ * of another pair or of changed shapes is harmless (that call runs cold).
+ *
+ * # Safety
+ * As dcol_jacobian; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_jacobian_cached(const struct dcol_shape *shape1,
+                                      const struct dcol_pose *pose1,
+                                      const struct dcol_shape *shape2,
+                                      const struct dcol_pose *pose2,
+                                      const struct dcol_options *options,
+                                      struct dcol_cache *cache,
+                                      struct dcol_proximity_result *result,
+                                      double *jacobian);
+
+/**
  * The exact distance between the unscaled shapes, the witness points and the normal.
  *
  * `options` may be NULL (defaults). Returns DCOL_OK and fills *result; or
@@ -682,6 +760,21 @@ enum dcol_status dcol_distance(const struct dcol_shape *shape1,
                                const struct dcol_pose *pose2,
                                const struct dcol_options *options,
                                struct dcol_distance_result *result);
+
+/**
+ * dcol_distance with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+ * answer, certified the same way; the cache then holds this one.
+ *
+ * # Safety
+ * As dcol_distance; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_distance_cached(const struct dcol_shape *shape1,
+                                      const struct dcol_pose *pose1,
+                                      const struct dcol_shape *shape2,
+                                      const struct dcol_pose *pose2,
+                                      const struct dcol_options *options,
+                                      struct dcol_cache *cache,
+                                      struct dcol_distance_result *result);
 
 /**
  * The signed distance (as dcol_signed_distance) and its gradient with respect to
@@ -727,6 +820,22 @@ enum dcol_status dcol_distance_gradient(const struct dcol_shape *shape1,
                                         const struct dcol_options *options,
                                         struct dcol_distance_result *result,
                                         double *gradient);
+
+/**
+ * dcol_distance_gradient with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+ * answer, certified the same way; the cache then holds this one.
+ *
+ * # Safety
+ * As dcol_distance_gradient; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_distance_gradient_cached(const struct dcol_shape *shape1,
+                                               const struct dcol_pose *pose1,
+                                               const struct dcol_shape *shape2,
+                                               const struct dcol_pose *pose2,
+                                               const struct dcol_options *options,
+                                               struct dcol_cache *cache,
+                                               struct dcol_distance_result *result,
+                                               double *gradient);
 
 /**
  * The signed distance, the normal from shape 1 to shape 2 and the witness points.
@@ -845,6 +954,23 @@ enum dcol_status dcol_derivatives(const struct dcol_shape *shape1,
                                   const struct dcol_pose *pose2,
                                   const struct dcol_options *options,
                                   struct dcol_derivatives_result *result);
+
+/**
+ * dcol_derivatives with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+ * time, then what the last call on the pair left in it). The answer is certified as dcol_derivatives's
+ * and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+ * of another pair or of changed shapes is harmless (that call runs cold).
+ *
+ * # Safety
+ * As dcol_derivatives; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_derivatives_cached(const struct dcol_shape *shape1,
+                                         const struct dcol_pose *pose1,
+                                         const struct dcol_shape *shape2,
+                                         const struct dcol_pose *pose2,
+                                         const struct dcol_options *options,
+                                         struct dcol_cache *cache,
+                                         struct dcol_derivatives_result *result);
 
 /**
  * The gradient of alpha* with respect to (r1, p1, r2, p2) for attitudes given as modified

@@ -39,11 +39,12 @@ pub mod solver;
 pub use error::{Error, ErrorDetail};
 pub use math::{Pose, Real, Vec3};
 pub use query::{
-    alpha_below, alpha_bounds, contact_manifold, derivatives, distance, distance_gradient,
-    distance_shape_gradient, distance_within, gradient, gradient_mrp, intersect, jacobian,
-    jacobian_mrp, proximity, shape_gradient, signed_distance, signed_distance_gradient,
-    signed_distance_shape_gradient, Contact, DecidedBy, Decision, Derivatives, Distance,
-    DistancePath, Manifold, Options, Proximity, SignedDistance,
+    alpha_below, alpha_bounds, contact_manifold, derivatives, derivatives_cached, distance,
+    distance_cached, distance_gradient, distance_gradient_cached, distance_shape_gradient,
+    distance_within, gradient, gradient_cached, gradient_mrp, intersect, jacobian, jacobian_cached,
+    jacobian_mrp, proximity, proximity_cached, shape_gradient, signed_distance,
+    signed_distance_gradient, signed_distance_shape_gradient, Cache, Contact, DecidedBy, Decision,
+    Derivatives, Distance, DistancePath, Manifold, Options, Proximity, SignedDistance,
 };
 pub use shapes::{Shape, ShapeKind};
 pub use solver::{DerivativeKind, Method, SolveStatus, Solver};

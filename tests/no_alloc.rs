@@ -58,10 +58,30 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static ALLOCATOR: Counting = Counting;
 
+thread_local! {
+    /// The warm-start cache of the cached queries (const-initialised: no allocation).
+    static CACHE: std::cell::RefCell<dcol::Cache> = const { std::cell::RefCell::new(dcol::Cache::new()) };
+}
+
 type Query = fn(&Shape, &Pose, &Shape, &Pose, &Options) -> Result<(), Error>;
 
 /// Every query, reduced to `Result<(), Error>` without touching the heap.
-const QUERIES: [(&str, Query); 13] = [
+const QUERIES: [(&str, Query); 15] = [
+    ("proximity_cached", |a, pa, b, pb, o| {
+        // One cache carried through every call: warm where the pair and poses allow it.
+        CACHE
+            .with(|c| dcol::proximity_cached(a, pa, b, pb, o, &mut c.borrow_mut()))
+            .map(|r| {
+                black_box(r);
+            })
+    }),
+    ("derivatives_cached", |a, pa, b, pb, o| {
+        CACHE
+            .with(|c| dcol::derivatives_cached(a, pa, b, pb, o, &mut c.borrow_mut()))
+            .map(|r| {
+                black_box(r);
+            })
+    }),
     ("proximity", |a, pa, b, pb, o| {
         proximity(a, pa, b, pb, o).map(|r| {
             black_box(r);

@@ -2,6 +2,7 @@
 //! the modified-Rodrigues-parameter variants `dcol_gradient_mrp` and `dcol_jacobian_mrp`.
 
 use super::boundary::{check_out, read_array, run, Failure};
+use super::cache::{cache_mut, dcol_cache};
 use super::finite::{proximity_numbers, representable};
 use super::options::{dcol_options, read_options};
 use super::pose::dcol_pose;
@@ -63,14 +64,83 @@ pub unsafe extern "C" fn dcol_derivatives(
     options: *const dcol_options,
     result: *mut dcol_derivatives_result,
 ) -> dcol_status {
-    run("dcol_derivatives", || {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        derivatives_in(
+            "dcol_derivatives",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            result,
+        )
+    }
+}
+
+/// dcol_derivatives with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+/// time, then what the last call on the pair left in it). The answer is certified as dcol_derivatives's
+/// and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+/// of another pair or of changed shapes is harmless (that call runs cold).
+///
+/// # Safety
+/// As dcol_derivatives; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_derivatives_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    result: *mut dcol_derivatives_result,
+) -> dcol_status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        derivatives_in(
+            "dcol_derivatives_cached",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            result,
+        )
+    }
+}
+
+/// The body of `dcol_derivatives` and `dcol_derivatives_cached` (`cache`: `None` for the first).
+///
+/// # Safety
+/// As `dcol_derivatives`; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments)]
+unsafe fn derivatives_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    result: *mut dcol_derivatives_result,
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let d = query::derivatives(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
-            .map_err(Failure::api)?;
+        let d = match warm {
+            Some(c) => {
+                query::derivatives_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
+            }
+            None => query::derivatives(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
+        }
+        .map_err(Failure::api)?;
         q.representable(proximity_numbers(&d.proximity))?;
         if d.proximity.status.is_converged() && !all_finite(&d) {
             return Err(Failure::api(query::not_representable(

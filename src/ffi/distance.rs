@@ -1,6 +1,7 @@
 //! `dcol_distance_result`, `dcol_distance` and `dcol_distance_gradient`.
 
 use super::boundary::{check_out, run, Failure};
+use super::cache::{cache_mut, dcol_cache};
 use super::options::dcol_options;
 use super::pose::dcol_pose;
 use super::proximity::{check_inputs, read_inputs};
@@ -68,14 +69,81 @@ pub unsafe extern "C" fn dcol_distance(
     options: *const dcol_options,
     result: *mut dcol_distance_result,
 ) -> dcol_status {
-    run("dcol_distance", || {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        distance_in(
+            "dcol_distance",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            result,
+        )
+    }
+}
+
+/// dcol_distance with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+/// answer, certified the same way; the cache then holds this one.
+///
+/// # Safety
+/// As dcol_distance; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_distance_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    result: *mut dcol_distance_result,
+) -> dcol_status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        distance_in(
+            "dcol_distance_cached",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            result,
+        )
+    }
+}
+
+/// The body of `dcol_distance` and `dcol_distance_cached` (`cache`: `None` for the first).
+///
+/// # Safety
+/// As `dcol_distance`; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments)]
+unsafe fn distance_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    result: *mut dcol_distance_result,
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let d = query::distance(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
-            .map_err(Failure::api)?;
+        let d = match warm {
+            Some(c) => {
+                query::distance_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
+            }
+            None => query::distance(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
+        }
+        .map_err(Failure::api)?;
         q.representable(numbers(&d))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
@@ -149,15 +217,86 @@ pub unsafe extern "C" fn dcol_distance_gradient(
     result: *mut dcol_distance_result,
     gradient: *mut f64,
 ) -> dcol_status {
-    run("dcol_distance_gradient", || {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        distance_gradient_in(
+            "dcol_distance_gradient",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            result,
+            gradient,
+        )
+    }
+}
+
+/// dcol_distance_gradient with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+/// answer, certified the same way; the cache then holds this one.
+///
+/// # Safety
+/// As dcol_distance_gradient; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_distance_gradient_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    result: *mut dcol_distance_result,
+    gradient: *mut f64,
+) -> dcol_status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        distance_gradient_in(
+            "dcol_distance_gradient_cached",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            result,
+            gradient,
+        )
+    }
+}
+
+/// The body of `dcol_distance_gradient` and `dcol_distance_gradient_cached` (`cache`: `None` for the first).
+///
+/// # Safety
+/// As `dcol_distance_gradient`; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments)]
+unsafe fn distance_gradient_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    result: *mut dcol_distance_result,
+    gradient: *mut f64,
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
         check_out(gradient, "gradient")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let (d, g) = query::distance_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
-            .map_err(Failure::api)?;
+        let (d, g) = match warm {
+            Some(c) => query::distance_gradient_cached(
+                q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c,
+            ),
+            None => query::distance_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
+        }
+        .map_err(Failure::api)?;
         let converged = d.status.is_converged();
         q.representable(numbers(&d).chain(g.iter().copied().filter(|_| converged)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).

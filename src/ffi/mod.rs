@@ -2,8 +2,8 @@
 //!
 //! One module per C type, in the style of rustls-ffi: [`status`] (`dcol_status`), [`info`] (its text, the
 //! last error message, the version), [`shape`] (`dcol_shape` and its constructors), [`pose`] (`dcol_pose`),
-//! [`options`] (`dcol_options`), [`proximity`] (`dcol_proximity_result`, `dcol_proximity`,
-//! `dcol_gradient`, `dcol_jacobian`), [`distance`] (`dcol_distance_result`, `dcol_distance`,
+//! [`options`] (`dcol_options`), [`cache`] (`dcol_cache`), [`proximity`] (`dcol_proximity_result`, `dcol_proximity`,
+//! `dcol_gradient`, `dcol_jacobian` and their `_cached` forms), [`distance`] (`dcol_distance_result`, `dcol_distance`,
 //! `dcol_distance_gradient`), [`contact`] (`dcol_contact`, `dcol_contacts`), [`early_exit`] (`dcol_alpha_below`, `dcol_intersect`),
 //! [`derivatives`] (`dcol_derivatives_result`, `dcol_derivatives`, `dcol_gradient_mrp`,
 //! `dcol_jacobian_mrp`), [`shape_gradient`] (`dcol_shape_parameter_count`,
@@ -40,6 +40,8 @@ pub mod shape;
 pub mod pose;
 
 pub mod options;
+
+pub mod cache;
 
 pub mod proximity;
 

@@ -1,6 +1,7 @@
 //! `dcol_proximity_result`, `dcol_proximity`, `dcol_gradient` and `dcol_jacobian`.
 
 use super::boundary::{check_out, run, Failure};
+use super::cache::{cache_mut, dcol_cache};
 use super::finite::{proximity_numbers, representable};
 use super::options::{dcol_options, read_options};
 use super::pose::{dcol_pose, read_pose};
@@ -206,14 +207,83 @@ pub unsafe extern "C" fn dcol_proximity(
     options: *const dcol_options,
     result: *mut dcol_proximity_result,
 ) -> dcol_status {
-    run("dcol_proximity", || {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        proximity_in(
+            "dcol_proximity",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            result,
+        )
+    }
+}
+
+/// dcol_proximity with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+/// time, then what the last call on the pair left in it). The answer is certified as dcol_proximity's
+/// and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+/// of another pair or of changed shapes is harmless (that call runs cold).
+///
+/// # Safety
+/// As dcol_proximity; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_proximity_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    result: *mut dcol_proximity_result,
+) -> dcol_status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        proximity_in(
+            "dcol_proximity_cached",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            result,
+        )
+    }
+}
+
+/// The body of `dcol_proximity` and `dcol_proximity_cached` (`cache`: `None` for the first).
+///
+/// # Safety
+/// As `dcol_proximity`; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments)]
+unsafe fn proximity_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    result: *mut dcol_proximity_result,
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let prox = query::proximity(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
-            .map_err(Failure::api)?;
+        let prox = match warm {
+            Some(c) => {
+                query::proximity_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
+            }
+            None => query::proximity(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
+        }
+        .map_err(Failure::api)?;
         q.representable(proximity_numbers(&prox))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
@@ -244,15 +314,88 @@ pub unsafe extern "C" fn dcol_gradient(
     result: *mut dcol_proximity_result,
     gradient: *mut f64,
 ) -> dcol_status {
-    run("dcol_gradient", || {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        gradient_in(
+            "dcol_gradient",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            result,
+            gradient,
+        )
+    }
+}
+
+/// dcol_gradient with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+/// time, then what the last call on the pair left in it). The answer is certified as dcol_gradient's
+/// and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+/// of another pair or of changed shapes is harmless (that call runs cold).
+///
+/// # Safety
+/// As dcol_gradient; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_gradient_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    result: *mut dcol_proximity_result,
+    gradient: *mut f64,
+) -> dcol_status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        gradient_in(
+            "dcol_gradient_cached",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            result,
+            gradient,
+        )
+    }
+}
+
+/// The body of `dcol_gradient` and `dcol_gradient_cached` (`cache`: `None` for the first).
+///
+/// # Safety
+/// As `dcol_gradient`; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments)]
+unsafe fn gradient_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    result: *mut dcol_proximity_result,
+    gradient: *mut f64,
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
         check_out(gradient, "gradient")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let (prox, g) = query::gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
-            .map_err(Failure::api)?;
+        let (prox, g) = match warm {
+            Some(c) => {
+                query::gradient_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
+            }
+            None => query::gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
+        }
+        .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
         q.representable(proximity_numbers(&prox).chain(g.iter().copied().filter(|_| converged)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
@@ -290,15 +433,88 @@ pub unsafe extern "C" fn dcol_jacobian(
     result: *mut dcol_proximity_result,
     jacobian: *mut f64,
 ) -> dcol_status {
-    run("dcol_jacobian", || {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        jacobian_in(
+            "dcol_jacobian",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            result,
+            jacobian,
+        )
+    }
+}
+
+/// dcol_jacobian with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the first
+/// time, then what the last call on the pair left in it). The answer is certified as dcol_jacobian's
+/// and agrees with it to the solver's tolerance; the cache then holds this answer. A cache
+/// of another pair or of changed shapes is harmless (that call runs cold).
+///
+/// # Safety
+/// As dcol_jacobian; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_jacobian_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    result: *mut dcol_proximity_result,
+    jacobian: *mut f64,
+) -> dcol_status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        jacobian_in(
+            "dcol_jacobian_cached",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            result,
+            jacobian,
+        )
+    }
+}
+
+/// The body of `dcol_jacobian` and `dcol_jacobian_cached` (`cache`: `None` for the first).
+///
+/// # Safety
+/// As `dcol_jacobian`; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments)]
+unsafe fn jacobian_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    result: *mut dcol_proximity_result,
+    jacobian: *mut f64,
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
         check_out(jacobian, "jacobian")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let (prox, j) = query::jacobian(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
-            .map_err(Failure::api)?;
+        let (prox, j) = match warm {
+            Some(c) => {
+                query::jacobian_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
+            }
+            None => query::jacobian(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
+        }
+        .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
         let jac = j.iter().flatten().copied().filter(|_| converged);
         q.representable(proximity_numbers(&prox).chain(jac))?;

@@ -4,6 +4,7 @@
 
 use super::context::{Options, Proximity, Want};
 use super::proximity::{plain_derivatives, query};
+use super::warm::Cache;
 use crate::error::Error;
 use crate::math::{Pose, Real};
 use crate::shapes::Shape;
@@ -30,7 +31,19 @@ pub fn gradient(
     pose2: &Pose,
     options: &Options,
 ) -> Result<(Proximity, [Real; 14]), Error> {
-    if let Some(answer) = plain_derivatives(shape1, pose1, shape2, pose2, options, None) {
+    gradient_warm(shape1, pose1, shape2, pose2, options, None)
+}
+
+/// [`gradient`] starting from what `warm` kept of the pair's last answer (and keeping this one).
+pub(crate) fn gradient_warm(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    warm: Option<&mut Cache>,
+) -> Result<(Proximity, [Real; 14]), Error> {
+    if let Some(answer) = plain_derivatives(shape1, pose1, shape2, pose2, options, None, warm) {
         return Ok(answer);
     }
     let f = query(shape1, pose1, shape2, pose2, options, Want::Gradient)?;
@@ -48,8 +61,22 @@ pub fn jacobian(
     pose2: &Pose,
     options: &Options,
 ) -> Result<(Proximity, [[Real; 14]; 4]), Error> {
+    jacobian_warm(shape1, pose1, shape2, pose2, options, None)
+}
+
+/// [`jacobian`] starting from what `warm` kept of the pair's last answer (and keeping this one).
+pub(crate) fn jacobian_warm(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    warm: Option<&mut Cache>,
+) -> Result<(Proximity, [[Real; 14]; 4]), Error> {
     let mut j = [[0.0; 14]; 4];
-    if let Some((p, _)) = plain_derivatives(shape1, pose1, shape2, pose2, options, Some(&mut j)) {
+    if let Some((p, _)) =
+        plain_derivatives(shape1, pose1, shape2, pose2, options, Some(&mut j), warm)
+    {
         return Ok((p, j));
     }
     let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
@@ -80,18 +107,37 @@ pub fn derivatives(
     pose2: &Pose,
     options: &Options,
 ) -> Result<Derivatives, Error> {
+    derivatives_warm(shape1, pose1, shape2, pose2, options, None)
+}
+
+/// [`derivatives`] starting from what `warm` kept of the pair's last answer (and keeping this one).
+pub(crate) fn derivatives_warm(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    warm: Option<&mut Cache>,
+) -> Result<Derivatives, Error> {
     // The geometric answer where it has exact derivatives (no full query's room), else the
     // full query.
     let mut jacobian = [[0.0; 14]; 4];
-    let (p, dalpha) =
-        match plain_derivatives(shape1, pose1, shape2, pose2, options, Some(&mut jacobian)) {
-            Some(answer) => answer,
-            None => {
-                let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
-                jacobian = f.jacobian;
-                (f.prox, f.gradient)
-            }
-        };
+    let (p, dalpha) = match plain_derivatives(
+        shape1,
+        pose1,
+        shape2,
+        pose2,
+        options,
+        Some(&mut jacobian),
+        warm,
+    ) {
+        Some(answer) => answer,
+        None => {
+            let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
+            jacobian = f.jacobian;
+            (f.prox, f.gradient)
+        }
+    };
     let mut d = Derivatives {
         proximity: p,
         dalpha,

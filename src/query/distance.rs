@@ -28,6 +28,7 @@ use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::context::{Distance, DistancePath, Options};
 use super::derivatives::{rotation_generators, row_ranges};
 use super::separated::Settled;
+use super::warm::Cache;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Mat3, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape};
@@ -195,11 +196,36 @@ pub(crate) fn distance_query(
     options: &Options,
     gradient: bool,
 ) -> Result<(Distance, [Real; 14]), Error> {
-    distance_query_until(shape1, pose1, shape2, pose2, options, gradient, None)
+    distance_query_until(shape1, pose1, shape2, pose2, options, gradient, None, None)
         .map(|(d, g, _)| (d, g))
 }
 
+/// [`distance_query`] starting from what `warm` kept of the pair's last distance (and keeping
+/// this one).
+pub(crate) fn distance_query_warm(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    gradient: bool,
+    warm: &mut Cache,
+) -> Result<(Distance, [Real; 14]), Error> {
+    distance_query_until(
+        shape1,
+        pose1,
+        shape2,
+        pose2,
+        options,
+        gradient,
+        None,
+        Some(warm),
+    )
+    .map(|(d, g, _)| (d, g))
+}
+
 /// [`distance_query`], stopping once the distance is proven above `cutoff`; the flag says so.
+#[allow(clippy::too_many_arguments)]
 fn distance_query_until(
     shape1: &Shape,
     pose1: &Pose,
@@ -208,6 +234,7 @@ fn distance_query_until(
     options: &Options,
     gradient: bool,
     cutoff: Option<Real>,
+    mut warm: Option<&mut Cache>,
 ) -> Result<(Distance, [Real; 14], bool), Error> {
     options.validate()?;
     if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
@@ -240,7 +267,31 @@ fn distance_query_until(
              program can represent in double precision",
         )));
     }
-    // Separated pairs: GJK with its certificate first (the gap however small, never 0).
+    // Separated pairs: GJK with its certificate first (the gap however small, never 0);
+    // before it, the closest features the pair's cache kept, where they still certify.
+    if let Some(cache) = warm
+        .as_deref_mut()
+        .filter(|_| options.method == Method::Auto)
+    {
+        if let Some(d) =
+            cache.warm_distance([shape1, shape2], [pose1, pose2], ell, options.tolerance)
+        {
+            let g = if gradient {
+                super::separated::witness_gradient(
+                    &d.normal,
+                    &d.closest1,
+                    &d.closest2,
+                    [shape1, shape2],
+                    [pose1, pose2],
+                )
+            } else {
+                [0.0; 14]
+            };
+            if g.iter().all(|v| v.is_finite()) {
+                return Ok((d, g, false));
+            }
+        }
+    }
     if options.method == Method::Auto {
         let sep = super::separated::separated(
             shape1,
@@ -255,6 +306,10 @@ fn distance_query_until(
         );
         match sep {
             Settled::Apart(d, g, beyond) => {
+                if let Some(cache) = warm {
+                    let kept = (!beyond).then_some(&d);
+                    cache.keep_distance([shape1, shape2], [pose1, pose2], ell, kept);
+                }
                 // As on the interior-point path: a gradient that overflows (a quaternion so
                 // small that derivatives with respect to it are not representable) is an error,
                 // or a numerical failure with zeros, never a non-finite number.
@@ -421,8 +476,16 @@ pub fn distance_within(
     if gap > cutoff {
         return Ok(None);
     }
-    let (d, _, beyond) =
-        distance_query_until(shape1, pose1, shape2, pose2, options, false, Some(cutoff))?;
+    let (d, _, beyond) = distance_query_until(
+        shape1,
+        pose1,
+        shape2,
+        pose2,
+        options,
+        false,
+        Some(cutoff),
+        None,
+    )?;
     Ok(if beyond || d.distance > cutoff {
         None
     } else {

@@ -102,7 +102,7 @@ pub fn alpha_below(
         let dist = robust_norm(&(pose2.position() - pose1.position()));
         if dist > 0.0 && dist.is_finite() {
             let stop = Some((threshold, true));
-            match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, stop) {
+            match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, stop, None) {
                 Outcome::Decided { below, .. } => {
                     return Ok(Decision {
                         below,

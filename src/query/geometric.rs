@@ -18,14 +18,16 @@ use super::shortcuts::{
     Answer, Solved,
 };
 use super::sphere_jacobian::sphere_jacobian;
+use super::warm::{Cache, Kind};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
+use crate::solver::features::contact_is_unique;
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::polish;
 use crate::solver::raycast::{cast, upper_from_point, Cast, CastEnd, Pair, Posed, Stop};
-use crate::solver::sensitivity::{contact_is_unique, refine, sensitivity, Solution, PARALLEL_SIN};
+use crate::solver::sensitivity::{refine, sensitivity, Solution, PARALLEL_SIN};
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
 
 /// Portal refinements before the polish takes over.
@@ -57,7 +59,9 @@ pub(crate) enum Outcome {
 
 /// Proximity by the geometric solvers, stopping early once α* is proven above `threshold.0`
 /// (or below it, when `threshold.1`); [`Outcome::Fallback`] when they cannot certify the
-/// answer to the requested tolerance. `dist = ‖r₂ − r₁‖ > 0`.
+/// answer to the requested tolerance. `dist = ‖r₂ − r₁‖ > 0`. With `warm`, the pair's cache
+/// (`super::warm`) is tried first and keeps the answer.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn proximity(
     shape1: &Shape,
     pose1: &Pose,
@@ -66,6 +70,7 @@ pub(crate) fn proximity(
     options: &Options,
     dist: Real,
     threshold: Option<(Real, bool)>,
+    mut warm: Option<&mut Cache>,
 ) -> Outcome {
     let r1 = *pose1.position();
     let r2 = *pose2.position();
@@ -80,7 +85,22 @@ pub(crate) fn proximity(
         value: t / world,
         stop_below,
     });
-    let ans = match solve(&pair, &ray, iota, options.tolerance, stop) {
+    let solved = solve(
+        &pair,
+        [pose1, pose2],
+        &ray,
+        iota,
+        options.tolerance,
+        stop,
+        warm.as_deref_mut(),
+    );
+    if let Some(cache) = warm {
+        match &solved {
+            Ok(Some(_)) => cache.keep_poses(Kind::Proximity, [shape1, shape2], ell, [pose1, pose2]),
+            _ => cache.forget(Kind::Proximity),
+        }
+    }
+    let ans = match solved {
         Ok(Some(ans)) => ans,
         Ok(None) => return Outcome::Fallback,
         Err((below, alpha)) => {
@@ -452,18 +472,51 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
     })
 }
 
+/// The geometric answer: a closed form, else the answer on the features `warm` kept from the
+/// pair's last answer where that certifies, else the cold solvers (whose answer `warm` then
+/// keeps).
 fn solve(
     pair: &Pair<'_, Shape>,
+    poses: [&Pose; 2],
     ray: &Vec3,
     iota: Real,
     tolerance: Real,
     stop: Option<Stop>,
+    warm: Option<&mut Cache>,
 ) -> Solved {
     if let Some(ans) = closed_form(pair, ray) {
         return Ok(Some(ans));
     }
     // No bracket can be certified much below the rounding of the bounds themselves.
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
+    let Some(cache) = warm.filter(|_| Cache::applies(pair)) else {
+        return solve_cold(pair, ray, iota, tol, stop);
+    };
+    if let Some(ans) = cache.solve(pair, poses, ray, iota, tol) {
+        return Ok(Some(ans));
+    }
+    let solved = solve_cold(pair, ray, iota, tol, stop);
+    if let Ok(Some(ans)) = &solved {
+        cache.keep_answer(
+            Kind::Proximity,
+            &ans.normal,
+            1.0 / ans.alpha,
+            ray,
+            &ans.a,
+            &ans.b,
+        );
+    }
+    solved
+}
+
+/// The cold solvers, after the closed forms (`tol`: the bracket to close, relative).
+fn solve_cold(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+    stop: Option<Stop>,
+) -> Solved {
     if let Some(ans) = capsule_and_solid(pair, ray, iota, tol)
         .or_else(|| sphere_and_ellipsoid(pair, ray, iota, tol))
         .or_else(|| two_ellipsoids(pair, ray, iota, tol))

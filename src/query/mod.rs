@@ -2,6 +2,7 @@
 //! and the exact distance.
 
 mod assemble;
+mod cached;
 mod contact;
 mod contact_boxes;
 mod contact_reduce;
@@ -23,7 +24,13 @@ mod signed;
 mod sphere_jacobian;
 #[cfg(test)]
 mod sphere_jacobian_tests;
+mod warm;
+mod warm_distance;
 
+pub use cached::{
+    derivatives_cached, distance_cached, distance_gradient_cached, gradient_cached,
+    jacobian_cached, proximity_cached, Cache,
+};
 pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
 pub(crate) use context::Want;

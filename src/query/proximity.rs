@@ -14,6 +14,7 @@ use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::context::{Context, Frame, Full, Options, Proximity, ShapeSink, Want};
 use super::derivatives;
 use super::geometric;
+use super::warm::{Cache, Kind};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Pose, Real, Vec3};
 use crate::shapes::{ConicShape, Shape, ShapeKind};
@@ -275,7 +276,7 @@ pub(crate) fn query_full(
     // the smoothing.
     let smoothed = options.smoothing > 0.0 && threshold.is_none();
     if options.method == Method::Auto && !smoothed && halfspace.is_none() {
-        match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold) {
+        match geometric::proximity(shape1, pose1, shape2, pose2, options, dist, threshold, None) {
             geometric::Outcome::Answer(mut prox, dalpha_dd) => {
                 let g = if want >= Want::Gradient {
                     geometric::gradient(&prox, &dalpha_dd, [shape1, shape2], pose1, pose2)
@@ -530,6 +531,20 @@ pub fn proximity(
     pose2: &Pose,
     options: &Options,
 ) -> Result<Proximity, Error> {
+    proximity_warm(shape1, pose1, shape2, pose2, options, None)
+}
+
+/// [`proximity`] starting from what `warm` kept of the pair's last answer (and keeping this
+/// one): the same answer, certified the same way.
+#[inline]
+pub(crate) fn proximity_warm(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    mut warm: Option<&mut Cache>,
+) -> Result<Proximity, Error> {
     // The geometric answer straight, without the derivatives' room of the full query (its
     // zeroing and copies were about a tenth of a sphere–sphere call); anything else, and every
     // fallback, is the full query's.
@@ -539,12 +554,23 @@ pub fn proximity(
     if plain && bounded && options.validate().is_ok() {
         let dist = robust_norm(&(pose2.position() - pose1.position()));
         if dist > 0.0 && dist.is_finite() {
-            if let geometric::Outcome::Answer(prox, _) =
-                geometric::proximity(shape1, pose1, shape2, pose2, options, dist, None)
-            {
+            let outcome = geometric::proximity(
+                shape1,
+                pose1,
+                shape2,
+                pose2,
+                options,
+                dist,
+                None,
+                warm.as_deref_mut(),
+            );
+            if let geometric::Outcome::Answer(prox, _) = outcome {
                 return Ok(prox);
             }
         }
+    }
+    if let Some(cache) = warm {
+        cache.forget(Kind::Proximity);
     }
     query(shape1, pose1, shape2, pose2, options, Want::Proximity).map(|f| f.prox)
 }
@@ -562,6 +588,7 @@ pub(crate) fn plain_derivatives(
     pose2: &Pose,
     options: &Options,
     jacobian: Option<&mut [[Real; 14]; 4]>,
+    warm: Option<&mut Cache>,
 ) -> Option<(Proximity, [Real; 14])> {
     let plain = options.method == Method::Auto && options.smoothing == 0.0;
     let bounded = shape1.solver_kind() != ShapeKind::Halfspace
@@ -574,7 +601,7 @@ pub(crate) fn plain_derivatives(
         return None;
     }
     let geometric::Outcome::Answer(mut prox, dalpha_dd) =
-        geometric::proximity(shape1, pose1, shape2, pose2, options, dist, None)
+        geometric::proximity(shape1, pose1, shape2, pose2, options, dist, None, warm)
     else {
         return None;
     };

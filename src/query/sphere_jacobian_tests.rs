@@ -76,7 +76,8 @@ fn feature(shape: &Shape, pose: &Pose, c: &crate::Vec3) -> usize {
 fn closed_at(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], usize)> {
     let o = Options::default();
     let dist = robust_norm(&(p[1].position() - p[0].position()));
-    let Outcome::Answer(prox, dad) = geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None)
+    let Outcome::Answer(prox, dad) =
+        geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None, None)
     else {
         return None;
     };
@@ -90,7 +91,8 @@ fn closed_at(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], usize)> 
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
     let o = Options::default();
     let dist = robust_norm(&(p[1].position() - p[0].position()));
-    let Outcome::Answer(prox, dad) = geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None)
+    let Outcome::Answer(prox, dad) =
+        geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None, None)
     else {
         return None;
     };

@@ -417,6 +417,10 @@ impl SupportMap for ConvexHull {
     fn piece_count(&self) -> u32 {
         self.corners().len() as u32
     }
+    fn vertex_pieces(&self) -> Option<&[Vec3]> {
+        // Unpadded, piece `id` is the corner `id` itself (`Round::Flat`).
+        (self.radius == 0.0).then(|| self.corners())
+    }
 }
 
 impl ConicShape for ConvexHull {

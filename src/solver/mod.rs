@@ -20,6 +20,7 @@ pub(crate) mod dense;
 pub(crate) mod direct;
 pub(crate) mod ellipsoid_pair;
 pub(crate) mod ellipsoid_point;
+pub(crate) mod features;
 pub(crate) mod gjk;
 mod ipm;
 pub(crate) mod polish;

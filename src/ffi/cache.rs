@@ -1,0 +1,48 @@
+//! `dcol_cache`: the caller-owned per-pair warm-start cache of the `_cached` queries.
+
+use super::boundary::Failure;
+use crate::query::Cache;
+
+/// A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
+/// dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached): plain data that
+/// dcol reads and writes, all zeros meaning cold (`dcol_cache c = DCOL_CACHE_INIT;` or
+/// memset to 0). Keep one per pair of shapes, and pass it to every query on that pair; copy
+/// it, zero it, or move it between threads freely. Its contents are private to dcol: any
+/// bit pattern in it gives a correct answer (a cache of another pair, or after a shape
+/// changed, only makes that call cold). Warm answers are certified exactly as cold ones.
+/// Today a warm start is taken between two polytopes (boxes, polytopes, unpadded hulls);
+/// other pairs answer cold.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct dcol_cache {
+    /// Private to dcol.
+    pub words: [u32; 24],
+    /// Private to dcol.
+    pub numbers: [f64; 67],
+}
+
+// `dcol_cache` and `Cache` are both `repr(C)` with the same fields in the same order: the
+// same layout, which `cache_mut` relies on.
+const _: () = {
+    assert!(std::mem::size_of::<dcol_cache>() == std::mem::size_of::<Cache>());
+    assert!(std::mem::align_of::<dcol_cache>() == std::mem::align_of::<Cache>());
+};
+
+/// The Rust cache behind a C one: `None` when no cache was given (a plain query),
+/// `Failure::Null` for a NULL one.
+///
+/// # Safety
+/// `cache`, when `Some` and not NULL, must be valid for reads and writes of a `dcol_cache`
+/// and not aliased for `'a`.
+pub(crate) unsafe fn cache_mut<'a>(
+    cache: Option<*mut dcol_cache>,
+) -> Result<Option<&'a mut Cache>, Failure> {
+    match cache {
+        None => Ok(None),
+        Some(p) if p.is_null() => Err(Failure::Null("cache")),
+        // SAFETY: non-NULL and valid for reads and writes (contract); `Cache` has the layout
+        // of `dcol_cache` (asserted above) and every bit pattern of its `u32` and `f64` fields
+        // is a valid value.
+        Some(p) => Ok(Some(unsafe { &mut *p.cast::<Cache>() })),
+    }
+}

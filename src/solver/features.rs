@@ -1,0 +1,352 @@
+//! The contact features of a geometric solution: the pieces of each shape that tie at its
+//! normal (a vertex, an edge's two ends, a face's triangle, a smooth patch), or a flat disc
+//! facing it, identified from the support functions' values; and whether they pin x*.
+//!
+//! `super::sensitivity` solves the features' KKT system; `crate::query::warm` keeps them from
+//! one query to the next.
+
+use super::raycast::{Pair, Posed};
+use crate::math::{Real, Vec3};
+use crate::shapes::SupportMap;
+
+/// The geometric solution, normalised: the ray `r` (unit), `n` with `n·r = 1`, `μ = 1/α'`,
+/// the points `a` (shape 1) and `b` (shape 2) relative to their origins.
+pub(crate) struct Solution {
+    pub r: Vec3,
+    pub normal: Vec3,
+    pub mu: Real,
+    pub a: Vec3,
+    pub b: Vec3,
+}
+
+/// Pieces per shape in a feature (a triangle of a face), or a disc's three unknowns.
+pub(crate) const MAX_SIDE: usize = 3;
+/// At most this many pieces may tie at the optimal normal (a face's vertices).
+const MAX_TIED: usize = 16;
+/// A piece ties when its value is within this (normalised length) of the support function.
+const TIE_TOL: Real = 1e-10;
+/// Tied support points closer than this (normalised length) are one point.
+const POINT_TOL: Real = 1e-9;
+/// A disc faces the normal when the cosine of their angle is at least this.
+const DISC_COS: Real = 1.0 - 1e-13;
+/// Two segments closer to parallel than this (sine of their angle) do not pin x*.
+pub(crate) const PARALLEL_SIN: Real = 1e-6;
+
+/// One shape's contact feature.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Feature {
+    /// Pieces and their multipliers (1, 2 or 3 of them).
+    Pieces {
+        ids: [u32; MAX_SIDE],
+        lam: [Real; MAX_SIDE],
+        count: usize,
+    },
+    /// A flat disc: body centre, radius, the point's coordinates along `e_y, e_z`.
+    Disc {
+        centre: Vec3,
+        radius: Real,
+        s: [Real; 2],
+    },
+}
+
+impl Feature {
+    pub(crate) fn unknowns(&self) -> usize {
+        match self {
+            Feature::Pieces { count, .. } => *count,
+            Feature::Disc { .. } => 3,
+        }
+    }
+}
+
+/// The pieces tied at a normal: their ids and body support points (shape units).
+struct Tied {
+    ids: [u32; MAX_TIED],
+    pts: [Vec3; MAX_TIED],
+    count: usize,
+}
+
+impl Tied {
+    const EMPTY: Tied = Tied {
+        ids: [0; MAX_TIED],
+        pts: [Vec3::new(0.0, 0.0, 0.0); MAX_TIED],
+        count: 0,
+    };
+}
+
+/// A shape's disc facing `n`, or the affine dimension of its tied pieces' support points (held
+/// in a [`Tied`] beside it) and the direction of their segment (world) when that dimension is
+/// one.
+enum Found {
+    Disc(Feature),
+    Tied(usize, Vec3),
+}
+
+/// The feature of one shape at the world normal `n` (`sign`: how its support map sees `n`); its
+/// tied pieces go to `t`.
+fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3, t: &mut Tied) -> Option<Found> {
+    let m = posed.rot.tr_mul(n) * sign;
+    let unit = 1.0 / posed.inv_scale;
+    if let Some((centre, radius)) = posed.shape.disc(&m, DISC_COS) {
+        let f = Feature::Disc {
+            centre,
+            radius,
+            s: [0.0; 2],
+        };
+        return Some(Found::Disc(f));
+    }
+    let (p, _) = posed.shape.support(&m);
+    let h = p.dot(&m);
+    let tol = TIE_TOL * unit * m.norm();
+    tied_pieces(posed.shape, &m, h - tol, t, true)?;
+    if t.count == 0 {
+        return None;
+    }
+    // Affine dimension: the point farthest from the first, then the one farthest from their line.
+    let tol = POINT_TOL * unit;
+    let p0 = t.pts[0];
+    let far = (0..t.count).max_by(|&i, &j| {
+        (t.pts[i] - p0)
+            .norm_squared()
+            .total_cmp(&(t.pts[j] - p0).norm_squared())
+    })?;
+    let span = t.pts[far] - p0;
+    if !(span.norm() > tol) {
+        return Some(Found::Tied(0, Vec3::zeros()));
+    }
+    let e = span.normalize();
+    let off = (0..t.count).fold(0.0, |m: Real, i| {
+        let v = t.pts[i] - p0;
+        m.max((v - e * v.dot(&e)).norm())
+    });
+    let dim = if off > tol { 2 } else { 1 };
+    Some(Found::Tied(dim, posed.rot * e))
+}
+
+/// Collects into `t` the pieces of `shape` whose value at `m` is at least `floor`; `None` when a
+/// piece cannot be evaluated or more than [`MAX_TIED`] tie. With `vertices`, a polytope's
+/// pieces are taken as the dot products of its vertices (the same values and points).
+fn tied_pieces<S: SupportMap>(
+    shape: &S,
+    m: &Vec3,
+    floor: Real,
+    t: &mut Tied,
+    vertices: bool,
+) -> Option<()> {
+    t.count = 0;
+    if let Some(points) = shape.vertex_pieces().filter(|_| vertices) {
+        // Piece `id` is `v·m` with gradient `v` (what `piece` gives, without forming its zero
+        // Hessian).
+        for (id, v) in points.iter().enumerate() {
+            if v.dot(m) >= floor {
+                if t.count == MAX_TIED {
+                    return None;
+                }
+                t.ids[t.count] = id as u32;
+                t.pts[t.count] = *v;
+                t.count += 1;
+            }
+        }
+        return Some(());
+    }
+    for id in 0..shape.piece_count() {
+        let e = shape.piece(id, m)?;
+        if e.value >= floor {
+            if t.count == MAX_TIED {
+                return None;
+            }
+            t.ids[t.count] = id;
+            t.pts[t.count] = e.grad;
+            t.count += 1;
+        }
+    }
+    Some(())
+}
+
+/// The feature of a shape from its tied pieces and its contact point `q` (body, shape units).
+fn feature(found: Found, t: &Tied, q: &Vec3) -> Option<Feature> {
+    let mut ids = [0; MAX_SIDE];
+    let mut lam = [0.0; MAX_SIDE];
+    match found {
+        Found::Disc(Feature::Disc { centre, radius, .. }) => Some(Feature::Disc {
+            centre,
+            radius,
+            s: [q.y - centre.y, q.z - centre.z],
+        }),
+        Found::Disc(f) => Some(f),
+        Found::Tied(0, _) => {
+            ids[0] = t.ids[0];
+            lam[0] = 1.0;
+            Some(Feature::Pieces { ids, lam, count: 1 })
+        }
+        Found::Tied(1, _) => {
+            // The segment's two ends, and where q lies between them.
+            let p0 = t.pts[0];
+            let far = (0..t.count).max_by(|&i, &j| {
+                (t.pts[i] - p0)
+                    .norm_squared()
+                    .total_cmp(&(t.pts[j] - p0).norm_squared())
+            })?;
+            let e = t.pts[far] - p0;
+            let along = |i: usize| (t.pts[i] - p0).dot(&e);
+            let lo = (0..t.count).min_by(|&i, &j| along(i).total_cmp(&along(j)))?;
+            let hi = (0..t.count).max_by(|&i, &j| along(i).total_cmp(&along(j)))?;
+            let seg = t.pts[hi] - t.pts[lo];
+            let u = (q - t.pts[lo]).dot(&seg) / seg.norm_squared();
+            ids[0] = t.ids[lo];
+            ids[1] = t.ids[hi];
+            lam[0] = 1.0 - u;
+            lam[1] = u;
+            Some(Feature::Pieces { ids, lam, count: 2 })
+        }
+        Found::Tied(_, _) => {
+            // The triangle of tied points whose barycentric coordinates of q are the most
+            // balanced (q inside it: all of them non-negative).
+            let mut best = (Real::NEG_INFINITY, [0usize; 3], [0.0; 3]);
+            for i in 0..t.count {
+                for j in i + 1..t.count {
+                    for k in j + 1..t.count {
+                        let Some(w) = barycentric(&t.pts[i], &t.pts[j], &t.pts[k], q) else {
+                            continue;
+                        };
+                        let worst = w[0].min(w[1]).min(w[2]);
+                        if worst > best.0 {
+                            best = (worst, [i, j, k], w);
+                        }
+                    }
+                }
+            }
+            if best.0 == Real::NEG_INFINITY {
+                return None;
+            }
+            for c in 0..3 {
+                ids[c] = t.ids[best.1[c]];
+                lam[c] = best.2[c];
+            }
+            Some(Feature::Pieces { ids, lam, count: 3 })
+        }
+    }
+}
+
+/// Barycentric coordinates of `q` projected onto the plane of triangle `(a, b, c)`.
+fn barycentric(a: &Vec3, b: &Vec3, c: &Vec3, q: &Vec3) -> Option<[Real; 3]> {
+    let (u, v, w) = (b - a, c - a, q - a);
+    let (uu, uv, vv) = (u.dot(&u), u.dot(&v), v.dot(&v));
+    let (wu, wv) = (w.dot(&u), w.dot(&v));
+    let det = uu * vv - uv * uv;
+    if !(det > 1e-12 * uu * vv) {
+        return None;
+    }
+    let y = (wu * vv - wv * uv) / det;
+    let z = (wv * uu - wu * uv) / det;
+    Some([1.0 - y - z, y, z])
+}
+
+/// Both shapes' tied pieces (or discs) at the solution's normal, when their affine dimensions
+/// leave x* unique: they add up to at most two, and two segments are not parallel.
+fn features<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    sol: &Solution,
+    tied: &mut [Tied; 2],
+) -> Option<[Found; 2]> {
+    let [t0, t1] = tied;
+    let found = [
+        find(&pair.one, 1.0, &sol.normal, t0)?,
+        find(&pair.two, -1.0, &sol.normal, t1)?,
+    ];
+    let dims = found.each_ref().map(|f| match f {
+        Found::Disc(_) => 2,
+        Found::Tied(d, _) => *d,
+    });
+    if dims[0] + dims[1] > 2 {
+        return None;
+    }
+    if let (Found::Tied(1, e0), Found::Tied(1, e1)) = (&found[0], &found[1]) {
+        if !(e0.cross(e1).norm() > PARALLEL_SIN) {
+            return None;
+        }
+    }
+    Some(found)
+}
+
+/// Whether the contact points of the geometric solution are unique (see [`features`]).
+pub(crate) fn contact_is_unique<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> bool {
+    let mut tied = [Tied::EMPTY, Tied::EMPTY];
+    features(pair, sol, &mut tied).is_some()
+}
+
+/// Both shapes' features at the solution `sol` (normal, points): `None` where x* is not unique
+/// ([`features`]) or a feature cannot be described (its point outside every triangle of a
+/// face's tied points).
+pub(crate) fn identify<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Option<[Feature; 2]> {
+    let mut tied = [Tied::EMPTY, Tied::EMPTY];
+    let [f0, f1] = features(pair, sol, &mut tied)?;
+    let body = |posed: &Posed<'_, S>, p: &Vec3| posed.rot.tr_mul(p) / posed.inv_scale;
+    Some([
+        feature(f0, &tied[0], &body(&pair.one, &sol.a))?,
+        feature(f1, &tied[1], &body(&pair.two, &sol.b))?,
+    ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{tied_pieces, Tied};
+    use crate::math::Vec3;
+    use crate::shapes::{Shape, SupportMap};
+
+    /// A polytope's ties from its vertices' dot products are those of evaluating every piece:
+    /// on 20 000 directions, half of them a facet's normal or the sum of two (where vertices
+    /// tie), for a box and a 12-facet polytope.
+    #[test]
+    fn vertex_ties_match_the_piece_evaluation() {
+        let mut a = Vec::new();
+        let mut b = Vec::new();
+        for k in 0..12 {
+            let t = k as f64 * 0.9;
+            let v = Vec3::new(
+                t.cos() * (1.0 + 0.1 * k as f64),
+                t.sin(),
+                (k as f64 - 5.5) * 0.2,
+            );
+            a.push(v.normalize().into());
+            b.push(0.5 + 0.01 * k as f64);
+        }
+        let shapes = [
+            Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
+            Shape::polytope(&a, &b).unwrap(),
+        ];
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut fast, mut slow) = (Tied::EMPTY, Tied::EMPTY);
+        let mut ties = 0;
+        for shape in &shapes {
+            let normals: Vec<Vec3> = (0..64)
+                .filter_map(|_| {
+                    let m = Vec3::new(unit(), unit(), unit());
+                    shape.flat_face(&m, -1.0)
+                })
+                .collect();
+            for k in 0..10_000 {
+                let m = match k % 4 {
+                    0 => normals[k % normals.len()],
+                    1 => normals[k % normals.len()] + normals[(k / 7) % normals.len()],
+                    _ => Vec3::new(unit(), unit(), unit()),
+                };
+                let (p, _) = shape.support(&m);
+                let floor = p.dot(&m) - 1e-10 * m.norm();
+                let a = tied_pieces(shape, &m, floor, &mut fast, true);
+                let b = tied_pieces(shape, &m, floor, &mut slow, false);
+                assert_eq!(a, b);
+                assert_eq!(fast.count, slow.count, "direction {m:?}");
+                assert_eq!(fast.ids[..fast.count], slow.ids[..slow.count]);
+                assert_eq!(fast.pts[..fast.count], slow.pts[..slow.count]);
+                ties += usize::from(fast.count > 1);
+            }
+        }
+        assert!(ties > 5_000, "{ties}");
+    }
+}
