@@ -41,6 +41,7 @@ int main(void) {
   dcol_pose p1, p2;
   dcol_cache cp = DCOL_CACHE_INIT, cg = DCOL_CACHE_INIT, cj = DCOL_CACHE_INIT;
   dcol_cache cd = DCOL_CACHE_INIT, cx = DCOL_CACHE_INIT, cxg = DCOL_CACHE_INIT;
+  dcol_cache cs = DCOL_CACHE_INIT;
   const double a1[3] = {0.0, 0.6, 0.8}, a2[3] = {0.8, 0.0, 0.6};
   const double ell = 0.6;
   for (i = 0; i < 24 * 3; ++i) {
@@ -92,6 +93,12 @@ int main(void) {
     CHECK(dcol_distance_gradient_cached(box, &p1, hull, &p2, NULL, &cxg, &dg1, g1) == DCOL_OK);
     CHECK(fabs(dg1.distance - dg0.distance) <= 1e-12 * ell);
     if (dg0.distance > 0.0) CHECK_MSG(max_abs_diff(g1, g0, 14) <= 1e-9, "step %d", k);
+    {
+      dcol_signed_distance_result s0, s1;
+      CHECK(dcol_signed_distance(box, &p1, hull, &p2, NULL, &s0) == DCOL_OK);
+      CHECK(dcol_signed_distance_cached(box, &p1, hull, &p2, NULL, &cs, &s1) == DCOL_OK);
+      CHECK_MSG(fabs(s1.distance - s0.distance) <= 1e-12 * ell, "step %d signed distance", k);
+    }
   }
   CHECK_MSG(2 * warm > steps, "%d of %d proximity answers warm", warm, steps);
 

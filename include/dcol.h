@@ -270,7 +270,7 @@ typedef struct dcol_proximity_result {
 /**
  * A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
  * dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached, dcol_distance_cached,
- * dcol_distance_gradient_cached): plain data that dcol reads and writes, all zeros meaning
+ * dcol_distance_gradient_cached, dcol_signed_distance_cached): plain data that dcol reads and writes, all zeros meaning
  * cold (`dcol_cache c = DCOL_CACHE_INIT;` or memset to 0). Keep one per pair of shapes, and
  * pass it to every query on that pair; copy it, zero it, or move it between threads freely.
  * Its contents are private to dcol: any bit pattern in it gives a correct answer (a cache of
@@ -278,17 +278,19 @@ typedef struct dcol_proximity_result {
  * certified exactly as cold ones and agree with them to the solver's tolerance (alpha* and
  * distances within 1e-12 relative; a warm proximity reports DCOL_SOLVER_POLISH). A warm start is taken between two polytopes (boxes,
  * polytopes, unpadded hulls) whose poses moved less than a quarter of their size and 20
- * degrees since the pair's last answer; other pairs answer cold (and cost the same).
+ * degrees since the pair's last answer; other pairs answer cold (and cost the same). The
+ * signed distance of any pair starts from the last separating normal: shapes it still proves
+ * apart get the distance (warm between polytopes) without the overlap tests.
  */
 typedef struct dcol_cache {
   /**
    * Private to dcol.
    */
-  uint32_t words[24];
+  uint32_t words[25];
   /**
    * Private to dcol.
    */
-  double numbers[67];
+  double numbers[70];
 } dcol_cache;
 
 /**
@@ -859,6 +861,21 @@ enum dcol_status dcol_signed_distance(const struct dcol_shape *shape1,
                                       const struct dcol_pose *pose2,
                                       const struct dcol_options *options,
                                       struct dcol_signed_distance_result *result);
+
+/**
+ * dcol_signed_distance with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+ * answer, certified the same way; the cache then holds this one.
+ *
+ * # Safety
+ * As dcol_signed_distance; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_signed_distance_cached(const struct dcol_shape *shape1,
+                                             const struct dcol_pose *pose1,
+                                             const struct dcol_shape *shape2,
+                                             const struct dcol_pose *pose2,
+                                             const struct dcol_options *options,
+                                             struct dcol_cache *cache,
+                                             struct dcol_signed_distance_result *result);
 
 /**
  * The contact manifold of two posed shapes: the points where their signed distance is at most

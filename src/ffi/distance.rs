@@ -362,14 +362,81 @@ pub unsafe extern "C" fn dcol_signed_distance(
     options: *const dcol_options,
     result: *mut dcol_signed_distance_result,
 ) -> dcol_status {
-    run("dcol_signed_distance", || {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        signed_distance_in(
+            "dcol_signed_distance",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            result,
+        )
+    }
+}
+
+/// dcol_signed_distance with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the same
+/// answer, certified the same way; the cache then holds this one.
+///
+/// # Safety
+/// As dcol_signed_distance; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_signed_distance_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    result: *mut dcol_signed_distance_result,
+) -> dcol_status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        signed_distance_in(
+            "dcol_signed_distance_cached",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            result,
+        )
+    }
+}
+
+/// The body of `dcol_signed_distance` and `dcol_signed_distance_cached` (`cache`: `None` for the first).
+///
+/// # Safety
+/// As `dcol_signed_distance`; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments)]
+unsafe fn signed_distance_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    result: *mut dcol_signed_distance_result,
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let d = query::signed_distance(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options)
-            .map_err(Failure::api)?;
+        let d = match warm {
+            Some(c) => {
+                query::signed_distance_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
+            }
+            None => query::signed_distance(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
+        }
+        .map_err(Failure::api)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
         q.outcome(d.status, d.iterations)

@@ -28,6 +28,7 @@ mod sphere_jacobian;
 #[cfg(test)]
 mod sphere_jacobian_tests;
 mod warm;
+mod warm_contacts;
 mod warm_distance;
 
 pub use cached::{
@@ -48,3 +49,4 @@ pub(crate) use proximity::{query_until, query_until_warm};
 pub use shape_gradient::{distance_shape_gradient, shape_gradient, signed_distance_shape_gradient};
 pub(crate) use signed::not_representable;
 pub use signed::{signed_distance, signed_distance_gradient};
+pub use warm_contacts::{contact_manifold_cached, signed_distance_cached};

@@ -42,14 +42,19 @@ const TAG_PIECES: u32 = 1;
 
 /// Words: the two kinds' states, the shapes' piece counts, then per kind two sides of five
 /// words (a tag, a count, three piece ids).
-const WORDS: usize = 24;
+const WORDS: usize = 25;
+/// The word saying the separating normal (below) is kept.
+const W_SEPARATING: usize = 24;
 const W_COUNTS: usize = 2;
 const W_FEATURES: usize = 4;
 /// Numbers: per kind a block of [`BLOCK`] (the unit normal, world; `μ` or the distance's lower
 /// bound; the ray; the points a and b, normalised, relative to their origins; the two poses,
 /// position and quaternion; per side three feature weights), then ℓ.
 const BLOCK: usize = 33;
-const NUMBERS: usize = 2 * BLOCK + 1;
+const NUMBERS: usize = 2 * BLOCK + 4;
+/// A unit normal (world) that separated the shapes at the last answer (any unit vector gives a
+/// valid lower bound on their distance: nothing about it needs checking).
+const N_SEPARATING: usize = 2 * BLOCK + 1;
 const N_NORMAL: usize = 0;
 const N_VALUE: usize = 3;
 const N_RAY: usize = 4;
@@ -303,6 +308,24 @@ impl Cache {
             let at = base(kind) + N_POSE + 7 * i;
             self.put(at, pose.position());
             self.numbers[at + 3..at + 7].copy_from_slice(&pose.quaternion());
+        }
+    }
+
+    /// The kept separating normal (unit, world, from shape 1 to shape 2), if any.
+    pub(super) fn separating(&self) -> Option<Vec3> {
+        let n = self.vec(N_SEPARATING);
+        (self.words[W_SEPARATING] == FEATURES && (n.norm_squared() - 1.0).abs() < 1e-9).then_some(n)
+    }
+
+    /// Keeps `normal` (unit, from shape 1 to shape 2) as the separating normal to try next, or
+    /// forgets it (`None`).
+    pub(super) fn keep_separating(&mut self, normal: Option<&Vec3>) {
+        match normal.and_then(|n| n.try_normalize(0.0)) {
+            Some(n) => {
+                self.put(N_SEPARATING, &n);
+                self.words[W_SEPARATING] = FEATURES;
+            }
+            None => self.words[W_SEPARATING] = COLD,
         }
     }
 

@@ -1,0 +1,98 @@
+//! The signed distance's and the contact manifold's warm start (`super::warm::Cache`): a
+//! separating normal kept from the pair's last answer bounds the distance below with two
+//! support calls (`d ≥ n·(r₂ − r₁) − h₁(n) − h₂(−n)` for any unit `n`), which decides a pair
+//! apart by more than the margin (no contact points) at once; a separated pair's distance comes
+//! from the cache's distance part (`super::warm_distance`).
+
+use super::contact::{contact_manifold, Manifold};
+use super::context::{Options, SignedDistance};
+use super::distance::distance_query_warm;
+use super::signed::signed_distance;
+use super::warm::Cache;
+use crate::error::Error;
+use crate::math::{Pose, Real, Vec3};
+use crate::shapes::{Shape, SupportMap};
+
+/// A lower bound on the distance of the shapes (world) from the unit normal `n` (from shape 1
+/// to shape 2).
+fn gap_below(shapes: [&Shape; 2], poses: [&Pose; 2], n: &Vec3) -> Real {
+    let h = |i: usize, m: Vec3| {
+        let (r, q) = (poses[i].rotation(), poses[i].position());
+        let (p, _) = shapes[i].support(&r.tr_mul(&m));
+        m.dot(&(r * p + q))
+    };
+    // The largest point of shape 1 along n and the smallest of shape 2.
+    -h(1, -n) - h(0, *n)
+}
+
+/// [`crate::signed_distance`] with a warm start: where the kept separating normal proves the
+/// shapes apart, the distance ([`crate::distance_cached`]: warm between polytopes), else the
+/// cold signed distance. The same answer, certified the same way; the cache keeps this one.
+pub fn signed_distance_cached(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    cache: &mut Cache,
+) -> Result<SignedDistance, Error> {
+    let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
+    let apart = cache
+        .separating()
+        .is_some_and(|n| gap_below(shapes, poses, &n) > 0.0);
+    let halfspace = shapes.iter().any(|s| s.bounding_radius().is_infinite());
+    if apart && !halfspace && options.method == crate::Method::Auto {
+        let (d, _) = distance_query_warm(shape1, pose1, shape2, pose2, options, false, cache)?;
+        if d.distance > 0.0 && d.status.is_converged() {
+            cache.keep_separating(Some(&d.normal));
+            return Ok(SignedDistance {
+                distance: d.distance,
+                normal: d.normal,
+                closest1: d.closest1,
+                closest2: d.closest2,
+                iterations: d.iterations,
+                status: d.status,
+                path: d.path,
+            });
+        }
+    }
+    let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
+    cache.keep_separating((sd.distance > 0.0).then_some(&sd.normal));
+    Ok(sd)
+}
+
+/// [`crate::contact_manifold`] with a warm start: a pair the kept separating normal proves
+/// apart by more than `margin` has no contact points, and its signed distance is the distance
+/// ([`crate::distance_cached`]); other pairs are answered cold. The same manifold; the cache
+/// keeps this one's normal where it separates the shapes.
+#[allow(clippy::too_many_arguments)]
+pub fn contact_manifold_cached(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    margin: Real,
+    max_points: usize,
+    options: &Options,
+    cache: &mut Cache,
+) -> Result<Manifold, Error> {
+    let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
+    let apart = margin.is_finite()
+        && cache
+            .separating()
+            .is_some_and(|n| gap_below(shapes, poses, &n) > margin);
+    if apart {
+        let sd = signed_distance_cached(shape1, pose1, shape2, pose2, options, cache)?;
+        if sd.distance > margin {
+            let mut m = Manifold::empty();
+            m.normal = sd.normal;
+            m.signed_distance = sd.distance;
+            m.status = sd.status;
+            m.iterations = sd.iterations;
+            return Ok(m);
+        }
+    }
+    let m = contact_manifold(shape1, pose1, shape2, pose2, margin, max_points, options)?;
+    cache.keep_separating((m.signed_distance > 0.0).then_some(&m.normal));
+    Ok(m)
+}
