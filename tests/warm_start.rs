@@ -290,10 +290,7 @@ fn any_cache_gives_the_cold_answer() {
         );
     }
     let t = trajectory(a, b, &mut rng, 300, 1.0);
-    let mut warm = dcol_cache {
-        words: [0; 25],
-        numbers: [0.0; 70],
-    };
+    let mut warm = dcol_cache::default();
     for (k, (p, q)) in t.iter().enumerate() {
         let mut garbage = warm;
         let bits = (rng.next() * 14.0) as usize;

@@ -25,6 +25,16 @@ pub struct dcol_cache {
     pub numbers: [f64; 70],
 }
 
+impl Default for dcol_cache {
+    /// A cold cache (all zeros, as DCOL_CACHE_INIT).
+    fn default() -> Self {
+        dcol_cache {
+            words: [0; 25],
+            numbers: [0.0; 70],
+        }
+    }
+}
+
 // `dcol_cache` and `Cache` are both `repr(C)` with the same fields in the same order: the
 // same layout, which `cache_mut` relies on.
 const _: () = {
