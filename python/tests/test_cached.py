@@ -275,8 +275,9 @@ def test_cached_errors_as_plain(name, plain, cached):
     rejected input leaves the cache as it was."""
     p1, p2 = [0, 0, 0, 1, 0, 0, 0], [1.2, 0.1, 0.05, 1, 0.02, 0, 0.01]
     for wrong in (None, 0, {}, dcol.proximity(BOX, p1, HULL, p2), [dcol.Cache()]):
-        with pytest.raises(TypeError, match="cache"):
+        with pytest.raises(TypeError, match="not an instance of 'Cache'") as e:
             cached(BOX, p1, HULL, p2, wrong)
+        assert e.value.__notes__ == ["while processing 'cache'"]
     with pytest.raises(TypeError):
         cached(BOX, p1, HULL, p2)  # no cache
 
