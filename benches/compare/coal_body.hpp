@@ -11,8 +11,11 @@
 // The 12-facet polytope is a coal::Convex<Triangle> on the vertices of its H-representation,
 // each facet's counter-clockwise vertex loop split into a triangle fan (Coal's convex shapes
 // store triangles; the fan keeps the facets' orientation, and Coal builds the vertex neighbour
-// graph for its hill-climbing support from them). Padded polygons have no Coal counterpart
-// (the geometry is left empty), as for FCL.
+// graph for its hill-climbing support from them). A padded polygon is a flat
+// coal::Convex<Triangle> (its vertices at z = 0, a triangle fan) with Coal's swept-sphere radius
+// set to the padding (Coal runs GJK on the flat core and subtracts the radius, as dcol's distance
+// does); bench_compare still leaves polygon pairs out (FCL has no such shape), bench_posesets
+// uses it.
 #ifndef DCOL_BENCH_COAL_BODY_HPP
 #define DCOL_BENCH_COAL_BODY_HPP
 
@@ -84,6 +87,19 @@ inline CoalBody to_coal(const cmp_body& body) {
       axial = true;
       o = coal::Vec3s(-0.25 * s.height, 0, 0);
       break;
+    case CMP_POLYGON: {
+      auto verts = std::make_shared<std::vector<coal::Vec3s>>();
+      for (size_t u = 0; u < s.pnv; ++u) verts->emplace_back(s.PV[2 * u], s.PV[2 * u + 1], 0.0);
+      auto tris = std::make_shared<std::vector<coal::Triangle>>();
+      for (size_t k = 1; k + 1 < s.pnv; ++k)
+        tris->emplace_back(0, static_cast<coal::Triangle::index_type>(k),
+                           static_cast<coal::Triangle::index_type>(k + 1));
+      out.geom = std::make_shared<coal::Convex<coal::Triangle>>(
+          verts, static_cast<unsigned int>(verts->size()), tris,
+          static_cast<unsigned int>(tris->size()));
+      static_cast<coal::ShapeBase*>(out.geom.get())->setSweptSphereRadius(s.radius);
+      break;
+    }
     default:
       break;
   }

@@ -13,6 +13,7 @@
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
 use super::derivatives::rotation_axes;
+use super::polytope_jacobian::polytope_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
     Answer, Solved,
@@ -271,8 +272,9 @@ pub(crate) fn unique_contact(
 }
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
-/// its gradient `g` ([`gradient`]): in closed form for two spheres and for a sphere against a
-/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), else by
+/// its gradient `g` ([`gradient`]): in closed form for two spheres, for a sphere against a
+/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), and for two polytopes
+/// touching on a facet of K (`super::polytope_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
 /// `None` where x* is not unique or the features' system is singular.
 ///
@@ -297,6 +299,11 @@ pub(crate) fn jacobian(
         }
     }
     let (pair, sol, s) = normalised(prox, dalpha_dd, shapes, poses);
+    if !general_only() {
+        if let Some(j) = polytope_jacobian(&pair, &sol, prox.alpha, shapes, poses) {
+            return Some(j);
+        }
+    }
     let (ell, inv) = (1.0 / pair.one.inv_scale, pair.one.inv_scale);
     let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
     // A sphere's rotation columns are exactly zero: neither its axes nor its columns are formed.

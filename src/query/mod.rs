@@ -16,6 +16,9 @@ mod early_exit;
 mod fast_derivatives_tests;
 mod geometric;
 mod halfspace;
+mod polytope_jacobian;
+#[cfg(test)]
+mod polytope_jacobian_tests;
 mod proximity;
 mod separated;
 mod shape_gradient;
