@@ -24,7 +24,13 @@ alike), median of the rounds:
   calls (argument conversion, GIL release, output arrays), on every core and on one thread;
 - the Rust batch, ``dcol::batch::proximity_batch`` on the same pairs with its poses and pair
   list built beforehand (``dcol._dcol._bench_rust_proximity_batch``, compiled into the same
-  extension), the reference for the Python batch's overhead.
+  extension), the reference for the Python batch's overhead;
+- warm starts: per call, ``dcol.proximity`` and ``dcol.distance`` against
+  ``dcol.proximity_cached`` and ``dcol.distance_cached`` (one new ``dcol.Cache`` per pair and
+  round) along trajectories of three pairs of polytopes (box-hull, hull-hull, box-box; about
+  ``--calls`` steps in all), shape 2 moving 1 mm per step (reversing every 250 steps) and both
+  turning 1 degree per step, starting at alpha* = 1.2. The cached answers are checked to equal
+  the plain ones (alpha within 1e-12 relative, distance within 1e-12) before anything is timed.
 """
 
 import argparse
@@ -119,6 +125,34 @@ def peer_transform(pose, offset):
     R = quat_matrix(pose[3:])
     R_b, t_b = offset
     return R @ R_b, pose[:3] + R @ t_b
+
+
+def polytope_trajectories(rng, calls):
+    """[(shape1, shape2, [(pose1, pose2), ...])]: three pairs of polytopes, ``calls`` steps in
+    all, each pair moving 1 mm and turning 1 degree per step from alpha* = 1.2."""
+    d = rng.normal(size=(40, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    hull = dcol.ConvexHull(d * rng.uniform(0.4, 0.6, size=(40, 1)) * np.array([1.2, 1.0, 0.8]))
+    box = dcol.Box(0.5, 0.35, 0.25)
+    half = math.radians(1.0) / 2
+    out = []
+    for a, b in ((box, hull), (hull, hull), (box, box)):
+        def unit(n):
+            v = rng.normal(size=n)
+            return v / np.linalg.norm(v)
+        q1, q2 = unit(4), unit(4)
+        w1, w2 = (np.concatenate([[math.cos(half)], unit(3) * math.sin(half)]) for _ in "12")
+        trial = unit(3) * (a.bounding_radius + b.bounding_radius)
+        r2 = trial * 1.2 / dcol.proximity(a, np.r_[0, 0, 0, q1], b, np.r_[trial, q2]).alpha
+        v = unit(3) * 1e-3
+        poses = []
+        for k in range(max(calls // 3, 1)):
+            poses.append((np.r_[0.0, 0.0, 0.0, q1], np.r_[r2, q2]))
+            if k % 250 == 249:
+                v = -v
+            r2, q1, q2 = r2 + v, quat_mul(w1, q1), quat_mul(w2, q2)
+        out.append((a, b, poses))
+    return out
 
 
 def timed(fn):
@@ -225,6 +259,31 @@ def main():
         for o1, o2 in fcl_pairs:
             dist(o1, o2, freq, fres)
 
+    # Warm starts: trajectories of polytopes; the cached answers equal the plain ones.
+    trajs = polytope_trajectories(rng, m)
+    steps = sum(len(p) for _, _, p in trajs)
+    warm = 0
+    for a, b, poses in trajs:
+        c, cd = dcol.Cache(), dcol.Cache()
+        for p1, p2 in poses:
+            hot, cold = dcol.proximity_cached(a, p1, b, p2, c), dcol.proximity(a, p1, b, p2)
+            assert abs(hot.alpha - cold.alpha) <= 1e-12 * cold.alpha, "cached proximity differs"
+            warm += hot.solver == "polish" and cold.solver == "ray_cast"
+            dh, dc = dcol.distance_cached(a, p1, b, p2, cd), dcol.distance(a, p1, b, p2)
+            assert abs(dh.distance - dc.distance) <= 1e-12, "cached distance differs"
+
+    def trajectory_loop(fn, cached):
+        def run():
+            for a, b, poses in trajs:
+                if cached:
+                    c = dcol.Cache()
+                    for p1, p2 in poses:
+                        fn(a, p1, b, p2, c)
+                else:
+                    for p1, p2 in poses:
+                        fn(a, p1, b, p2)
+        return run
+
     T = args.threads
     methods = {
         ("dcol.proximity", "per call"): (m, dcol_loop(_dcol.proximity)),
@@ -242,6 +301,14 @@ def main():
             n, lambda: _dcol._bench_rust_proximity_batch(shapes1, poses1, shapes2, poses2, T, 1)),
         ("Rust proximity_batch", "batch, 1 thread"): (
             n, lambda: _dcol._bench_rust_proximity_batch(shapes1, poses1, shapes2, poses2, 1, 1)),
+        ("dcol.proximity", "per call, trajectory"): (
+            steps, trajectory_loop(_dcol.proximity, False)),
+        ("dcol.proximity_cached", "per call, trajectory"): (
+            steps, trajectory_loop(_dcol.proximity_cached, True)),
+        ("dcol.distance", "per call, trajectory"): (
+            steps, trajectory_loop(_dcol.distance, False)),
+        ("dcol.distance_cached", "per call, trajectory"): (
+            steps, trajectory_loop(_dcol.distance_cached, True)),
     }
     rust = {"Rust proximity_batch"}
     times = {key: [] for key in methods}
@@ -281,6 +348,12 @@ def main():
     print(f"Python batch / Python loop over coal.distance throughput: "
           f"{med[coal_key] / py_batch:.1f} (transforms built in the loop: "
           f"{med[coal_poses_key] / py_batch:.1f}); bar: at least 5")
+    traj = "per call, trajectory"
+    print(f"Warm starts on {steps} trajectory steps of polytope pairs ({warm} warm): "
+          f"dcol.proximity_cached / dcol.proximity time "
+          f"{med[('dcol.proximity_cached', traj)] / med[('dcol.proximity', traj)]:.2f}, "
+          f"dcol.distance_cached / dcol.distance "
+          f"{med[('dcol.distance_cached', traj)] / med[('dcol.distance', traj)]:.2f} (medians)")
 
 
 if __name__ == "__main__":

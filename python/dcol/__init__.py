@@ -7,9 +7,12 @@ One pair at a time: ``proximity``, ``gradient``, ``jacobian``, ``derivatives``, 
 ``distance_gradient``, ``signed_distance``, ``signed_distance_gradient``, ``contacts``,
 ``intersect``, ``alpha_below``, ``alpha_bounds``; the derivatives with respect to the shapes'
 own parameters (``Shape.parameters``): ``shape_gradient``, ``distance_shape_gradient``,
-``signed_distance_shape_gradient``. Many pairs on numpy arrays, without the GIL,
-on dcol's thread pool: ``proximity_batch``, ``gradient_batch``, ``distance_batch``. JAX:
-``dcol.jax`` (``pip install dcol[jax]``).
+``signed_distance_shape_gradient``. Warm starts for a pair queried again and again on poses
+that move a little: ``Cache`` (one per pair) and ``proximity_cached``, ``gradient_cached``,
+``jacobian_cached``, ``derivatives_cached``, ``distance_cached``, ``distance_gradient_cached``
+(the plain queries' answers, found faster between polytopes). Many pairs on numpy arrays,
+without the GIL, on dcol's thread pool: ``proximity_batch``, ``gradient_batch``,
+``distance_batch``. JAX: ``dcol.jax`` (``pip install dcol[jax]``).
 
 Options are keyword arguments: ``tolerance`` (default 1e-9), ``max_iterations``, ``method``
 (``"auto"`` or ``"interior_point"``) and ``smoothing`` (default 0: exact). Every error dcol
@@ -25,6 +28,7 @@ from . import _dcol
 from ._dcol import (
     MAX_CONTACTS,
     Box,
+    Cache,
     Capsule,
     Cone,
     Contact,
@@ -44,13 +48,19 @@ from ._dcol import (
     alpha_bounds,
     contacts,
     derivatives,
+    derivatives_cached,
     distance,
+    distance_cached,
     distance_gradient,
+    distance_gradient_cached,
     distance_shape_gradient,
     gradient,
+    gradient_cached,
     intersect,
     jacobian,
+    jacobian_cached,
     proximity,
+    proximity_cached,
     shape_gradient,
     signed_distance,
     signed_distance_gradient,
@@ -145,6 +155,7 @@ def __getattr__(name):
 
 __all__ = [
     "Box",
+    "Cache",
     "Capsule",
     "Cone",
     "Contact",
@@ -172,15 +183,21 @@ __all__ = [
     "alpha_bounds",
     "contacts",
     "derivatives",
+    "derivatives_cached",
     "distance",
+    "distance_cached",
     "distance_batch",
     "distance_gradient",
+    "distance_gradient_cached",
     "distance_shape_gradient",
     "gradient",
+    "gradient_cached",
     "gradient_batch",
     "intersect",
     "jacobian",
+    "jacobian_cached",
     "proximity",
+    "proximity_cached",
     "proximity_batch",
     "shape_gradient",
     "signed_distance",

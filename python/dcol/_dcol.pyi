@@ -112,6 +112,15 @@ class Derivatives:
     dcontact1: np.ndarray
     dcontact2: np.ndarray
 
+class Cache:
+    """A per-pair warm-start cache, cold when made (see ``proximity_cached``)."""
+    def __init__(self) -> None: ...
+    @property
+    def is_warm(self) -> bool: ...
+    def clear(self) -> None: ...
+    def __copy__(self) -> Cache: ...
+    def __deepcopy__(self, memo: object) -> Cache: ...
+
 # Every query takes the options as keyword arguments.
 def proximity(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike, *,
               tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
@@ -135,6 +144,32 @@ def distance_gradient(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: Arr
                       tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
                       method: Optional[Method] = None,
                       smoothing: Optional[float] = None) -> Tuple[Distance, np.ndarray]: ...
+# The warm-started queries: the plain ones' arguments with the pair's cache after the poses.
+def proximity_cached(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike,
+                     cache: Cache, *, tolerance: Optional[float] = None,
+                     max_iterations: Optional[int] = None, method: Optional[Method] = None,
+                     smoothing: Optional[float] = None) -> Proximity: ...
+def gradient_cached(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike,
+                    cache: Cache, *, tolerance: Optional[float] = None,
+                    max_iterations: Optional[int] = None, method: Optional[Method] = None,
+                    smoothing: Optional[float] = None) -> Tuple[Proximity, np.ndarray]: ...
+def jacobian_cached(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike,
+                    cache: Cache, *, tolerance: Optional[float] = None,
+                    max_iterations: Optional[int] = None, method: Optional[Method] = None,
+                    smoothing: Optional[float] = None) -> Tuple[Proximity, np.ndarray]: ...
+def derivatives_cached(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike,
+                       cache: Cache, *, tolerance: Optional[float] = None,
+                       max_iterations: Optional[int] = None, method: Optional[Method] = None,
+                       smoothing: Optional[float] = None) -> Derivatives: ...
+def distance_cached(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike,
+                    cache: Cache, *, tolerance: Optional[float] = None,
+                    max_iterations: Optional[int] = None, method: Optional[Method] = None,
+                    smoothing: Optional[float] = None) -> Distance: ...
+def distance_gradient_cached(
+    shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike, cache: Cache, *,
+    tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
+    method: Optional[Method] = None, smoothing: Optional[float] = None,
+) -> Tuple[Distance, np.ndarray]: ...
 def signed_distance(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike, *,
                     tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
                     method: Optional[Method] = None,

@@ -11,10 +11,12 @@
 //! - [`errors`]: `dcol.Error` from dcol's errors, statuses and panics;
 //! - [`results`]: the result classes (`Proximity`, `Distance`, ...);
 //! - [`queries`]: one pair at a time (`proximity`, `gradient`, ..., `contacts`);
+//! - [`cached`]: `dcol.Cache` and the warm-started queries (`proximity_cached`, ...);
 //! - [`shape_gradients`]: the derivatives with respect to the shapes' parameters;
 //! - [`batch`]: many pairs on numpy arrays, without the GIL, on dcol's thread pool.
 
 mod batch;
+mod cached;
 mod convert;
 mod errors;
 mod queries;
@@ -30,6 +32,7 @@ fn _dcol(m: &Bound<'_, PyModule>) -> PyResult<()> {
     shapes::register(m)?;
     results::register(m)?;
     queries::register(m)?;
+    cached::register(m)?;
     shape_gradients::register(m)?;
     batch::register(m)?;
     m.add("MAX_CONTACTS", dcol::query::MAX_CONTACTS)?;

@@ -119,6 +119,99 @@ pub fn finish<'py>(
     }
 }
 
+/// A proximity answer as `dcol.proximity` returns it (refused when a double cannot hold it,
+/// raised when the solve did not converge).
+pub fn proximity_value<'py>(
+    py: Python<'py>,
+    func: &str,
+    q: &Inputs<'_>,
+    p: Proximity,
+) -> PyResult<Bound<'py, PyAny>> {
+    check(py, func, q, &[&proximity_numbers(&p)])?;
+    let value = Bound::new(py, PyProximity::from(&p))?.into_any();
+    finish(py, func, q, p.status, p.iterations, value)
+}
+
+/// A gradient answer as `dcol.gradient` returns it, `(Proximity, ndarray (14,))`.
+pub fn gradient_value<'py>(
+    py: Python<'py>,
+    func: &str,
+    q: &Inputs<'_>,
+    (p, g): (Proximity, [f64; 14]),
+) -> PyResult<Bound<'py, PyAny>> {
+    let grad = if_converged(p.status.is_converged(), &g);
+    check(py, func, q, &[&proximity_numbers(&p), grad])?;
+    let value = (PyProximity::from(&p), PyArray1::from_slice(py, &g))
+        .into_pyobject(py)?
+        .into_any();
+    finish(py, func, q, p.status, p.iterations, value)
+}
+
+/// A Jacobian answer as `dcol.jacobian` returns it, `(Proximity, ndarray (4, 14))`.
+pub fn jacobian_value<'py>(
+    py: Python<'py>,
+    func: &str,
+    q: &Inputs<'_>,
+    (p, j): (Proximity, [[f64; 14]; 4]),
+) -> PyResult<Bound<'py, PyAny>> {
+    let jac = if_converged(p.status.is_converged(), j.as_flattened());
+    check(py, func, q, &[&proximity_numbers(&p), jac])?;
+    let value = (PyProximity::from(&p), matrix(py, &j))
+        .into_pyobject(py)?
+        .into_any();
+    finish(py, func, q, p.status, p.iterations, value)
+}
+
+/// A derivatives answer as `dcol.derivatives` returns it, `Derivatives`.
+pub fn derivatives_value<'py>(
+    py: Python<'py>,
+    func: &str,
+    q: &Inputs<'_>,
+    d: dcol::Derivatives,
+) -> PyResult<Bound<'py, PyAny>> {
+    check(py, func, q, &[&proximity_numbers(&d.proximity)])?;
+    if d.proximity.status.is_converged() {
+        let all = [
+            &d.dalpha[..],
+            d.jacobian.as_flattened(),
+            d.dcontact1.as_flattened(),
+            d.dcontact2.as_flattened(),
+        ];
+        check(py, func, q, &all)?;
+    }
+    let value = Bound::new(py, PyDerivatives::new(py, &d)?)?.into_any();
+    let p = d.proximity;
+    finish(py, func, q, p.status, p.iterations, value)
+}
+
+/// A distance answer as `dcol.distance` returns it, `Distance`.
+pub fn distance_value<'py>(
+    py: Python<'py>,
+    func: &str,
+    q: &Inputs<'_>,
+    d: Distance,
+) -> PyResult<Bound<'py, PyAny>> {
+    check(py, func, q, &[&distance_numbers(&d)])?;
+    let value = Bound::new(py, PyDistance::from(&d))?.into_any();
+    finish(py, func, q, d.status, d.iterations, value)
+}
+
+/// A distance-gradient answer as `dcol.distance_gradient` returns it, `(Distance, ndarray
+/// (14,))`.
+pub fn distance_gradient_value<'py>(
+    py: Python<'py>,
+    func: &str,
+    q: &Inputs<'_>,
+    (d, g): (Distance, [f64; 14]),
+) -> PyResult<Bound<'py, PyAny>> {
+    let grad = if_converged(d.status.is_converged(), &g);
+    check(py, func, q, &[&distance_numbers(&d), grad])?;
+    let value = (PyDistance::from(&d), PyArray1::from_slice(py, &g))
+        .into_pyobject(py)?
+        .into_any();
+    finish(py, func, q, d.status, d.iterations, value)
+}
+
 /// α*, x* and the contact points of two posed shapes (`dcol_proximity`).
 #[pyfunction]
 #[pyo3(signature = (shape1, pose1, shape2, pose2, *, tolerance=None, max_iterations=None, method=None, smoothing=None))]
@@ -145,9 +238,7 @@ pub fn proximity<'py>(
     let p = run(py, func, &q, |q| {
         dcol::proximity(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    check(py, func, &q, &[&proximity_numbers(&p)])?;
-    let value = Bound::new(py, PyProximity::from(&p))?.into_any();
-    finish(py, func, &q, p.status, p.iterations, value)
+    proximity_value(py, func, &q, p)
 }
 
 /// `(result, gradient)`: proximity and ∂α*/∂(r1, q1, r2, q2), shape (14,) (`dcol_gradient`).
@@ -173,15 +264,10 @@ pub fn gradient<'py>(
         smoothing,
     };
     let q = inputs(func, shape1, pose1, shape2, pose2, kw)?;
-    let (p, g) = run(py, func, &q, |q| {
+    let answer = run(py, func, &q, |q| {
         dcol::gradient(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    let grad = if_converged(p.status.is_converged(), &g);
-    check(py, func, &q, &[&proximity_numbers(&p), grad])?;
-    let value = (PyProximity::from(&p), PyArray1::from_slice(py, &g))
-        .into_pyobject(py)?
-        .into_any();
-    finish(py, func, &q, p.status, p.iterations, value)
+    gradient_value(py, func, &q, answer)
 }
 
 /// `(result, jacobian)`: proximity and ∂(x*, α*)/∂(r1, q1, r2, q2), shape (4, 14)
@@ -208,15 +294,10 @@ pub fn jacobian<'py>(
         smoothing,
     };
     let q = inputs(func, shape1, pose1, shape2, pose2, kw)?;
-    let (p, j) = run(py, func, &q, |q| {
+    let answer = run(py, func, &q, |q| {
         dcol::jacobian(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    let jac = if_converged(p.status.is_converged(), j.as_flattened());
-    check(py, func, &q, &[&proximity_numbers(&p), jac])?;
-    let value = (PyProximity::from(&p), matrix(py, &j))
-        .into_pyobject(py)?
-        .into_any();
-    finish(py, func, &q, p.status, p.iterations, value)
+    jacobian_value(py, func, &q, answer)
 }
 
 /// Proximity, gradient, Jacobian and the contact points' Jacobians in one solve
@@ -246,19 +327,7 @@ pub fn derivatives<'py>(
     let d = run(py, func, &q, |q| {
         dcol::derivatives(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    check(py, func, &q, &[&proximity_numbers(&d.proximity)])?;
-    if d.proximity.status.is_converged() {
-        let all = [
-            &d.dalpha[..],
-            d.jacobian.as_flattened(),
-            d.dcontact1.as_flattened(),
-            d.dcontact2.as_flattened(),
-        ];
-        check(py, func, &q, &all)?;
-    }
-    let value = Bound::new(py, PyDerivatives::new(py, &d)?)?.into_any();
-    let p = d.proximity;
-    finish(py, func, &q, p.status, p.iterations, value)
+    derivatives_value(py, func, &q, d)
 }
 
 /// The exact distance, closest points and normal (`dcol_distance`); 0 when touching or
@@ -288,9 +357,7 @@ pub fn distance<'py>(
     let d = run(py, func, &q, |q| {
         dcol::distance(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    check(py, func, &q, &[&distance_numbers(&d)])?;
-    let value = Bound::new(py, PyDistance::from(&d))?.into_any();
-    finish(py, func, &q, d.status, d.iterations, value)
+    distance_value(py, func, &q, d)
 }
 
 /// `(result, gradient)`: the distance and its gradient over (r1, q1, r2, q2), shape (14,)
@@ -317,15 +384,10 @@ pub fn distance_gradient<'py>(
         smoothing,
     };
     let q = inputs(func, shape1, pose1, shape2, pose2, kw)?;
-    let (d, g) = run(py, func, &q, |q| {
+    let answer = run(py, func, &q, |q| {
         dcol::distance_gradient(q.s1, &q.p1, q.s2, &q.p2, &q.opts)
     })?;
-    let grad = if_converged(d.status.is_converged(), &g);
-    check(py, func, &q, &[&distance_numbers(&d), grad])?;
-    let value = (PyDistance::from(&d), PyArray1::from_slice(py, &g))
-        .into_pyobject(py)?
-        .into_any();
-    finish(py, func, &q, d.status, d.iterations, value)
+    distance_gradient_value(py, func, &q, answer)
 }
 
 /// The signed distance: the distance, or minus the penetration depth, with the normal and
