@@ -6,7 +6,8 @@
 //! trajectory passes through separated, touching and (for some) overlapping poses, and the
 //! contact features change as the shapes turn.
 //!
-//! For each query (proximity, gradient, Jacobian, distance, derivatives) the whole trajectory is timed
+//! For each query (proximity, gradient, Jacobian, distance, signed distance, contacts with a
+//! 0.02 margin, derivatives) the whole trajectory is timed
 //! cold (the plain query) and cached (one `dcol::Cache` carried through it), interleaved,
 //! `DCOL_WARM_ROUNDS` times (default 5); per pair the median round, per step. Then the same
 //! on random jumps (every step a new random pose of the pair, the cache carried along), where
@@ -16,7 +17,8 @@
 //! `cargo bench --bench warm` (`-- --test`: a smoke run of 20 steps, 1 round).
 
 use dcol::{
-    derivatives, derivatives_cached, distance, distance_cached, gradient, gradient_cached,
+    contact_manifold, contact_manifold_cached, derivatives, derivatives_cached, distance,
+    distance_cached, gradient, signed_distance, signed_distance_cached, gradient_cached,
     jacobian, jacobian_cached, proximity, proximity_cached, Cache, Options, Pose, Shape,
 };
 use std::hint::black_box;
@@ -164,6 +166,9 @@ fn poses(
     out
 }
 
+/// The contact manifold's margin (the shapes are about 1 across).
+const MARGIN: f64 = 0.02;
+
 type Cold = fn(&Shape, &Pose, &Shape, &Pose, &Options) -> f64;
 type Warm = fn(&Shape, &Pose, &Shape, &Pose, &Options, &mut Cache) -> f64;
 
@@ -187,6 +192,22 @@ const QUERIES: &[(&str, Cold, Warm)] = &[
         "distance",
         |a, p, b, q, o| distance(a, p, b, q, o).unwrap().distance,
         |a, p, b, q, o, c| distance_cached(a, p, b, q, o, c).unwrap().distance,
+    ),
+    (
+        "signed_distance",
+        |a, p, b, q, o| signed_distance(a, p, b, q, o).unwrap().distance,
+        |a, p, b, q, o, c| signed_distance_cached(a, p, b, q, o, c).unwrap().distance,
+    ),
+    (
+        "contacts",
+        |a, p, b, q, o| {
+            let m = contact_manifold(a, p, b, q, MARGIN, 4, o).unwrap();
+            m.signed_distance + m.len() as f64
+        },
+        |a, p, b, q, o, c| {
+            let m = contact_manifold_cached(a, p, b, q, MARGIN, 4, o, c).unwrap();
+            m.signed_distance + m.len() as f64
+        },
     ),
     (
         "derivatives",
@@ -271,7 +292,7 @@ fn main() {
                         }
                         tw.push(t.elapsed().as_nanos() as f64 / steps as f64);
                     }
-                    if qi == 0 || qi == 3 {
+                    if qi == 0 || qi == 3 || qi == 4 {
                         let mut cache = Cache::new();
                         for (p, q) in &traj {
                             let (x, y) = (cold(a, p, b, q, &o), warm(a, p, b, q, &o, &mut cache));
