@@ -12,8 +12,9 @@
 //! boxes whose least axis is an edge pair (boxes nearly face to face and slightly turned, as in
 //! a settling stack or pyramid) get the signed distance the general path computes for them (the
 //! separating axes' edge witnesses, `crate::solver::sat::box_edges`) without computing the
-//! axes a second time; their points are then the general path's. Apart boxes whose nearest
-//! points are not across a facet are the general path's.
+//! axes a second time, and the general path's points computed in the reference box's frame
+//! (`edge_pair`). Apart boxes whose nearest points are not across a facet are the general
+//! path's.
 
 use super::context::DistancePath;
 use super::context::SignedDistance;
