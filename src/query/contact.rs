@@ -15,7 +15,7 @@
 //! points within the margin is a contact (a box resting on a floor gives its four corners).
 
 use super::contact_boxes::End;
-use super::contact_reduce::reduce;
+use super::contact_reduce::{clip_polygon, clip_segment, reduce, segments, V2};
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
 use super::signed::{finite, not_representable, signed_distance_validated};
@@ -24,7 +24,6 @@ use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
 use crate::solver::SolveStatus;
 use arrayvec::ArrayVec;
-use nalgebra::Vector2;
 
 /// The most contacts a manifold holds.
 pub const MAX_CONTACTS: usize = 16;
@@ -45,8 +44,6 @@ const COS_FACET: Real = 0.3;
 const FACET_TOL: Real = 1e-9;
 /// Relative tolerance (of the length scale) on the separation test.
 const SEP_TOL: Real = 1e-9;
-
-type V2 = Vector2<Real>;
 
 /// One contact point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -126,6 +123,8 @@ pub fn contact_manifold(
     max_points: usize,
     options: &Options,
 ) -> Result<Manifold, Error> {
+    check_margin(margin)?;
+    options.validate()?;
     let mut out = Manifold::empty();
     manifold(
         shape1, pose1, shape2, pose2, margin, max_points, options, true, &mut out,
@@ -133,10 +132,23 @@ pub fn contact_manifold(
     Ok(out)
 }
 
+/// `InvalidOptions` unless `margin` is finite and nonnegative.
+fn check_margin(margin: Real) -> Result<(), Error> {
+    if margin.is_finite() && margin >= 0.0 {
+        return Ok(());
+    }
+    Err(Error::InvalidOptions(ErrorDetail::new(
+        "margin",
+        margin,
+        "must be finite and nonnegative",
+    )))
+}
+
 /// [`contact_manifold`]; with `exact_distance` false, a manifold without points may carry a
 /// lower bound above the margin as its signed distance (a separating axis decided, without the
 /// distance), for callers that read only the points (the C function). Its numbers are finite:
 /// an answer beyond the largest double (shapes within their size of it) is `InvalidPose`.
+/// `options` must be validated (`Options::validate`; the C function's are, when read).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn manifold(
     shape1: &Shape,
@@ -149,20 +161,13 @@ pub(crate) fn manifold(
     exact_distance: bool,
     out: &mut Manifold,
 ) -> Result<(), Error> {
-    if !(margin.is_finite() && margin >= 0.0) {
-        return Err(Error::InvalidOptions(ErrorDetail::new(
-            "margin",
-            margin,
-            "must be finite and nonnegative",
-        )));
-    }
+    check_margin(margin)?;
     let cap = max_points.min(MAX_CONTACTS);
     // Two boxes: the closed form (`super::contact_boxes`), or the signed distance of an
     // edge-pair overlap (the separating axes' answer, which `signed_distance` would compute
     // again).
     let mut known = None;
     if let (Some(h1), Some(h2)) = (shape1.centred_box(), shape2.centred_box()) {
-        options.validate()?;
         let ell = shape1.bounding_radius().max(shape2.bounding_radius());
         match super::contact_boxes::boxes(shape1, &h1, pose1, shape2, &h2, pose2, margin, ell) {
             // Boxes apart (by more than the margin, or less) take the distance query's answer
@@ -186,7 +191,6 @@ pub(crate) fn manifold(
     // A strictly convex shape (a sphere, an ellipsoid) touches at one point: the witness pair.
     let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
     if known.is_none() {
-        options.validate()?;
         if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
             if let Some(()) = on_halfspace_alone(&pair, strict(pair.other), margin, cap, out)? {
                 return Ok(());
@@ -195,7 +199,7 @@ pub(crate) fn manifold(
     }
     let sd = match known {
         Some(sd) => sd,
-        // `options` validated above (both branches).
+        // `options` validated by the caller.
         None => signed_distance_validated(shape1, pose1, shape2, pose2, options)?,
     };
     if sd.distance > margin || cap == 0 {
@@ -355,6 +359,7 @@ struct Feature {
 }
 
 impl Feature {
+    #[inline]
     fn empty() -> Self {
         Feature {
             pts: ArrayVec::new(),
@@ -372,6 +377,48 @@ impl Feature {
 /// The feature of `shape` at `pose` facing the world direction `dir` (unit); `window` is how
 /// far below the support value a piece's support point may lie to count.
 fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real, f: &mut Feature) {
+    let rot = pose.rotation();
+    let r = pose.position();
+    let m = rot.transpose() * dir;
+    let world = |b: &Vec3| r + rot * b;
+    f.pts.clear();
+    f.face = Vec3::zeros();
+    let Some(poly) = box_polytope(shape) else {
+        return feature_general(shape, pose, dir, window, f);
+    };
+    {
+        // A centred box (six facets, no gauge climb): the general path's facet (the last best
+        // aligned normal, as `Polytope::facet_index` picks it) and corner loop, without its
+        // dispatch and searches; the same points to the last bit.
+        let (normals, _) = poly.facets();
+        let verts = poly.vertices();
+        let mut k = 0;
+        let mut best = normals[0].dot(&m);
+        for (i, nrm) in normals.iter().enumerate().skip(1) {
+            let c = nrm.dot(&m);
+            if c.total_cmp(&best) != std::cmp::Ordering::Less {
+                (k, best) = (i, c);
+            }
+        }
+        let len = m.norm();
+        if len > 0.0 && best >= COS_FACET * len {
+            if let Some(corners) = poly.facet_loop(k) {
+                for &c in corners.iter().take(MAX_FACE) {
+                    f.push(world(&verts[c as usize]));
+                }
+                f.face = rot * normals[k];
+                if f.k() >= 3 {
+                    return;
+                }
+                f.pts.clear();
+            }
+        }
+        f.push(world(&shape.support(&m).0));
+    }
+}
+
+/// [`feature`] for every shape (a box's facet found by its general search).
+fn feature_general(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real, f: &mut Feature) {
     let rot = pose.rotation();
     let r = pose.position();
     let m = rot.transpose() * dir;
@@ -470,6 +517,14 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real, f: &mut Feature
     }
 }
 
+/// The polytope of `shape` when it is a centred box with six facets whose corner loops it knows
+/// (every box `Shape::cuboid` makes).
+fn box_polytope(shape: &Shape) -> Option<&crate::shapes::Polytope> {
+    let poly = shape.as_polytope()?;
+    poly.half_extents()?;
+    (poly.facets().0.len() == 6 && poly.facet_loop(0).is_some()).then_some(poly)
+}
+
 /// The radius of the balls a capsule or padded polygon is made of.
 fn ball_radius(shape: &Shape) -> Option<Real> {
     match shape.rounded_segment() {
@@ -516,30 +571,68 @@ fn basis(n: &Vec3) -> (Vec3, Vec3) {
     (u, n.cross(&u))
 }
 
-fn cross2(a: &V2, b: &V2) -> Real {
-    a.x * b.y - a.y * b.x
+/// A feature ready to lift plane points onto (along `n`): what the lifting needs of it, computed
+/// once per feature instead of once per point (the same numbers).
+enum Lifter {
+    /// A single point: every plane point lifts to it.
+    Point(Vec3),
+    /// A segment from `p0` along `e`, whose plane coordinates are `a` and `a + d`
+    /// (`dd = ‖d‖²`).
+    Segment {
+        p0: Vec3,
+        e: Vec3,
+        a: V2,
+        d: V2,
+        dd: Real,
+    },
+    /// A face through `p0` with outward normal `face`, `nf = n·face`.
+    Face { p0: Vec3, face: Vec3, nf: Real },
 }
 
-/// Lifts the plane point `q` (coordinates on `(u, v)` about the origin `o`) along `n` onto a
-/// feature: onto a face's plane, or onto a segment's line.
-fn lift(f: &Feature, q: &V2, o: &Vec3, (u, v): (&Vec3, &Vec3), n: &Vec3) -> Vec3 {
-    let x = o + u * q.x + v * q.y;
-    match f.k() {
-        1 => f.pts[0],
-        2 => {
-            let (p0, p1) = (f.pts[0], f.pts[1]);
-            let a = V2::new((p0 - o).dot(u), (p0 - o).dot(v));
-            let d = V2::new((p1 - p0).dot(u), (p1 - p0).dot(v));
-            let s = if d.norm_squared() > 0.0 {
-                ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            p0 + (p1 - p0) * s
+impl Lifter {
+    /// The lifter of `f` for plane coordinates on `(u, v)` about the origin `o`, along `n`.
+    fn new(f: &Feature, o: &Vec3, (u, v): (&Vec3, &Vec3), n: &Vec3) -> Lifter {
+        match f.k() {
+            1 => Lifter::Point(f.pts[0]),
+            2 => {
+                let (p0, p1) = (f.pts[0], f.pts[1]);
+                let a = V2::new((p0 - o).dot(u), (p0 - o).dot(v));
+                let d = V2::new((p1 - p0).dot(u), (p1 - p0).dot(v));
+                Lifter::Segment {
+                    p0,
+                    e: p1 - p0,
+                    a,
+                    d,
+                    dd: d.norm_squared(),
+                }
+            }
+            _ => Lifter::Face {
+                p0: f.pts[0],
+                face: f.face,
+                nf: n.dot(&f.face),
+            },
         }
-        _ => {
-            let t = (f.pts[0] - x).dot(&f.face) / n.dot(&f.face);
-            x + n * t
+    }
+
+    /// Lifts the plane point `q` (coordinates on `(u, v)` about the origin `o`) along `n` onto
+    /// the feature: onto a face's plane, or onto a segment's line.
+    #[inline]
+    fn lift(&self, q: &V2, o: &Vec3, (u, v): (&Vec3, &Vec3), n: &Vec3) -> Vec3 {
+        match self {
+            Lifter::Point(p) => *p,
+            Lifter::Segment { p0, e, a, d, dd } => {
+                let s = if *dd > 0.0 {
+                    ((q - a).dot(d) / dd).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                p0 + e * s
+            }
+            Lifter::Face { p0, face, nf } => {
+                let x = o + u * q.x + v * q.y;
+                let t = (p0 - x).dot(face) / nf;
+                x + n * t
+            }
         }
     }
 }
@@ -558,7 +651,8 @@ fn build(
 ) {
     let n = sd.normal;
     let window = (margin - sd.distance).max(0.0) + SEP_TOL * ell;
-    let (mut f1, mut f2) = (Feature::empty(), Feature::empty());
+    let mut f1 = Feature::empty();
+    let mut f2 = Feature::empty();
     feature(shape1, pose1, &n, window, &mut f1);
     feature(shape2, pose2, &(-n), window, &mut f2);
     if f1.k() == 1 || f2.k() == 1 {
@@ -591,7 +685,11 @@ fn build(
         } else {
             (&f2, &f1)
         };
-        let r2: ArrayVec<V2, MAX_FACE> = reference.pts.iter().map(proj).collect();
+        // Filled in place (a collected `ArrayVec` is moved: a copy of its whole buffer).
+        let mut r2: ArrayVec<V2, MAX_FACE> = ArrayVec::new();
+        for p in &reference.pts {
+            r2.push(proj(p));
+        }
         if incident.k() == 2 {
             let seg = [proj(&incident.pts[0]), proj(&incident.pts[1])];
             clip_segment(&r2, &seg, &mut q)
@@ -600,9 +698,11 @@ fn build(
             clip_polygon(&r2, &mut q)
         }
     }
+    let l1 = Lifter::new(&f1, &o, (&u, &v), &n);
+    let l2 = Lifter::new(&f2, &o, (&u, &v), &n);
     for qi in &q {
-        let a = lift(&f1, qi, &o, (&u, &v), &n);
-        let b = lift(&f2, qi, &o, (&u, &v), &n);
+        let a = l1.lift(qi, &o, (&u, &v), &n);
+        let b = l2.lift(qi, &o, (&u, &v), &n);
         let depth = (a - b).dot(&n);
         if -depth <= margin + SEP_TOL * ell {
             pts.push(midpoint(&a, &b), depth);
@@ -635,123 +735,56 @@ fn on_halfspace(
     }
 }
 
-/// The signed area's sign of a polygon: `1` counter-clockwise, `-1` clockwise.
-fn orientation(poly: &[V2]) -> Real {
-    let mut a = 0.0;
-    for i in 0..poly.len() {
-        let j = (i + 1) % poly.len();
-        a += cross2(&poly[i], &poly[j]);
-    }
-    if a >= 0.0 {
-        1.0
-    } else {
-        -1.0
-    }
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// Sutherland–Hodgman: clips the polygon `poly` against the convex polygon `reference`, in
-/// place (two buffers taking turns: moving a whole buffer per edge cost more than the clipping).
-fn clip_polygon(reference: &[V2], poly: &mut ArrayVec<V2, BUF>) {
-    let s = orientation(reference);
-    let mut tmp: ArrayVec<V2, BUF> = ArrayVec::new();
-    let (mut cur, mut next) = (poly, &mut tmp);
-    let mut turned = false;
-    for e in 0..reference.len() {
-        let a = reference[e];
-        let d = reference[if e + 1 == reference.len() { 0 } else { e + 1 }] - a;
-        let side = |p: &V2| s * cross2(&d, &(p - a));
-        next.clear();
-        let len = cur.len();
-        for i in 0..len {
-            let p = cur[i];
-            let c = cur[if i + 1 == len { 0 } else { i + 1 }];
-            let (sp, sc) = (side(&p), side(&c));
-            if sp >= 0.0 {
-                let _ = next.try_push(p);
-            }
-            if (sp >= 0.0) != (sc >= 0.0) {
-                let t = sp / (sp - sc);
-                let _ = next.try_push(p + (c - p) * t);
-            }
+    /// A box's facet from its fast path is the general search's to the last bit (points, order,
+    /// normal): random attitudes and directions, the axes, the ties between facets (45
+    /// degrees, where both pick the last best facet).
+    #[test]
+    fn box_feature_is_the_general_one() {
+        let b = Shape::cuboid(0.3, 0.2, 0.1).unwrap();
+        assert!(box_polytope(&b).is_some());
+        let mut seed = 7u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
+        };
+        let mut dirs = vec![];
+        for v in [
+            [1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 1.0, 0.0],
+            [1.0, -1.0, 1.0],
+            [0.0, 1.0, -1.0],
+        ] {
+            dirs.push(Vec3::from(v).normalize());
         }
-        std::mem::swap(&mut cur, &mut next);
-        turned = !turned;
-        if cur.is_empty() {
-            break;
+        for _ in 0..400 {
+            dirs.push(Vec3::new(rnd(), rnd(), rnd()).normalize());
         }
-    }
-    if turned {
-        // The result is in `tmp` (`cur`); `next` is the caller's buffer.
-        next.clear();
-        next.extend(cur.iter().copied());
-    }
-}
-
-/// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`, into `out`.
-fn clip_segment(reference: &[V2], seg: &[V2; 2], out: &mut ArrayVec<V2, BUF>) {
-    let s = orientation(reference);
-    let (p, d) = (seg[0], seg[1] - seg[0]);
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for e in 0..reference.len() {
-        let a = reference[e];
-        let ed = reference[(e + 1) % reference.len()] - a;
-        // inside: s·cross(ed, x − a) ≥ 0, linear in t: f0 + t·f1.
-        let f0 = s * cross2(&ed, &(p - a));
-        let f1 = s * cross2(&ed, &d);
-        if f1 == 0.0 {
-            if f0 < 0.0 {
-                return;
-            }
-        } else {
-            let t = -f0 / f1;
-            if f1 > 0.0 {
-                lo = Real::max(lo, t);
+        for (i, d) in dirs.iter().enumerate() {
+            let q = if i % 2 == 0 {
+                [1.0, 0.0, 0.0, 0.0]
             } else {
-                hi = Real::min(hi, t);
-            }
+                [rnd(), rnd(), rnd(), rnd()]
+            };
+            let pose = Pose::new([rnd(), rnd(), rnd()], q).unwrap();
+            let (mut fast, mut general) = (Feature::empty(), Feature::empty());
+            feature(&b, &pose, d, 1e-9, &mut fast);
+            feature_general(&b, &pose, d, 1e-9, &mut general);
+            assert_eq!(
+                fast.pts.as_slice(),
+                general.pts.as_slice(),
+                "direction {d:?}"
+            );
+            assert_eq!(fast.face, general.face);
+            // Every direction is within 55 degrees of a facet's normal: always a facet.
+            assert_eq!(fast.k(), 4);
         }
-    }
-    if lo > hi {
-        return;
-    }
-    out.push(p + d * lo);
-    if hi > lo {
-        out.push(p + d * hi);
-    }
-}
-
-/// Two segments in the plane: their overlap if parallel, else their crossing point, into
-/// `out`.
-fn segments(a: &[V2; 2], b: &[V2; 2], tol: Real, out: &mut ArrayVec<V2, BUF>) {
-    let (da, db) = (a[1] - a[0], b[1] - b[0]);
-    let (la, lb) = (da.norm(), db.norm());
-    if !(la > 0.0 && lb > 0.0) {
-        return;
-    }
-    let c = cross2(&da, &db);
-    if c.abs() <= 1e-6 * la * lb {
-        // Parallel: unless the lines coincide (to rounding) the normal does not join them and
-        // the witness point answers; else the overlap of b with a, as parameters along a.
-        if cross2(&da, &(b[0] - a[0])).abs() > tol * la {
-            return;
-        }
-        let ta = |p: &V2| (p - a[0]).dot(&da) / (la * la);
-        let (t0, t1) = (ta(&b[0]), ta(&b[1]));
-        let lo = t0.min(t1).max(0.0);
-        let hi = t0.max(t1).min(1.0);
-        if lo > hi {
-            return;
-        }
-        out.push(a[0] + da * lo);
-        if hi > lo {
-            out.push(a[0] + da * hi);
-        }
-        return;
-    }
-    let w = b[0] - a[0];
-    let s = cross2(&w, &db) / c;
-    let t = cross2(&w, &da) / c;
-    if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
-        out.push(a[0] + da * s);
     }
 }

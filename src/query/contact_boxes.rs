@@ -12,8 +12,9 @@
 //! boxes whose least axis is an edge pair (boxes nearly face to face and slightly turned, as in
 //! a settling stack or pyramid) get the signed distance the general path computes for them (the
 //! separating axes' edge witnesses, `crate::solver::sat::box_edges`) without computing the
-//! axes a second time; their points are then the general path's. Apart boxes whose nearest
-//! points are not across a facet are the general path's.
+//! axes a second time, and the general path's points computed in the reference box's frame
+//! (`edge_pair`). Apart boxes whose nearest points are not across a facet are the general
+//! path's.
 
 use super::context::DistancePath;
 use super::context::SignedDistance;
@@ -28,6 +29,9 @@ const MAX: usize = 8;
 /// The incident box's face is used when its normal is within about 72 degrees of the
 /// reference facet's (as the general path's `COS_FACET`).
 const COS_FACET: Real = 0.3;
+/// Relative tolerance (of the boxes' size) on the depth of the points kept, as the general
+/// path's.
+const SEP_TOL: Real = 1e-9;
 
 /// A closed-form manifold: the signed distance and the candidate points (world position
 /// midway between the surfaces, depth).
@@ -75,7 +79,16 @@ pub(crate) fn boxes(
     let (k, s, first) = match axis {
         Axis::Face1(k) => (k % 3, if k < 3 { 1.0 } else { -1.0 }, true),
         Axis::Face2(k) => (k % 3, if k < 3 { 1.0 } else { -1.0 }, false),
-        Axis::Edges(len) => return edges(shape1, pose1, shape2, pose2, (depth, n, len), scale),
+        Axis::Edges(len) => {
+            let end = edges(shape1, pose1, shape2, pose2, (depth, n, len), scale);
+            if let End::Edges(sd) = &end {
+                let pair = ((h1, pose1), (h2, pose2), (&c, &t));
+                if let Some(points) = edge_pair(pair, &n, sd, margin, scale) {
+                    return End::Closed(Boxes { sd: *sd, points });
+                }
+            }
+            return end;
+        }
     };
     let (href, hinc, pref, cinc, tinc) = if first {
         (h1, h2, pose1, c, t)
@@ -238,9 +251,21 @@ fn clip_to_facet(
     ] {
         poly.push(p);
     }
-    // Clip to |p_i| ≤ href_i for the two in-plane axes (two buffers taking turns).
+    if !clip_rect(&mut poly, href, k) {
+        return ArrayVec::new();
+    }
+    poly.iter()
+        .map(|p| (*p, plane - s * p[k]))
+        .filter(|(_, d)| *d >= -margin)
+        .collect()
+}
+
+/// Clips the polygon `poly` (in a box's frame), in place, to `|p_i| ≤ href_i` for the two axes
+/// `i ≠ k` (two buffers taking turns); false when nothing is left.
+#[inline(always)]
+fn clip_rect(poly: &mut ArrayVec<Vec3, MAX>, href: &Vec3, k: usize) -> bool {
     let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
-    let (mut cur, mut next) = (&mut poly, &mut tmp);
+    let (mut cur, mut next) = (poly, &mut tmp);
     for i in [(k + 1) % 3, (k + 2) % 3] {
         for side in [1.0, -1.0] {
             next.clear();
@@ -257,12 +282,98 @@ fn clip_to_facet(
             }
             std::mem::swap(&mut cur, &mut next);
             if cur.is_empty() {
-                return ArrayVec::new();
+                return false;
             }
         }
     }
-    cur.iter()
-        .map(|p| (*p, plane - s * p[k]))
-        .filter(|(_, d)| *d >= -margin)
-        .collect()
+    // Four turns: the result is back in `poly`.
+    true
+}
+
+/// Two boxes' half extents and poses, and shape 2's attitude and centre in shape 1's frame.
+type BoxPair<'a> = (
+    (&'a Vec3, &'a Pose),
+    (&'a Vec3, &'a Pose),
+    (&'a Mat3, &'a Vec3),
+);
+
+/// The box pair `((h1, pose1), (h2, pose2), (c, t))` (shape 2's attitude and centre in shape
+/// 1's frame), overlapping with an edge pair as its least axis, of unit normal `n` (shape 1's
+/// frame) and signed distance `sd` (`edges`' answer, witnesses finite): the points the general
+/// path finds for it, in closed form (the face of each box facing the other along `n`, the
+/// incident one clipped to the reference one in the plane orthogonal to `n`, each point lifted
+/// along `n` onto both faces). Computed in the reference box's frame: the incident face moved
+/// along `n` onto the reference facet's plane (an affine image of the plane orthogonal to `n`,
+/// so the same clipping), clipped to its rectangle, and lifted along `n` onto the incident
+/// face. `None` (the general path answers) when a face is more than about 72 degrees from `n`
+/// or no point is as deep as `sd` (the general path then adds the witness).
+fn edge_pair(
+    ((h1, pose1), (h2, pose2), (c, t)): BoxPair<'_>,
+    n: &Vec3,
+    sd: &SignedDistance,
+    margin: Real,
+    scale: Real,
+) -> Option<ArrayVec<(Vec3, Real), MAX>> {
+    let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
+    if !(sd.distance <= 0.0 && finite(&sd.closest1) && finite(&sd.closest2)) {
+        return None;
+    }
+    let n = *n;
+    // Each box's facet facing the other along n, and its alignment |face·n|.
+    let k1 = (0..3).max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))?;
+    let n2 = -c.tr_mul(&n); // −n in shape 2's frame
+    let k2 = (0..3).max_by(|&a, &b| n2[a].abs().total_cmp(&n2[b].abs()))?;
+    if n[k1].abs() < COS_FACET || n2[k2].abs() < COS_FACET {
+        return None;
+    }
+    // The reference face is the better aligned one (shape 1's on a tie); in its box's frame,
+    // `d` is the contact normal pointing out of it (n for shape 1, −n for shape 2).
+    let first = n[k1].abs() >= n2[k2].abs();
+    let (href, hinc, pref, cinc, tinc, d, k) = if first {
+        (h1, h2, pose1, *c, *t, n, k1)
+    } else {
+        (h2, h1, pose2, c.transpose(), -c.tr_mul(t), n2, k2)
+    };
+    let s = d[k].signum();
+    // The incident box's face most opposed to d.
+    let dinc = cinc.tr_mul(&d);
+    let j = (0..3).max_by(|&a, &b| dinc[a].abs().total_cmp(&dinc[b].abs()))?;
+    let sign = if dinc[j] > 0.0 { -1.0 } else { 1.0 };
+    let face = cinc.column(j) * sign;
+    let centre = tinc + face * hinc[j];
+    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+    let (u, v) = (cinc.column(j1) * hinc[j1], cinc.column(j2) * hinc[j2]);
+    // Its corners moved along d onto the reference facet's plane x_k = s·href_k.
+    let plane = s * href[k];
+    let mut poly: ArrayVec<Vec3, MAX> = ArrayVec::new();
+    for p in [
+        centre + u + v,
+        centre - u + v,
+        centre - u - v,
+        centre + u - v,
+    ] {
+        poly.push(p + d * ((plane - p[k]) / d[k]));
+    }
+    if !clip_rect(&mut poly, href, k) {
+        return None;
+    }
+    let df = d.dot(&face);
+    let rot = pref.rotation();
+    let world = |p: &Vec3| pref.position() + rot * p;
+    let keep = margin + SEP_TOL * scale;
+    let mut points = ArrayVec::new();
+    let mut deepest = Real::NEG_INFINITY;
+    for q in &poly {
+        // `q` on the reference face, `b` on the incident face's plane along d.
+        let b = q + d * ((centre - q).dot(&face) / df);
+        let e = (q - b).dot(&d);
+        if -e <= keep {
+            points.push((world(&(q + (b - q) * 0.5)), e));
+            deepest = deepest.max(e);
+        }
+    }
+    if !(deepest >= -sd.distance - SEP_TOL * scale) {
+        return None;
+    }
+    Some(points)
 }

@@ -1,7 +1,13 @@
 //! The choice of a manifold's points among its candidates (`super::contact`): at most the
-//! number asked for, the deepest first, then the ones spanning the largest area.
+//! number asked for, the deepest first, then the ones spanning the largest area; and the
+//! clipping in the plane orthogonal to the normal that finds the candidates of two features.
 
 use crate::math::{Real, Vec3};
+use arrayvec::ArrayVec;
+use nalgebra::Vector2;
+
+/// A point in the plane orthogonal to a manifold's normal.
+pub(crate) type V2 = Vector2<Real>;
 
 /// The most candidates considered (the clipping buffers' size).
 pub(crate) const MAX_CANDIDATES: usize = 64;
@@ -64,4 +70,138 @@ fn pick(n: usize, used: &[bool; BUF], score: impl Fn(usize) -> Real) -> Option<u
         }
     }
     best.map(|(i, _)| i)
+}
+
+fn cross2(a: &V2, b: &V2) -> Real {
+    a.x * b.y - a.y * b.x
+}
+
+/// The signed area's sign of a polygon: `1` counter-clockwise, `-1` clockwise.
+fn orientation(poly: &[V2]) -> Real {
+    let mut a = 0.0;
+    for i in 0..poly.len() {
+        let j = (i + 1) % poly.len();
+        a += cross2(&poly[i], &poly[j]);
+    }
+    if a >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// Sutherland–Hodgman: clips the polygon `poly` against the convex polygon `reference`, in
+/// place (two buffers taking turns: moving a whole buffer per edge cost more than the clipping).
+pub(crate) fn clip_polygon<const N: usize>(reference: &[V2], poly: &mut ArrayVec<V2, N>) {
+    let s = orientation(reference);
+    let mut tmp: ArrayVec<V2, N> = ArrayVec::new();
+    let (mut cur, mut next) = (poly, &mut tmp);
+    let mut turned = false;
+    for e in 0..reference.len() {
+        let a = reference[e];
+        let d = reference[if e + 1 == reference.len() { 0 } else { e + 1 }] - a;
+        let side = |p: &V2| s * cross2(&d, &(p - a));
+        next.clear();
+        let len = cur.len();
+        for i in 0..len {
+            let p = cur[i];
+            let c = cur[if i + 1 == len { 0 } else { i + 1 }];
+            let (sp, sc) = (side(&p), side(&c));
+            if sp >= 0.0 {
+                let _ = next.try_push(p);
+            }
+            if (sp >= 0.0) != (sc >= 0.0) {
+                let t = sp / (sp - sc);
+                let _ = next.try_push(p + (c - p) * t);
+            }
+        }
+        std::mem::swap(&mut cur, &mut next);
+        turned = !turned;
+        if cur.is_empty() {
+            break;
+        }
+    }
+    if turned {
+        // The result is in `tmp` (`cur`); `next` is the caller's buffer.
+        next.clear();
+        next.extend(cur.iter().copied());
+    }
+}
+
+/// Cyrus–Beck: clips the segment `seg` against the convex polygon `reference`, into `out`.
+pub(crate) fn clip_segment<const N: usize>(
+    reference: &[V2],
+    seg: &[V2; 2],
+    out: &mut ArrayVec<V2, N>,
+) {
+    let s = orientation(reference);
+    let (p, d) = (seg[0], seg[1] - seg[0]);
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for e in 0..reference.len() {
+        let a = reference[e];
+        let ed = reference[(e + 1) % reference.len()] - a;
+        // inside: s·cross(ed, x − a) ≥ 0, linear in t: f0 + t·f1.
+        let f0 = s * cross2(&ed, &(p - a));
+        let f1 = s * cross2(&ed, &d);
+        if f1 == 0.0 {
+            if f0 < 0.0 {
+                return;
+            }
+        } else {
+            let t = -f0 / f1;
+            if f1 > 0.0 {
+                lo = Real::max(lo, t);
+            } else {
+                hi = Real::min(hi, t);
+            }
+        }
+    }
+    if lo > hi {
+        return;
+    }
+    out.push(p + d * lo);
+    if hi > lo {
+        out.push(p + d * hi);
+    }
+}
+
+/// Two segments in the plane: their overlap if parallel, else their crossing point, into
+/// `out`.
+pub(crate) fn segments<const N: usize>(
+    a: &[V2; 2],
+    b: &[V2; 2],
+    tol: Real,
+    out: &mut ArrayVec<V2, N>,
+) {
+    let (da, db) = (a[1] - a[0], b[1] - b[0]);
+    let (la, lb) = (da.norm(), db.norm());
+    if !(la > 0.0 && lb > 0.0) {
+        return;
+    }
+    let c = cross2(&da, &db);
+    if c.abs() <= 1e-6 * la * lb {
+        // Parallel: unless the lines coincide (to rounding) the normal does not join them and
+        // the witness point answers; else the overlap of b with a, as parameters along a.
+        if cross2(&da, &(b[0] - a[0])).abs() > tol * la {
+            return;
+        }
+        let ta = |p: &V2| (p - a[0]).dot(&da) / (la * la);
+        let (t0, t1) = (ta(&b[0]), ta(&b[1]));
+        let lo = t0.min(t1).max(0.0);
+        let hi = t0.max(t1).min(1.0);
+        if lo > hi {
+            return;
+        }
+        out.push(a[0] + da * lo);
+        if hi > lo {
+            out.push(a[0] + da * hi);
+        }
+        return;
+    }
+    let w = b[0] - a[0];
+    let s = cross2(&w, &db) / c;
+    let t = cross2(&w, &da) / c;
+    if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
+        out.push(a[0] + da * s);
+    }
 }

@@ -18,6 +18,7 @@
 
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::Polytope;
+use arrayvec::ArrayVec;
 
 /// Candidate edge cross products shorter than this (their edges parallel to rounding) are left
 /// out: they are no facet normal of the difference.
@@ -29,6 +30,9 @@ const ILL_CONDITIONED: Real = 1e-6;
 const TOL: Real = 1e-11;
 /// The most points a clipped feature holds.
 const MAX_POINTS: usize = 48;
+/// Polytopes of at most this many vertices (a box has 8) keep their vertices' values along a
+/// direction in a buffer instead of computing them twice.
+const FEW_VERTICES: usize = 32;
 
 /// A polytope in world axes.
 #[derive(Clone, Copy)]
@@ -279,17 +283,36 @@ fn witnesses(
     }))
 }
 
-/// The points of `s` whose value along `m` is within `tol` of its largest (world).
-fn support_feature(s: &Placed<'_>, m: &Vec3, tol: Real, out: &mut [Vec3; MAX_POINTS]) -> usize {
+/// The points of `s` whose value along `m` is within `tol` of its largest (world): the first
+/// `out.len()` of them written, their number (at most `out.len()`) returned.
+fn support_feature(s: &Placed<'_>, m: &Vec3, tol: Real, out: &mut [Vec3]) -> usize {
     let mb = s.rot.tr_mul(m);
     let verts = s.poly.vertices();
+    if verts.len() <= FEW_VERTICES {
+        // Each vertex's value once (the same numbers the two passes below compute twice).
+        let mut dots: ArrayVec<Real, FEW_VERTICES> = ArrayVec::new();
+        let mut top = Real::NEG_INFINITY;
+        for v in verts {
+            let d = v.dot(&mb);
+            top = top.max(d);
+            dots.push(d);
+        }
+        let mut k = 0;
+        for (v, d) in verts.iter().zip(&dots) {
+            if *d >= top - tol && k < out.len() {
+                out[k] = s.world(v);
+                k += 1;
+            }
+        }
+        return k;
+    }
     let top = verts
         .iter()
         .map(|v| v.dot(&mb))
         .fold(Real::NEG_INFINITY, Real::max);
     let mut k = 0;
     for v in verts {
-        if v.dot(&mb) >= top - tol && k < MAX_POINTS {
+        if v.dot(&mb) >= top - tol && k < out.len() {
             out[k] = s.world(v);
             k += 1;
         }
@@ -382,8 +405,9 @@ fn clip(pts: &[Vec3], side: &Vec3, limit: Real, out: &mut [Vec3; MAX_POINTS]) ->
 /// The closest points of shape 1's supporting edge at `n` and shape 2's at `−n`: shape 1's
 /// point, when both features are edges and the points lie on them.
 fn edge_witness(a: &Placed<'_>, b: &Placed<'_>, n: &Vec3, tol: Real) -> Option<Vec3> {
-    let mut ea = [Vec3::zeros(); MAX_POINTS];
-    let mut eb = [Vec3::zeros(); MAX_POINTS];
+    // Three slots tell an edge (two points) from a face (more): no zeroed 48-point buffers.
+    let mut ea = [Vec3::zeros(); 3];
+    let mut eb = [Vec3::zeros(); 3];
     if support_feature(a, n, tol, &mut ea) != 2 || support_feature(b, &-n, tol, &mut eb) != 2 {
         return None;
     }
