@@ -41,7 +41,7 @@ int main(void) {
   dcol_pose p1, p2;
   dcol_cache cp = DCOL_CACHE_INIT, cg = DCOL_CACHE_INIT, cj = DCOL_CACHE_INIT;
   dcol_cache cd = DCOL_CACHE_INIT, cx = DCOL_CACHE_INIT, cxg = DCOL_CACHE_INIT;
-  dcol_cache cs = DCOL_CACHE_INIT;
+  dcol_cache cs = DCOL_CACHE_INIT, cc = DCOL_CACHE_INIT;
   const double a1[3] = {0.0, 0.6, 0.8}, a2[3] = {0.8, 0.0, 0.6};
   const double ell = 0.6;
   for (i = 0; i < 24 * 3; ++i) {
@@ -98,6 +98,17 @@ int main(void) {
       CHECK(dcol_signed_distance(box, &p1, hull, &p2, NULL, &s0) == DCOL_OK);
       CHECK(dcol_signed_distance_cached(box, &p1, hull, &p2, NULL, &cs, &s1) == DCOL_OK);
       CHECK_MSG(fabs(s1.distance - s0.distance) <= 1e-12 * ell, "step %d signed distance", k);
+    }
+    {
+      dcol_contact m0[8], m1[8];
+      size_t n0 = 99, n1 = 99, c;
+      CHECK(dcol_contacts(box, &p1, hull, &p2, 0.01, NULL, m0, 8, &n0) == DCOL_OK);
+      CHECK(dcol_contacts_cached(box, &p1, hull, &p2, 0.01, NULL, &cc, m1, 8, &n1) == DCOL_OK);
+      CHECK_MSG(n0 == n1, "step %d: %d contacts cached, %d cold", k, (int)n1, (int)n0);
+      for (c = 0; c < n0 && c < n1; ++c) {
+        CHECK(fabs(m1[c].depth - m0[c].depth) <= 1e-9 * ell);
+        for (i = 0; i < 3; ++i) CHECK(fabs(m1[c].position[i] - m0[c].position[i]) <= 1e-9 * ell);
+      }
     }
   }
   CHECK_MSG(2 * warm > steps, "%d of %d proximity answers warm", warm, steps);

@@ -270,7 +270,7 @@ typedef struct dcol_proximity_result {
 /**
  * A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
  * dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached, dcol_distance_cached,
- * dcol_distance_gradient_cached, dcol_signed_distance_cached): plain data that dcol reads and writes, all zeros meaning
+ * dcol_distance_gradient_cached, dcol_signed_distance_cached, dcol_contacts_cached): plain data that dcol reads and writes, all zeros meaning
  * cold (`dcol_cache c = DCOL_CACHE_INIT;` or memset to 0). Keep one per pair of shapes, and
  * pass it to every query on that pair; copy it, zero it, or move it between threads freely.
  * Its contents are private to dcol: any bit pattern in it gives a correct answer (a cache of
@@ -279,8 +279,9 @@ typedef struct dcol_proximity_result {
  * distances within 1e-12 relative; a warm proximity reports DCOL_SOLVER_POLISH). A warm start is taken between two polytopes (boxes,
  * polytopes, unpadded hulls) whose poses moved less than a quarter of their size and 20
  * degrees since the pair's last answer; other pairs answer cold (and cost the same). The
- * signed distance of any pair starts from the last separating normal: shapes it still proves
- * apart get the distance (warm between polytopes) without the overlap tests.
+ * signed distance and the contacts of any pair start from the last separating normal: shapes
+ * it still proves apart get the distance (warm between polytopes) without the overlap tests,
+ * and no contact points when it proves them apart by more than the margin.
  */
 typedef struct dcol_cache {
   /**
@@ -906,6 +907,25 @@ enum dcol_status dcol_contacts(const struct dcol_shape *shape1,
                                struct dcol_contact *contacts,
                                size_t capacity,
                                size_t *count);
+
+/**
+ * dcol_contacts with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the
+ * same points; a pair the last answer's separating normal still proves apart by more than the
+ * margin is answered from it (two support calls). The cache then holds this answer.
+ *
+ * # Safety
+ * As dcol_contacts; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_contacts_cached(const struct dcol_shape *shape1,
+                                      const struct dcol_pose *pose1,
+                                      const struct dcol_shape *shape2,
+                                      const struct dcol_pose *pose2,
+                                      double margin,
+                                      const struct dcol_options *options,
+                                      struct dcol_cache *cache,
+                                      struct dcol_contact *contacts,
+                                      size_t capacity,
+                                      size_t *count);
 
 /**
  * Is alpha* < `threshold`? Writes 1 to *below when it is, 0 when it is not (alpha* >=

@@ -412,6 +412,32 @@ inline dcol_distance_result distance_cached(const Shape &shape1, const dcol_pose
   return d;
 }
 
+/// dcol::contacts with a warm start (dcol_contacts_cached).
+inline std::vector<dcol_contact> contacts_cached(const Shape &shape1, const dcol_pose &pose1,
+                                                 const Shape &shape2, const dcol_pose &pose2,
+                                                 double margin, Cache &cache,
+                                                 const dcol_options *options = nullptr,
+                                                 std::size_t capacity = DCOL_MAX_CONTACTS) {
+  std::vector<dcol_contact> out(capacity);
+  std::size_t count = 0;
+  check(dcol_contacts_cached(shape1.get(), &pose1, shape2.get(), &pose2, margin, options,
+                             cache.get(), capacity > 0 ? out.data() : nullptr, capacity, &count));
+  out.resize(count);
+  return out;
+}
+
+/// dcol::signed_distance with a warm start (dcol_signed_distance_cached).
+inline dcol_signed_distance_result signed_distance_cached(const Shape &shape1,
+                                                          const dcol_pose &pose1,
+                                                          const Shape &shape2,
+                                                          const dcol_pose &pose2, Cache &cache,
+                                                          const dcol_options *options = nullptr) {
+  dcol_signed_distance_result d;
+  check(dcol_signed_distance_cached(shape1.get(), &pose1, shape2.get(), &pose2, options,
+                                    cache.get(), &d));
+  return d;
+}
+
 /// dcol::distance_gradient with a warm start (dcol_distance_gradient_cached).
 inline DistanceGradient distance_gradient_cached(const Shape &shape1, const dcol_pose &pose1,
                                                  const Shape &shape2, const dcol_pose &pose2,

@@ -5,7 +5,7 @@ use crate::query::Cache;
 
 /// A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
 /// dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached, dcol_distance_cached,
-/// dcol_distance_gradient_cached, dcol_signed_distance_cached): plain data that dcol reads and writes, all zeros meaning
+/// dcol_distance_gradient_cached, dcol_signed_distance_cached, dcol_contacts_cached): plain data that dcol reads and writes, all zeros meaning
 /// cold (`dcol_cache c = DCOL_CACHE_INIT;` or memset to 0). Keep one per pair of shapes, and
 /// pass it to every query on that pair; copy it, zero it, or move it between threads freely.
 /// Its contents are private to dcol: any bit pattern in it gives a correct answer (a cache of
@@ -14,8 +14,9 @@ use crate::query::Cache;
 /// distances within 1e-12 relative; a warm proximity reports DCOL_SOLVER_POLISH). A warm start is taken between two polytopes (boxes,
 /// polytopes, unpadded hulls) whose poses moved less than a quarter of their size and 20
 /// degrees since the pair's last answer; other pairs answer cold (and cost the same). The
-/// signed distance of any pair starts from the last separating normal: shapes it still proves
-/// apart get the distance (warm between polytopes) without the overlap tests.
+/// signed distance and the contacts of any pair start from the last separating normal: shapes
+/// it still proves apart get the distance (warm between polytopes) without the overlap tests,
+/// and no contact points when it proves them apart by more than the margin.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct dcol_cache {

@@ -1,6 +1,7 @@
 //! `dcol_contact` and `dcol_contacts`: contact manifolds for rigid-body engines.
 
 use super::boundary::{check_out, run, Failure};
+use super::cache::{cache_mut, dcol_cache};
 use super::options::dcol_options;
 use super::pose::dcol_pose;
 use super::proximity::{check_inputs, read_inputs};
@@ -67,21 +68,94 @@ pub unsafe extern "C" fn dcol_contacts(
     capacity: usize,
     count: *mut usize,
 ) -> dcol_status {
-    run("dcol_contacts", || {
+    let args = (margin, contacts, capacity, count);
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        contacts_in(
+            "dcol_contacts",
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            None,
+            args,
+        )
+    }
+}
+
+/// dcol_contacts with a warm start from `cache`, the pair's dcol_cache (see dcol_cache): the
+/// same points; a pair the last answer's separating normal still proves apart by more than the
+/// margin is answered from it (two support calls). The cache then holds this answer.
+///
+/// # Safety
+/// As dcol_contacts; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn dcol_contacts_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    margin: f64,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    contacts: *mut dcol_contact,
+    capacity: usize,
+    count: *mut usize,
+) -> dcol_status {
+    let args = (margin, contacts, capacity, count);
+    let name = "dcol_contacts_cached";
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        contacts_in(
+            name,
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            Some(cache),
+            args,
+        )
+    }
+}
+
+/// The body of dcol_contacts and dcol_contacts_cached (`cache`: `None` for the first);
+/// `args`: the margin, the contacts buffer, its capacity and the count's place.
+///
+/// # Safety
+/// As dcol_contacts; `cache` `Some` of NULL or a pointer valid for reads and writes.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+unsafe fn contacts_in(
+    name: &'static str,
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: Option<*mut dcol_cache>,
+    (margin, contacts, capacity, count): (f64, *mut dcol_contact, usize, *mut usize),
+) -> dcol_status {
+    run(name, || {
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         if capacity > 0 {
             check_out(contacts, "contacts")?;
         }
         check_out(count, "count")?;
+        // SAFETY: forwarded from this function's contract.
+        let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         // Only the points leave: a pair apart by more than the margin need not know by how
         // much (`exact_distance` false).
         let mut m = query::Manifold::empty();
-        query::manifold(
-            q.shape1, &q.pose1, q.shape2, &q.pose2, margin, capacity, &q.options, false, &mut m,
-        )
+        let (s1, p1, s2, p2, o) = (q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options);
+        match warm {
+            Some(c) => query::manifold_cached(s1, p1, s2, p2, margin, capacity, o, &mut m, c),
+            None => query::manifold(s1, p1, s2, p2, margin, capacity, o, false, &mut m),
+        }
         .map_err(Failure::api)?;
         for (i, c) in m.contacts().iter().enumerate() {
             // SAFETY: `i < m.len() <= capacity`; `contacts` is non-NULL when capacity > 0

@@ -49,4 +49,5 @@ pub(crate) use proximity::{query_until, query_until_warm};
 pub use shape_gradient::{distance_shape_gradient, shape_gradient, signed_distance_shape_gradient};
 pub(crate) use signed::not_representable;
 pub use signed::{signed_distance, signed_distance_gradient};
+pub(crate) use warm_contacts::manifold_cached;
 pub use warm_contacts::{contact_manifold_cached, signed_distance_cached};

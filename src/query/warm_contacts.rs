@@ -4,7 +4,7 @@
 //! apart by more than the margin (no contact points) at once; a separated pair's distance comes
 //! from the cache's distance part (`super::warm_distance`).
 
-use super::contact::{contact_manifold, Manifold};
+use super::contact::{contact_manifold, manifold, Manifold};
 use super::context::{Options, SignedDistance};
 use super::distance::distance_query_warm;
 use super::signed::signed_distance;
@@ -95,4 +95,38 @@ pub fn contact_manifold_cached(
     let m = contact_manifold(shape1, pose1, shape2, pose2, margin, max_points, options)?;
     cache.keep_separating((m.signed_distance > 0.0).then_some(&m.normal));
     Ok(m)
+}
+
+/// The C function's manifold (`super::contact::manifold` with `exact_distance` false: a pair
+/// apart by more than the margin carries only a lower bound above it) with the warm start of
+/// [`contact_manifold_cached`]: the kept separating normal's bound, when above the margin, is
+/// that lower bound.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn manifold_cached(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    margin: Real,
+    max_points: usize,
+    options: &Options,
+    out: &mut Manifold,
+    cache: &mut Cache,
+) -> Result<(), Error> {
+    if margin.is_finite() && margin >= 0.0 {
+        if let Some(n) = cache.separating() {
+            let gap = gap_below([shape1, shape2], [pose1, pose2], &n);
+            if gap > margin {
+                *out = Manifold::empty();
+                out.normal = n;
+                out.signed_distance = gap;
+                return Ok(());
+            }
+        }
+    }
+    manifold(
+        shape1, pose1, shape2, pose2, margin, max_points, options, false, out,
+    )?;
+    cache.keep_separating((out.signed_distance > 0.0).then_some(&out.normal));
+    Ok(())
 }
