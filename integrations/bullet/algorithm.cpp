@@ -107,8 +107,8 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     const bool same = m_last.valid && m_last.ea == ea && m_last.eb == eb && m_last.margin == margin &&
                       std::memcmp(&m_last.ta, &ta, sizeof ta) == 0 && std::memcmp(&m_last.tb, &tb, sizeof tb) == 0;
     if (same) {
-      // The same shapes at bit-identical poses: dcol's answer would be the same (it keeps no
-      // state), so the last one is used again.
+      // The same shapes at bit-identical poses: dcol's answer would be the same (its cache
+      // only decides faster), so the last one is used again.
       count(detail::counters().reused);
       n = m_last.n;
       st = m_last.st;
@@ -120,7 +120,8 @@ class Algorithm : public btActivatingCollisionAlgorithm {
       if (!apart(*ea, a->getWorldTransform(), *eb, b->getWorldTransform(), margin)) {
         const dcol_pose p1 = detail::world_pose(*ea, a->getWorldTransform());
         const dcol_pose p2 = detail::world_pose(*eb, b->getWorldTransform());
-        st = dcol_contacts(ea->shape, &p1, eb->shape, &p2, margin + pad_a + pad_b, nullptr, cs, kMaxPoints, &n);
+        st = dcol_contacts_cached(ea->shape, &p1, eb->shape, &p2, margin + pad_a + pad_b, nullptr, &m_cache, cs,
+                                  kMaxPoints, &n);
         queried = true;
       }
     } else {
@@ -304,6 +305,9 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     dcol_contact cs[kMaxPoints];
   };
   Last m_last;
+  // The pair's warm-start cache (docs/warm-starts.md): shapes replaced in a slot only make one
+  // call cold.
+  dcol_cache m_cache = DCOL_CACHE_INIT;
   btCollisionAlgorithmConstructionInfo m_ci;
   btPersistentManifold *m_manifold = nullptr;
   btCollisionAlgorithm *m_fallback = nullptr;

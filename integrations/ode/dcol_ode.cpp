@@ -56,7 +56,14 @@ struct ConvexRecord {
 // the shapes are apart), and when it was last seen (to forget pairs no longer colliding).
 struct PairHint {
   bool had_contacts = false;
+  // The last dcol_contacts_cached call found no contact: the pair's cache holds a normal that
+  // separated the shapes, which decides the next call with two support calls while it still
+  // separates them (cheaper than the dcol_alpha_below pre-check).
+  bool apart_known = false;
   unsigned long seen = 0;
+  // The pair's warm-start cache (docs/warm-starts.md): a geom id reused by another geom only
+  // makes one call cold.
+  dcol_cache cache = DCOL_CACHE_INIT;
 };
 
 struct PairHash {
@@ -406,21 +413,24 @@ int collide(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int skip) 
   // A pair that had no contacts at its last call (or is new) is first asked whether its shapes
   // overlap, scaled by 1 + 1e-6 (so that touching pairs, and the solver's tolerance band of 1e-9
   // around the threshold, still go to dcol_contacts): about 0.5 us where dcol_contacts takes
-  // several (see docs/ode.md). A pair with contacts goes straight to dcol_contacts.
+  // several (see docs/ode.md). A pair with contacts, or whose cache holds a separating normal,
+  // goes straight to dcol_contacts_cached.
   PairHint &hint = pair_hint(o1, o2);
-  if (!hint.had_contacts) {
+  if (!hint.had_contacts && !hint.apart_known) {
     std::int32_t below = 1;
     const dcol_status st = dcol_alpha_below(r1.shape, &r1.pose, r2.shape, &r2.pose, 1.0 + 1e-6, nullptr, &below);
     if (st == DCOL_OK && !below) return 0;
   }
   dcol_contact cs[DCOL_MAX_CONTACTS];
   std::size_t n = 0;
-  const dcol_status st = dcol_contacts(r1.shape, &r1.pose, r2.shape, &r2.pose, 0.0, nullptr, cs, capacity(flags), &n);
+  const dcol_status st = dcol_contacts_cached(r1.shape, &r1.pose, r2.shape, &r2.pose, 0.0, nullptr, &hint.cache, cs,
+                                              capacity(flags), &n);
   if (st != DCOL_OK && st != DCOL_ERROR_NOT_CONVERGED) {
     ++g.stats.rejected;
     return 0;
   }
   hint.had_contacts = n > 0;
+  hint.apart_known = n == 0;
   return write_contacts(o1, o2, cs, n, true, contact, skip);
 }
 
