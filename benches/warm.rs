@@ -18,8 +18,8 @@
 
 use dcol::{
     contact_manifold, contact_manifold_cached, derivatives, derivatives_cached, distance,
-    distance_cached, gradient, signed_distance, signed_distance_cached, gradient_cached,
-    jacobian, jacobian_cached, proximity, proximity_cached, Cache, Options, Pose, Shape,
+    distance_cached, gradient, gradient_cached, jacobian, jacobian_cached, proximity,
+    proximity_cached, signed_distance, signed_distance_cached, Cache, Options, Pose, Shape,
 };
 use std::hint::black_box;
 use std::time::Instant;
