@@ -71,7 +71,7 @@ pub(crate) fn proximity(
     options: &Options,
     dist: Real,
     threshold: Option<(Real, bool)>,
-    mut warm: Option<&mut Cache>,
+    warm: Option<&mut Cache>,
 ) -> Outcome {
     let r1 = *pose1.position();
     let r2 = *pose2.position();
@@ -82,6 +82,9 @@ pub(crate) fn proximity(
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     // α* = α'·dist/ℓ.
     let world = dist * inv;
+    // The cache keeps answers only between polytopes (`super::warm`): other pairs neither try
+    // nor keep one.
+    let mut warm = warm.filter(|_| Cache::polytopes(&pair));
     let stop = threshold.map(|(t, stop_below)| Stop {
         value: t / world,
         stop_below,

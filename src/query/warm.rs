@@ -107,6 +107,7 @@ impl Cache {
         self.words[..2]
             .iter()
             .any(|w| matches!(*w, SOLUTION | FEATURES))
+            || self.words[W_SEPARATING] == FEATURES
     }
 
     /// Forgets what the cache holds.
@@ -221,7 +222,7 @@ impl Cache {
 
     /// Two polytopes (boxes, polytopes, hulls without padding), whose contact is a facet of K
     /// found in closed form from its features.
-    fn polytopes(pair: &Pair<'_, Shape>) -> bool {
+    pub(super) fn polytopes(pair: &Pair<'_, Shape>) -> bool {
         pair.one.shape.vertex_pieces().is_some() && pair.two.shape.vertex_pieces().is_some()
     }
 
