@@ -14,9 +14,9 @@ use crate::query::Cache;
 /// distances within 1e-12 relative; a warm proximity reports DCOL_SOLVER_POLISH). A warm start is taken between two polytopes (boxes,
 /// polytopes, unpadded hulls) whose poses moved less than a quarter of their size and 20
 /// degrees since the pair's last answer; other pairs answer cold (and cost the same). The
-/// signed distance and the contacts of any pair start from the last separating normal: shapes
-/// it still proves apart get the distance (warm between polytopes) without the overlap tests,
-/// and no contact points when it proves them apart by more than the margin.
+/// contacts of any pair start from the last separating normal: shapes it still proves apart by
+/// more than the margin get no contact points from two support calls; the signed distance of
+/// two polytopes it proves apart is their (warm) distance.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct dcol_cache {

@@ -114,6 +114,7 @@ impl Manifold {
 /// assert_eq!(m.len(), 4);
 /// assert!(m.contacts().iter().all(|c| (c.depth - 0.01).abs() < 1e-9));
 /// ```
+#[inline]
 pub fn contact_manifold(
     shape1: &Shape,
     pose1: &Pose,

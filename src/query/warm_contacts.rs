@@ -25,9 +25,9 @@ fn gap_below(shapes: [&Shape; 2], poses: [&Pose; 2], n: &Vec3) -> Real {
     -h(1, -n) - h(0, *n)
 }
 
-/// [`crate::signed_distance`] with a warm start: where the kept separating normal proves the
-/// shapes apart, the distance ([`crate::distance_cached`]: warm between polytopes), else the
-/// cold signed distance. The same answer, certified the same way; the cache keeps this one.
+/// [`crate::signed_distance`] with a warm start: between two polytopes the kept separating
+/// normal proves apart, the distance ([`crate::distance_cached`]), else the cold signed
+/// distance. The same answer, certified the same way; the cache keeps this one.
 pub fn signed_distance_cached(
     shape1: &Shape,
     pose1: &Pose,
@@ -37,11 +37,15 @@ pub fn signed_distance_cached(
     cache: &mut Cache,
 ) -> Result<SignedDistance, Error> {
     let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-    let apart = cache
-        .separating()
-        .is_some_and(|n| gap_below(shapes, poses, &n) > 0.0);
-    let halfspace = shapes.iter().any(|s| s.bounding_radius().is_infinite());
-    if apart && !halfspace && options.method == crate::Method::Auto {
+    // Only where the distance itself starts warm (two polytopes): elsewhere the cold signed
+    // distance tries GJK's distance first anyway, and the bound would only add its cost.
+    let polytopes = shapes.iter().all(|s| s.vertex_pieces().is_some());
+    let apart = polytopes
+        && options.method == crate::Method::Auto
+        && cache
+            .separating()
+            .is_some_and(|n| gap_below(shapes, poses, &n) > 0.0);
+    if apart {
         let (d, _) = distance_query_warm(shape1, pose1, shape2, pose2, options, false, cache)?;
         if d.distance > 0.0 && d.status.is_converged() {
             cache.keep_separating(Some(&d.normal));
@@ -57,15 +61,19 @@ pub fn signed_distance_cached(
         }
     }
     let sd = signed_distance(shape1, pose1, shape2, pose2, options)?;
-    cache.keep_separating((sd.distance > 0.0).then_some(&sd.normal));
+    if polytopes {
+        cache.keep_separating((sd.distance > 0.0).then_some(&sd.normal));
+    }
     Ok(sd)
 }
 
-/// [`crate::contact_manifold`] with a warm start: a pair the kept separating normal proves
-/// apart by more than `margin` has no contact points, and its signed distance is the distance
-/// ([`crate::distance_cached`]); other pairs are answered cold. The same manifold; the cache
+/// [`crate::contact_manifold`] with a warm start: two polytopes the kept separating normal
+/// proves apart by more than `margin` have no contact points, and their signed distance is the
+/// distance ([`crate::distance_cached`]); other pairs are answered cold (the C function, which
+/// needs no exact distance there, takes the bound for every pair). The same manifold; the cache
 /// keeps this one's normal where it separates the shapes.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub fn contact_manifold_cached(
     shape1: &Shape,
     pose1: &Pose,
@@ -77,7 +85,11 @@ pub fn contact_manifold_cached(
     cache: &mut Cache,
 ) -> Result<Manifold, Error> {
     let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-    let apart = margin.is_finite()
+    // Its signed distance must be exact: the bound pays only where that distance starts warm
+    // (two polytopes).
+    let polytopes = shapes.iter().all(|s| s.vertex_pieces().is_some());
+    let apart = polytopes
+        && margin.is_finite()
         && cache
             .separating()
             .is_some_and(|n| gap_below(shapes, poses, &n) > margin);
@@ -93,7 +105,9 @@ pub fn contact_manifold_cached(
         }
     }
     let m = contact_manifold(shape1, pose1, shape2, pose2, margin, max_points, options)?;
-    cache.keep_separating((m.signed_distance > 0.0).then_some(&m.normal));
+    if polytopes {
+        cache.keep_separating((m.signed_distance > 0.0).then_some(&m.normal));
+    }
     Ok(m)
 }
 

@@ -32,6 +32,9 @@ impl Cache {
         ell: Real,
         tolerance: Real,
     ) -> Option<Distance> {
+        if !shapes.iter().all(|s| s.vertex_pieces().is_some()) {
+            return None;
+        }
         let inv = 1.0 / ell;
         let pair = Pair::new(shapes, [poses[0].rotation(), poses[1].rotation()], inv);
         let d = (poses[1].position() - poses[0].position()) * inv;
