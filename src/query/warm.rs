@@ -144,29 +144,10 @@ impl Cache {
         })
     }
 
-    /// The answer on the kept features, certified to `tol`, or `None` (the cold path answers).
-    /// Two polytopes only (see [`Cache::applies`]). On success the cache holds the new
-    /// answer's features.
+    /// The answer on the kept facet of K (two polytopes, the only pairs a proximity answer is
+    /// kept for: `super::geometric` filters with [`Cache::polytopes`]), certified to `tol`, or
+    /// `None` (the cold path answers). On success the cache holds the new answer's features.
     pub(super) fn solve(
-        &mut self,
-        pair: &Pair<'_, Shape>,
-        poses: [&Pose; 2],
-        ray: &Vec3,
-        iota: Real,
-        tol: Real,
-    ) -> Option<Answer> {
-        // Other pairs answer cold: Newton's method on their kept pieces (the polish's, from
-        // the kept normal and multipliers) was measured slower than the cold path on every
-        // such pair type (`docs/performance-notes.md`).
-        if Self::polytopes(pair) {
-            self.solve_facet(pair, poses, ray, iota, tol)
-        } else {
-            None
-        }
-    }
-
-    /// Two polytopes: the kept facet of K in closed form.
-    fn solve_facet(
         &mut self,
         pair: &Pair<'_, Shape>,
         poses: [&Pose; 2],
@@ -221,7 +202,9 @@ impl Cache {
     }
 
     /// Two polytopes (boxes, polytopes, hulls without padding), whose contact is a facet of K
-    /// found in closed form from its features.
+    /// found in closed form from its features. Other pairs keep no proximity answer: Newton's
+    /// method on their kept pieces (the polish's, from the kept normal and multipliers) was
+    /// measured slower than the cold path on every such pair type (`docs/warm-starts.md`).
     pub(super) fn polytopes(pair: &Pair<'_, Shape>) -> bool {
         pair.one.shape.vertex_pieces().is_some() && pair.two.shape.vertex_pieces().is_some()
     }

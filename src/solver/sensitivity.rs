@@ -213,18 +213,17 @@ fn solve_features<S: SupportMap>(
     lu: &mut [[Real; DIM]; DIM],
 ) -> Option<Solved> {
     let feats = identify(pair, sol)?;
-    newton(pair, &sol.r, feats, &sol.normal, sol.mu, NEWTON, lu)
+    newton(pair, &sol.r, feats, &sol.normal, sol.mu, lu)
 }
 
 /// Newton's method on the system of the features `feats` from the normal `normal` (`n·r = 1`)
-/// and `mu`, at most `steps` steps; `None` as for [`solve_features`].
+/// and `mu`, at most [`NEWTON`] steps; `None` as for [`solve_features`].
 fn newton<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     mut feats: [Feature; 2],
     normal: &Vec3,
     mu: Real,
-    steps: usize,
     lu: &mut [[Real; DIM]; DIM],
 ) -> Option<Solved> {
     let r = *r;
@@ -256,7 +255,7 @@ fn newton<S: SupportMap>(
             return None;
         }
         let ipiv = lu_factor_in_place(lu, dim)?;
-        if worst <= CONVERGED || step == steps {
+        if worst <= CONVERGED || step == NEWTON {
             if !(worst <= MAX_RESIDUAL) {
                 return None;
             }
