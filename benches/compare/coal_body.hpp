@@ -35,17 +35,29 @@ struct CoalBody {
   coal::Transform3s tf;
 };
 
-/// The Coal geometry and transform of a dcol comparison body (see the frames above).
-inline CoalBody to_coal(const cmp_body& body) {
-  const cmp_shape& s = *body.shape;
+/// The Coal world transform of a dcol comparison body (see the frames above): what to_coal
+/// gives as `tf`, without building the geometry (bench_trajectory moves one geometry along).
+inline coal::Transform3s coal_transform(const cmp_body& body) {
+  const cmp_kind kind = body.shape->kind;
   coal::Matrix3s R;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) R(i, j) = body.R[3 * i + j];
   const coal::Vec3s r(body.pose.position[0], body.pose.position[1], body.pose.position[2]);
   coal::Matrix3s M;
   M << 0, 0, -1, 0, 1, 0, 1, 0, 0;
-  coal::Vec3s o = coal::Vec3s::Zero();
-  bool axial = false;
+  const bool axial = kind == CMP_CAPSULE || kind == CMP_CYLINDER || kind == CMP_CONE;
+  const coal::Vec3s o =
+      kind == CMP_CONE ? coal::Vec3s(-0.25 * body.shape->height, 0, 0) : coal::Vec3s::Zero();
+  coal::Transform3s tf;
+  tf.setIdentity();
+  tf.setRotation(axial ? coal::Matrix3s(R * M) : R);
+  tf.setTranslation(r + R * o);
+  return tf;
+}
+
+/// The Coal geometry and transform of a dcol comparison body (see the frames above).
+inline CoalBody to_coal(const cmp_body& body) {
+  const cmp_shape& s = *body.shape;
   CoalBody out;
   switch (s.kind) {
     case CMP_SPHERE:
@@ -76,16 +88,12 @@ inline CoalBody to_coal(const cmp_body& body) {
     }
     case CMP_CAPSULE:
       out.geom = std::make_shared<coal::Capsule>(s.radius, s.length);
-      axial = true;
       break;
     case CMP_CYLINDER:
       out.geom = std::make_shared<coal::Cylinder>(s.radius, s.length);
-      axial = true;
       break;
     case CMP_CONE:
       out.geom = std::make_shared<coal::Cone>(s.height * std::tan(s.half_angle), s.height);
-      axial = true;
-      o = coal::Vec3s(-0.25 * s.height, 0, 0);
       break;
     case CMP_POLYGON: {
       auto verts = std::make_shared<std::vector<coal::Vec3s>>();
@@ -104,9 +112,7 @@ inline CoalBody to_coal(const cmp_body& body) {
       break;
   }
   if (out.geom) out.geom->computeLocalAABB();
-  out.tf.setIdentity();
-  out.tf.setRotation(axial ? coal::Matrix3s(R * M) : R);
-  out.tf.setTranslation(r + R * o);
+  out.tf = coal_transform(body);
   return out;
 }
 

@@ -10,8 +10,10 @@
 #   benches/compare/run.sh            # full run (DCOL_BENCH_CASES=1500 per pair type), a few minutes
 #   benches/compare/run.sh --smoke    # 6 cases per pair type, results to build/bench-smoke/, no plot
 #                                     # unless matplotlib is importable; < 60 s after the build
+#   benches/compare/run.sh --trajectory   # only bench_trajectory (warm against cold, dcol against
+#                                     # Coal): results/trajectory.md and results/trajectory.csv
 # Environment: DCOL_BENCH_CASES, DCOL_BENCH_REPEAT, DCOL_BENCH_SEED (see bench_compare.cpp),
-# DCOL_BENCH_RAW=file (every sample's time as CSV, for what-if questions about the medians),
+# DCOL_BENCH_CPU=n (bench_trajectory pins itself to core n), DCOL_BENCH_RAW=file (every sample's time as CSV, for what-if questions about the medians),
 # DCOL_BENCH_COAL=0 (leave Coal out), DCOL_BENCH_COAL_PREFIX (use a Coal install prefix instead of
 # the wheels), and
 # DCOL_TARGET_CPU (e.g. x86-64-v3: dcol compiled for that CPU level, see the README; FCL and
@@ -20,7 +22,9 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
 smoke=0
+trajectory=0
 [[ "${1:-}" == "--smoke" ]] && smoke=1
+[[ "${1:-}" == "--trajectory" ]] && trajectory=1
 jobs="${DCOL_BENCH_JOBS:-2}"
 prefix="$root/build/bench-prefix"
 
@@ -92,14 +96,29 @@ if [[ $smoke == 1 ]]; then
     DCOL_BENCH_SMOKE=1 build/bench-compare/bench_posesets > "$out/posesets.md"
     grep -q "^| separated |" "$out/posesets.md"
   fi
+  if [[ -x build/bench-compare/bench_trajectory ]]; then
+    DCOL_BENCH_SMOKE=1 DCOL_BENCH_CSV="$out/trajectory.csv" build/bench-compare/bench_trajectory > "$out/trajectory.md"
+    grep -q "^| proximity cached / cold (separated) |" "$out/trajectory.md"
+    grep -q ",all-pairs,,gradient cached / cold (all steps),ratio," "$out/trajectory.csv"
+  fi
   if python3 -c "import matplotlib" 2>/dev/null; then python3 benches/compare/plot.py "$out"; fi
   echo "smoke OK"
+elif [[ $trajectory == 1 ]]; then
+  if [[ ! -x build/bench-compare/bench_trajectory ]]; then
+    echo "bench_trajectory needs Coal (${coal_reason:-find_package(coal 3) failed})" >&2
+    exit 1
+  fi
+  mkdir -p results
+  DCOL_BENCH_CSV="$root/results/trajectory.csv" build/bench-compare/bench_trajectory | tee results/trajectory.md
 else
   mkdir -p results
   DCOL_BENCH_OUT="$root/results" build/bench-compare/bench_compare
   build/bench-compare/bench_hulls | tee results/hulls.md
   if [[ -x build/bench-compare/bench_posesets ]]; then
     build/bench-compare/bench_posesets | tee results/posesets.md
+  fi
+  if [[ -x build/bench-compare/bench_trajectory ]]; then
+    DCOL_BENCH_CSV="$root/results/trajectory.csv" build/bench-compare/bench_trajectory | tee results/trajectory.md
   fi
   python3 benches/compare/plot.py results
 fi
