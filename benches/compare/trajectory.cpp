@@ -9,23 +9,29 @@
 // (mostly overlapping steps), so that both subsets have steps. Every step is put in a subset by
 // a cold dcol_proximity (untimed): separated alpha* > 1, overlapping alpha* < 1.
 //
-// Per step, interleaved (the order rotates with the step), each method is called once and timed
-// with std::chrono::steady_clock (the timer's own cost, measured at start, is subtracted from
-// the medians): dcol_proximity, dcol_distance, dcol_signed_distance and dcol_gradient cold and
-// cached (one dcol_cache per query and trajectory, carried across the steps), coal::distance cold
-// (a fresh default DistanceRequest) and warm (one DistanceRequest per trajectory with
-// gjk_initial_guess = CachedGuess, updateGuess(result) after every call: GJK starts from the
-// last ray and the support functions from the last vertices). Every query runs on every step
+// Timing: the steps are cut into blocks of DCOL_BENCH_BLOCK (default 10) consecutive steps; each
+// method runs a block's steps in a row under one std::chrono::steady_clock reading (this machine's
+// clock ticks by 10 ns: one reading per call would quantise the cheapest pairs by 7 %), the methods
+// one after the other in a random order drawn per block and round. Methods:
+// dcol_proximity, dcol_distance, dcol_signed_distance and dcol_gradient cold and cached (one
+// dcol_cache per query and trajectory, carried across all its steps and blocks), coal::distance
+// cold (a fresh default DistanceRequest per call) and warm (one DistanceRequest per trajectory
+// with gjk_initial_guess = CachedGuess and updateGuess(result) after every call: GJK starts from
+// the last ray and the support functions from the last vertices). Every query runs on every step
 // (the caches see the whole trajectory); the tables read each on its subset: proximity and
-// distance against Coal on separated steps, signed distance against Coal on overlapping steps,
-// the gradient on every step. DCOL_BENCH_ROUNDS rounds (default 5; caches and Coal's guess
-// start cold each round); per step the median round, per pair type the median over its steps.
+// distance against Coal on separated blocks, signed distance against Coal on overlapping blocks,
+// the gradient on every block (a block belongs to a subset when all its steps do; the few mixed
+// blocks where alpha* crosses 1 count only for "all"). DCOL_BENCH_ROUNDS rounds (default 5;
+// caches and Coal's guess start cold each round); per block the median round, per pair type the
+// median over its blocks, in ns per step (the timer's own cost, measured at start, subtracted).
 //
-// Agreement (checked in round 1, outside the timed calls): cached against cold to 1e-12
+// Agreement (a pass of its own before the timed rounds, untimed): cached against cold to 1e-12
 // relative (alpha*; distance and signed distance relative to max(1, |d|); the gradient's
 // largest entry difference relative to max(1, |g|_inf)); dcol against Coal cold and warm to
 // 1e-5 max(1, |d|) (Coal's default gjk_tolerance is 1e-6, as bench_posesets): distance on
-// separated steps, signed distance on overlapping steps. Failed calls are counted.
+// separated steps, signed distance on overlapping steps; where the depths differ, both against
+// the independent depth of depth_check.cpp (support functions only), to say who is off. Failed
+// calls are counted.
 //
 // Two seeds: DCOL_BENCH_SEEDS (default "3301,3302"; the first is the one the bench was developed
 // on, the second is only measured). DCOL_BENCH_TRAJECTORIES per pair type (default 8),
@@ -98,6 +104,7 @@ enum Check {
   kCoalWarmOvl,
   kIndepDcol,
   kIndepCoal,
+  kIndepCoalWarm,
   kChecks
 };
 const char *const kCheckNames[kChecks] = {"proximity cached vs cold",
@@ -109,7 +116,8 @@ const char *const kCheckNames[kChecks] = {"proximity cached vs cold",
                                           "signed distance vs Coal cold (overlapping)",
                                           "signed distance vs Coal warm (overlapping)",
                                           "those overlaps: dcol vs the independent depth",
-                                          "those overlaps: Coal cold vs the independent depth"};
+                                          "those overlaps: Coal cold vs the independent depth",
+                                          "those overlaps: Coal warm vs the independent depth"};
 
 struct PairStats {
   std::string name;
@@ -119,12 +127,12 @@ struct PairStats {
   long disagree[kChecks] = {}, checked[kChecks] = {};
   double worst[kChecks] = {};
   long failed[kMethods] = {};
-  long trajectories = 0, refused = 0;
+  long trajectories = 0, refused = 0, mixed_blocks = 0;
   double med[kMethods][kSubsets];  // medians, the timer's cost subtracted
 };
 
 struct Config {
-  long steps, trajectories;
+  long steps, trajectories, block;
   int rounds;
   const char *only;
 };
@@ -242,6 +250,7 @@ void check_step(PairStats &P, const Answers &a, const Step &st) {
     const double bound = 1e-5 * std::max(1.0, ind.depth);
     check(P, kIndepDcol, std::fabs(-a.sd[0] - ind.depth), bound);
     check(P, kIndepCoal, std::fabs(-a.coal[0] - ind.depth), bound);
+    if (a.ok[kCoalWarm]) check(P, kIndepCoalWarm, std::fabs(-a.coal[1] - ind.depth), bound);
   }
 }
 
@@ -255,8 +264,8 @@ struct TrajectoryState {
   }
 };
 
-// One call of method m at step st, timed; its answer into a (when a is not null).
-double run_method(int m, const cmp_shape &s1, const cmp_shape &s2, const Step &st, const CoalBody &c1,
+// One call of method m at step st; its answer into a (when a is not null).
+inline void call_method(int m, const cmp_shape &s1, const cmp_shape &s2, const Step &st, const CoalBody &c1,
                   const CoalBody &c2, TrajectoryState &S, Answers *a) {
   const dcol_pose *p1 = &st.b1.pose, *p2 = &st.b2.pose;
   dcol_proximity_result pr;
@@ -264,47 +273,36 @@ double run_method(int m, const cmp_shape &s1, const cmp_shape &s2, const Step &s
   dcol_signed_distance_result sr;
   double g[14];
   dcol_status rc = DCOL_OK;
-  double t0 = 0, t1 = 0;
   switch (m) {
     case kProxCold:
     case kProxCached:
-      t0 = now_ns();
       rc = m == kProxCold ? dcol_proximity(s1.handle, p1, s2.handle, p2, nullptr, &pr)
                           : dcol_proximity_cached(s1.handle, p1, s2.handle, p2, nullptr, &S.cache[0], &pr);
-      t1 = now_ns();
       if (a) a->prox[m - kProxCold] = pr.alpha;
       break;
     case kDistCold:
     case kDistCached:
-      t0 = now_ns();
       rc = m == kDistCold ? dcol_distance(s1.handle, p1, s2.handle, p2, nullptr, &dr)
                           : dcol_distance_cached(s1.handle, p1, s2.handle, p2, nullptr, &S.cache[1], &dr);
-      t1 = now_ns();
       if (a) a->dist[m - kDistCold] = dr.distance;
       break;
     case kSdCold:
     case kSdCached:
-      t0 = now_ns();
       rc = m == kSdCold ? dcol_signed_distance(s1.handle, p1, s2.handle, p2, nullptr, &sr)
                         : dcol_signed_distance_cached(s1.handle, p1, s2.handle, p2, nullptr, &S.cache[2], &sr);
-      t1 = now_ns();
       if (a) a->sd[m - kSdCold] = sr.distance;
       if (a && m == kSdCold) std::memcpy(a->sd_normal, sr.normal, sizeof sr.normal);
       break;
     case kGradCold:
     case kGradCached:
-      t0 = now_ns();
       rc = m == kGradCold ? dcol_gradient(s1.handle, p1, s2.handle, p2, nullptr, &pr, g)
                           : dcol_gradient_cached(s1.handle, p1, s2.handle, p2, nullptr, &S.cache[3], &pr, g);
-      t1 = now_ns();
       if (a) std::memcpy(a->grad[m - kGradCold], g, sizeof g);
       break;
     case kCoalCold: {
       coal::DistanceRequest req;
       coal::DistanceResult res;
-      t0 = now_ns();
       coal::distance(c1.geom.get(), st.t1, c2.geom.get(), st.t2, req, res);
-      t1 = now_ns();
       if (a) a->coal[0] = res.min_distance;
       if (a)
         for (int i = 0; i < 3; ++i) a->coal_normal[0][i] = res.normal[i];
@@ -312,10 +310,8 @@ double run_method(int m, const cmp_shape &s1, const cmp_shape &s2, const Step &s
     }
     case kCoalWarm: {
       coal::DistanceResult res;
-      t0 = now_ns();
       coal::distance(c1.geom.get(), st.t1, c2.geom.get(), st.t2, S.warm, res);
       S.warm.updateGuess(res);
-      t1 = now_ns();
       if (a) a->coal[1] = res.min_distance;
       if (a)
         for (int i = 0; i < 3; ++i) a->coal_normal[1][i] = res.normal[i];
@@ -325,13 +321,14 @@ double run_method(int m, const cmp_shape &s1, const cmp_shape &s2, const Step &s
       break;
   }
   if (a) a->ok[m] = rc == DCOL_OK;
-  return t1 - t0;
 }
 
 // Every trajectory of one pair type.
 void run_pair(PairStats &P, int k1, int k2, long seed, const Config &cfg) {
   cmp_rng rng;
   cmp_rng_seed(&rng, (uint64_t)seed * 7919u + (uint64_t)(k1 * 16 + k2));
+  cmp_rng shuffle;
+  cmp_rng_seed(&shuffle, (uint64_t)seed * 104729u + (uint64_t)(k1 * 16 + k2));
   std::vector<Step> traj;
   std::vector<double> times[kMethods];
   for (long t = 0; t < cfg.trajectories; ++t) {
@@ -353,33 +350,58 @@ void run_pair(PairStats &P, int k1, int k2, long seed, const Config &cfg) {
     const long n = static_cast<long>(traj.size());
     for (auto &v : times) v.assign(static_cast<size_t>(n * cfg.rounds), 0.0);
     TrajectoryState S;
+    // The check pass (untimed): every method on every step, the answers compared.
+    S.reset();
+    for (long k = 0; k < n; ++k) {
+      Answers ans;
+      for (int m = 0; m < kMethods; ++m) call_method(m, s1, s2, traj[k], c1, c2, S, &ans);
+      for (int m = 0; m < kMethods; ++m)
+        if (!ans.ok[m]) ++P.failed[m];
+      if (traj[k].subset != kAll) check_step(P, ans, traj[k]);
+    }
+    // The timed rounds: per block of cfg.block steps, each method runs the block's steps in a
+    // row (its cache or guess carried on from the previous block), the methods one after the
+    // other.
+    const long blocks = (n + cfg.block - 1) / cfg.block;
+    for (auto &v : times) v.assign(static_cast<size_t>(blocks * cfg.rounds), 0.0);
     for (int r = 0; r < cfg.rounds; ++r) {
       S.reset();
-      for (long k = 0; k < n; ++k) {
-        Answers ans;
-        Answers *a = r == 0 ? &ans : nullptr;
+      for (long b = 0; b < blocks; ++b) {
+        const long k0 = b * cfg.block, k1 = std::min(n, k0 + cfg.block);
+        // A fresh random order per block: a method that runs right after its twin (cached after
+        // cold) on the same steps finds the caches and branch predictors trained on them (a fixed
+        // order made the cached signed distance of curved pairs, the very same computation as the
+        // cold one, 0.88-0.95x cold); at random, each goes first half the time.
+        int order[kMethods];
+        for (int j = 0; j < kMethods; ++j) order[j] = j;
+        for (int j = kMethods - 1; j > 0; --j) std::swap(order[j], order[cmp_rng_int(&shuffle, 0, j)]);
         for (int j = 0; j < kMethods; ++j) {
-          const int m = static_cast<int>((k + r + j) % kMethods);
-          times[m][static_cast<size_t>(k * cfg.rounds + r)] = run_method(m, s1, s2, traj[k], c1, c2, S, a);
-        }
-        if (a) {
-          for (int m = 0; m < kMethods; ++m)
-            if (!ans.ok[m]) ++P.failed[m];
-          if (traj[k].subset != kAll) check_step(P, ans, traj[k]);
+          const int m = order[j];
+          const double t0 = now_ns();
+          for (long k = k0; k < k1; ++k) call_method(m, s1, s2, traj[k], c1, c2, S, nullptr);
+          times[m][static_cast<size_t>(b * cfg.rounds + r)] = (now_ns() - t0) / static_cast<double>(k1 - k0);
         }
       }
     }
-    for (long k = 0; k < n; ++k) {
-      const Subset sub = traj[k].subset;
-      if (sub == kAll) continue;
-      ++P.steps[sub];
-      ++P.steps[kAll];
-      for (int m = 0; m < kMethods; ++m) {
-        std::vector<double> rounds(times[m].begin() + k * cfg.rounds, times[m].begin() + (k + 1) * cfg.rounds);
-        const double t_step = median(rounds);
-        P.t[m][sub].push_back(t_step);
-        P.t[m][kAll].push_back(t_step);
+    // A block counts for a subset when all its steps are in it (and for "all" when none failed).
+    for (long b = 0; b < blocks; ++b) {
+      const long k0 = b * cfg.block, k1 = std::min(n, k0 + cfg.block);
+      Subset sub = traj[k0].subset;
+      bool failed = false;
+      for (long k = k0; k < k1; ++k) {
+        failed = failed || traj[k].subset == kAll;
+        if (traj[k].subset != sub) sub = kAll;
       }
+      if (failed) continue;
+      if (sub == kAll) ++P.mixed_blocks;
+      for (int m = 0; m < kMethods; ++m) {
+        std::vector<double> rounds(times[m].begin() + b * cfg.rounds, times[m].begin() + (b + 1) * cfg.rounds);
+        const double t_block = median(rounds);
+        if (sub != kAll) P.t[m][sub].push_back(t_block);
+        P.t[m][kAll].push_back(t_block);
+      }
+      if (sub != kAll) P.steps[sub] += k1 - k0;
+      P.steps[kAll] += k1 - k0;
     }
     cmp_shape_release(&s1);
     cmp_shape_release(&s2);
@@ -434,9 +456,10 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
   sum.seed = seed;
   for (PairStats &P : pairs)
     for (int m = 0; m < kMethods; ++m)
-      for (int s = 0; s < kSubsets; ++s) P.med[m][s] = std::max(0.0, median(P.t[m][s]) - overhead);
+      for (int s = 0; s < kSubsets; ++s)
+        P.med[m][s] = std::max(0.0, median(P.t[m][s]) - overhead / static_cast<double>(cfg.block));
   std::printf("\n## Seed %ld\n\n", seed);
-  std::printf("Separated steps (alpha* > 1): median ns per step; ratios of the medians, same run.\n\n");
+  std::printf("Separated blocks (alpha* > 1): median ns per step; ratios of the medians, same run.\n\n");
   std::printf("| pair | steps | proximity cold | cached | cached / cold | distance cold | cached | cached / cold | "
               "Coal cold | Coal warm | warm / cold | proximity cached / Coal warm | distance cached / Coal warm |\n");
   std::printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
@@ -451,7 +474,7 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
                 fmt(P.med[kCoalCold][s], "%.0f").c_str(), fmt(P.med[kCoalWarm][s], "%.0f").c_str(),
                 fmt(r[4], "%.2f").c_str(), fmt(r[6], "%.2f").c_str(), fmt(r[7], "%.2f").c_str());
   }
-  std::printf("\nOverlapping steps (alpha* < 1), and the gradient on every step.\n\n");
+  std::printf("\nOverlapping blocks (alpha* < 1), and the gradient on every block.\n\n");
   std::printf("| pair | steps | signed distance cold | cached | cached / cold | Coal cold | Coal warm | warm / cold | "
               "signed distance cached / Coal warm | gradient cold (all) | cached | cached / cold |\n");
   std::printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
@@ -510,7 +533,7 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
                 fmt(sum.ratio[k], "%.2f").c_str(), best.c_str(), worst.c_str());
   }
   // Agreement.
-  std::printf("\nAgreement (round 1, untimed): steps beyond the bound / steps checked (worst difference). On the "
+  std::printf("\nAgreement (an untimed pass over every step): steps beyond the bound / steps checked (worst difference). On the "
               "overlapping steps where dcol and Coal differ, both depths are set against an independent depth "
               "(depth_check.cpp: the minimum over directions of the overlap of the support functions).\n\n");
   std::printf("| check | bound | disagreements | worst |\n|---|---|--:|--:|\n");
@@ -532,17 +555,18 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
     if (!row.empty()) per_pair += "- " + P.name + ": " + row + "\n";
   }
   if (!per_pair.empty()) std::printf("\nPair types with disagreements:\n\n%s", per_pair.c_str());
-  long trajectories = 0, refused = 0;
+  long trajectories = 0, refused = 0, mixed = 0;
   for (const PairStats &P : pairs) {
+    mixed += P.mixed_blocks;
     for (int m = 0; m < kMethods; ++m) sum.failed += P.failed[m];
     for (int s = 0; s < kSubsets; ++s) sum.steps[s] += P.steps[s];
     trajectories += P.trajectories;
     refused += P.refused;
   }
-  std::printf("\n%ld trajectories (%ld refused at the start), %ld steps: %ld separated, %ld overlapping; %ld failed "
-              "calls; %d rounds\n",
-              trajectories, refused, sum.steps[kAll], sum.steps[kSeparated], sum.steps[kOverlapping], sum.failed,
-              cfg.rounds);
+  std::printf("\n%ld trajectories (%ld refused at the start), %ld steps timed: %ld in separated blocks, %ld in "
+              "overlapping blocks, %ld blocks mixed; %ld failed calls; %d rounds\n",
+              trajectories, refused, sum.steps[kAll], sum.steps[kSeparated], sum.steps[kOverlapping], mixed,
+              sum.failed, cfg.rounds);
   if (csv) {
     for (const PairStats &P : pairs) {
       for (int m = 0; m < kMethods; ++m)
@@ -574,9 +598,10 @@ int main() {
   cfg.steps = smoke ? 60 : cmp_env_long("DCOL_BENCH_STEPS", 1000);
   cfg.trajectories = smoke ? 2 : cmp_env_long("DCOL_BENCH_TRAJECTORIES", 8);
   cfg.rounds = smoke ? 1 : static_cast<int>(cmp_env_long("DCOL_BENCH_ROUNDS", 5));
+  cfg.block = cmp_env_long("DCOL_BENCH_BLOCK", 10);
   cfg.only = std::getenv("DCOL_BENCH_PAIR");
-  if (cfg.steps < 1 || cfg.trajectories < 1 || cfg.rounds < 1) {
-    std::fprintf(stderr, "bench_trajectory: DCOL_BENCH_STEPS, _TRAJECTORIES and _ROUNDS must be >= 1\n");
+  if (cfg.steps < 1 || cfg.trajectories < 1 || cfg.rounds < 1 || cfg.block < 1) {
+    std::fprintf(stderr, "bench_trajectory: DCOL_BENCH_STEPS, _TRAJECTORIES, _ROUNDS and _BLOCK must be >= 1\n");
     return 2;
   }
   std::vector<long> seeds;
@@ -610,9 +635,10 @@ int main() {
   const double overhead = timer_cost();
   std::printf("# Trajectories: warm against cold, dcol against Coal %s\n\n", DCOL_BENCH_COAL_VERSION);
   std::printf("%ld trajectories per pair type (start alpha* 1.2 and 0.8 alternately), %ld steps of 1 mm and 1 "
-              "degree, %d rounds (per step the median round); default tolerances and requests; %s; the timer's own "
-              "cost, %.0f ns, subtracted from every median.\n",
-              cfg.trajectories, cfg.steps, cfg.rounds, pinned.c_str(), overhead);
+              "degree, timed in blocks of %ld steps, %d rounds (per block the median round, per pair type the "
+              "median block, ns per step); default tolerances and requests; %s; the timer's own cost, %.0f ns a "
+              "reading, subtracted.\n",
+              cfg.trajectories, cfg.steps, cfg.block, cfg.rounds, pinned.c_str(), overhead);
   std::vector<SeedSummary> sums;
   for (long seed : seeds) {
     std::vector<PairStats> pairs;
@@ -648,8 +674,9 @@ int main() {
   std::printf("\n| disagreements, dcol vs Coal (cold + warm) |");
   for (const SeedSummary &s : sums)
     std::printf(" %ld |", s.disagree[4] + s.disagree[5] + s.disagree[6] + s.disagree[7]);
-  std::printf("\n| of those overlaps: dcol / Coal off the independent depth |");
-  for (const SeedSummary &s : sums) std::printf(" %ld / %ld |", s.disagree[kIndepDcol], s.disagree[kIndepCoal]);
+  std::printf("\n| of those overlaps: dcol / Coal cold / Coal warm off the independent depth |");
+  for (const SeedSummary &s : sums)
+    std::printf(" %ld / %ld / %ld |", s.disagree[kIndepDcol], s.disagree[kIndepCoal], s.disagree[kIndepCoalWarm]);
   std::printf("\n");
   if (csv) std::fclose(csv);
   std::fflush(stdout);
