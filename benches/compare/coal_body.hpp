@@ -15,7 +15,7 @@
 // coal::Convex<Triangle> (its vertices at z = 0, a triangle fan) with Coal's swept-sphere radius
 // set to the padding (Coal runs GJK on the flat core and subtracts the radius, as dcol's distance
 // does); bench_compare still leaves polygon pairs out (FCL has no such shape), bench_posesets
-// uses it.
+// and bench_trajectory use it.
 #ifndef DCOL_BENCH_COAL_BODY_HPP
 #define DCOL_BENCH_COAL_BODY_HPP
 

@@ -31,12 +31,14 @@
 // 1e-5 max(1, |d|) (Coal's default gjk_tolerance is 1e-6, as bench_posesets): distance on
 // separated steps, signed distance on overlapping steps; where the depths differ, both against
 // the independent depth of depth_check.cpp (support functions only), to say who is off. Failed
-// calls are counted.
+// calls are counted. The exit status is 3 when a cached alpha*, distance or signed distance is
+// beyond 1e-12 of the cold one (dcol_cache's contract in dcol.h; the gradient is only counted).
 //
 // Two seeds: DCOL_BENCH_SEEDS (default "3301,3302"; the first is the one the bench was developed
 // on, the second is only measured). DCOL_BENCH_TRAJECTORIES per pair type (default 8),
 // DCOL_BENCH_PAIR=name (one pair type), DCOL_BENCH_CPU=n (pin to core n), DCOL_BENCH_CSV=file
-// (every median and ratio as CSV), DCOL_BENCH_SMOKE=1 (2 trajectories of 60 steps, 1 round).
+// (every median and ratio as CSV), DCOL_BENCH_SMOKE=1 (2 trajectories of 60 steps, 1 round),
+// DCOL_BENCH_VERBOSE=1 (each overlapping disagreement's depths on stderr).
 // Markdown on stdout (run.sh writes results/trajectory.md and results/trajectory.csv).
 #include <coal/collision_object.h>
 #include <coal/distance.h>
@@ -251,6 +253,9 @@ void check_step(PairStats &P, const Answers &a, const Step &st) {
     check(P, kIndepDcol, std::fabs(-a.sd[0] - ind.depth), bound);
     check(P, kIndepCoal, std::fabs(-a.coal[0] - ind.depth), bound);
     if (a.ok[kCoalWarm]) check(P, kIndepCoalWarm, std::fabs(-a.coal[1] - ind.depth), bound);
+    if (std::getenv("DCOL_BENCH_VERBOSE") != nullptr)
+      std::fprintf(stderr, "%s: dcol signed distance %.9f, Coal cold %.9f, warm %.9f, independent -%.9f\n",
+                   P.name.c_str(), a.sd[0], a.coal[0], a.coal[1], ind.depth);
   }
 }
 
@@ -667,8 +672,11 @@ int main() {
     for (const SeedSummary &s : sums) std::printf(" %s |", fmt(s.ratio[k], "%.2f").c_str());
     std::printf("\n");
   }
-  long steps = 0;
-  for (const SeedSummary &s : sums) steps += s.steps[kAll];
+  long steps = 0, contract = 0;
+  for (const SeedSummary &s : sums) {
+    steps += s.steps[kAll];
+    contract += s.disagree[kCProx] + s.disagree[kCDist] + s.disagree[kCSd];
+  }
   std::printf("| disagreements, cached vs cold |");
   for (const SeedSummary &s : sums) std::printf(" %ld |", s.disagree[0] + s.disagree[1] + s.disagree[2] + s.disagree[3]);
   std::printf("\n| disagreements, dcol vs Coal (cold + warm) |");
@@ -680,5 +688,11 @@ int main() {
   std::printf("\n");
   if (csv) std::fclose(csv);
   std::fflush(stdout);
+  if (contract > 0) {
+    // dcol_cache's contract (dcol.h): warm alpha* and distances within 1e-12 relative of cold.
+    std::fprintf(stderr, "bench_trajectory: %ld cached answers (alpha*, distance, signed distance) differ from the "
+                 "cold ones beyond 1e-12 relative\n", contract);
+    return 3;
+  }
   return steps > 0 ? 0 : 1;
 }
