@@ -94,7 +94,8 @@ const char *const kSubsetNames[kSubsets] = {"separated", "overlapping", "all"};
 
 // Disagreement counters: cached vs cold per query, dcol vs Coal (cold, warm) per subset.
 // On the overlapping steps where dcol and Coal disagree, both depths are compared with the
-// independent depth of depth_check.cpp (kIndepDcol, kIndepCoal: that one is off it).
+// independent depth of depth_check.cpp (kIndepDcol, kIndepCoal, kIndepCoalWarm: that one is
+// off it).
 enum Check {
   kCProx = 0,
   kCDist,
@@ -125,7 +126,7 @@ struct PairStats {
   std::string name;
   bool polygon = false;
   long steps[kSubsets] = {0, 0, 0};
-  std::vector<double> t[kMethods][kSubsets];  // per step: the median round's ns
+  std::vector<double> t[kMethods][kSubsets];  // per block: the median round's ns per step
   long disagree[kChecks] = {}, checked[kChecks] = {};
   double worst[kChecks] = {};
   long failed[kMethods] = {};
