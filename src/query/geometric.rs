@@ -50,8 +50,14 @@ const MARGIN: Real = 1e-3;
 /// What the geometric path concluded.
 pub(crate) enum Outcome {
     /// The certified bracket excluded the threshold: α* is below it (`true`) or above it;
-    /// `alpha` is the bracket's end on that side (world units).
-    Decided { below: bool, alpha: Real },
+    /// `alpha` is the bracket's end on that side (world units); `normal` (world, any length)
+    /// the direction whose support bound gave the lower end: one that separates the shapes
+    /// scaled by the threshold when not `below`.
+    Decided {
+        below: bool,
+        alpha: Real,
+        normal: Vec3,
+    },
     /// The full answer, with `∂α*/∂(r₂ − r₁)` (the optimal normal `n*/h_K(n*)`, world units).
     Answer(Proximity, Vec3),
     /// The geometric solvers could not certify an answer: run the interior-point solver.
@@ -107,10 +113,11 @@ pub(crate) fn proximity(
     let ans = match solved {
         Ok(Some(ans)) => ans,
         Ok(None) => return Outcome::Fallback,
-        Err((below, alpha)) => {
+        Err((below, alpha, normal)) => {
             return Outcome::Decided {
                 below,
                 alpha: alpha * world,
+                normal,
             }
         }
     };
@@ -405,11 +412,13 @@ fn two_spheres_jacobian(
     (prox.alpha.is_finite() && j.iter().flatten().all(|v| v.is_finite())).then_some(j)
 }
 
-/// `Err((below, bound))` when the cast's bracket decided the threshold: the bracket's end on
-/// that side.
-fn decided(c: &Cast) -> Result<(), (bool, Real)> {
+/// `Err((below, bound, normal))` when the cast's bracket decided the threshold: the bracket's
+/// end on that side, and the normal of its lower end.
+fn decided(c: &Cast) -> Result<(), (bool, Real, Vec3)> {
     match c.end {
-        CastEnd::Decided(below) => Err((below, if below { c.alpha_hi } else { c.alpha_lo })),
+        CastEnd::Decided(below) => {
+            Err((below, if below { c.alpha_hi } else { c.alpha_lo }, c.normal))
+        }
         _ => Ok(()),
     }
 }
@@ -550,7 +559,7 @@ fn solve_cold(
                     solver: Solver::RayCast,
                 }));
             }
-            PaddedEnd::Decided(below, alpha) => return Err((below, alpha)),
+            PaddedEnd::Decided(below, alpha, n) => return Err((below, alpha, n)),
             PaddedEnd::Failed => {}
         }
     }

@@ -373,7 +373,7 @@ pub(crate) fn query_full(
                     decided: None,
                 });
             }
-            geometric::Outcome::Decided { below, alpha } => {
+            geometric::Outcome::Decided { below, alpha, .. } => {
                 // Only the decision is used; the bound that made it stands in for α*.
                 let prox = Proximity {
                     alpha,
