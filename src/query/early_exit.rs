@@ -217,12 +217,11 @@ pub(crate) fn intersect_warm(
         iterations: 0,
         status: SolveStatus::Converged,
     };
-    let delta = pose2.position() - pose1.position();
-    let dist = robust_norm(&delta);
+    let dist = robust_norm(&(pose2.position() - pose1.position()));
     let (lo, hi) = alpha_bounds(shape1, pose1, shape2, pose2);
     if hi < 1.0 || lo > 1.0 {
-        // Apart by the bounding spheres: the line of centres separates them.
-        cache.keep_separating((lo > 1.0).then_some(&delta));
+        // The cold path's own first answer, as cheap as any: the cache is left as it is (its
+        // writes cost 1.7 times a bounds answer between spheres, for no later gain).
         return Ok(quick(hi < 1.0, DecidedBy::Bounds));
     }
     let margin = band(options);
