@@ -150,6 +150,7 @@ pub(crate) fn proximity(
 /// `∂h₁(n)/∂q₁ₖ = n·(∂R₁/∂q₁ₖ) b₁*` and `∂h₂(−n)/∂q₂ₖ = −n·(∂R₂/∂q₂ₖ) b₂*`, and
 /// `∂α*/∂h_K = −α*/h_K`. Exact wherever the optimal normal and support points are unique. A
 /// sphere's support function does not depend on its attitude: its columns are exactly zero.
+#[inline]
 pub(crate) fn gradient(
     prox: &Proximity,
     dalpha_dd: &Vec3,

@@ -70,6 +70,7 @@ impl SupportMap for Capsule {
         let id = u32::from(m.x < 0.0);
         (self.end(id) + Round::Ball(self.radius).point(m), id)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         (id < 2).then(|| Round::Ball(self.radius).eval(&self.end(id), m))?
     }

@@ -75,6 +75,7 @@ impl SupportMap for Cylinder {
         let id = u32::from(m.x < 0.0);
         (self.cap(id) + Round::Circle(self.radius).point(m), id)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         (id < 2).then(|| Round::Circle(self.radius).eval(&self.cap(id), m))?
     }

@@ -81,6 +81,7 @@ impl Round<'_> {
 
     /// Value, gradient and Hessian of `a·m + ‖m‖_round`; `None` where the round part is not
     /// differentiable.
+    #[inline]
     pub(crate) fn eval(&self, a: &Vec3, m: &Vec3) -> Option<PieceEval> {
         let (value, grad, hess) = match *self {
             Round::Flat => (0.0, Vec3::zeros(), Mat3::zeros()),
@@ -146,6 +147,12 @@ pub(crate) trait SupportMap {
     }
     /// Piece `id` evaluated at `m` (`None` where it is not differentiable or `id` is unknown).
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval>;
+    /// [`SupportMap::piece`]'s value and support point only (the same numbers), for searches
+    /// that never use the Hessian: inlined, the Hessian is not formed.
+    #[inline(always)]
+    fn piece_point(&self, id: u32, m: &Vec3) -> Option<(Real, Vec3)> {
+        self.piece(id, m).map(|e| (e.value, e.grad))
+    }
     /// The outward unit normal of a flat face (a polytope facet, a disc, a padded polygon's
     /// top or bottom) whose normal makes an angle with `m` of cosine at least `cos_min`,
     /// the closest such one; `None` if there is none.

@@ -149,13 +149,13 @@ fn tied_pieces<S: SupportMap>(
         return Some(());
     }
     for id in 0..shape.piece_count() {
-        let e = shape.piece(id, m)?;
-        if e.value >= floor {
+        let (value, point) = shape.piece_point(id, m)?;
+        if value >= floor {
             if t.count == MAX_TIED {
                 return None;
             }
             t.ids[t.count] = id;
-            t.pts[t.count] = e.grad;
+            t.pts[t.count] = point;
             t.count += 1;
         }
     }

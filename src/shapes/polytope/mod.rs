@@ -244,6 +244,7 @@ impl SupportMap for Polytope {
         let (k, _) = argmax_dot(&self.vertices, m);
         (self.vertices[k], k as u32)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         Round::Flat.eval(self.vertices.get(id as usize)?, m)
     }
