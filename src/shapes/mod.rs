@@ -587,6 +587,9 @@ impl SupportMap for Shape {
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
         dispatch!(self, s => s.vertex_pieces())
     }
+    fn support_set(&self, m: &Vec3, tie: Real, point: Real) -> Option<(usize, Vec3)> {
+        dispatch!(self, s => s.support_set(m, tie, point))
+    }
 }
 
 pub(crate) fn positive_finite(name: &'static str, v: Real) -> Result<(), Error> {

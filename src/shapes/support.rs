@@ -42,7 +42,7 @@ pub(crate) struct PieceEval {
 }
 
 /// Relative size below which the round part of a piece counts as not differentiable.
-const ROUND_EPS: Real = 1e-300;
+pub(crate) const ROUND_EPS: Real = 1e-300;
 
 impl Round<'_> {
     /// The round part's support point at `m` (its gradient); at the one direction where it is
@@ -180,6 +180,25 @@ pub(crate) trait SupportMap {
     /// dot products instead of evaluating each piece with its Hessian.
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
         None
+    }
+    /// The support set at `m` in closed form, where the shape's pieces differ along its axes
+    /// only (a centred box, a capsule's or cylinder's two ends): its affine dimension and, when
+    /// that is one, its direction (body), as a search of the pieces decides it: pieces within
+    /// `tie` of the support value tie, tied points closer than `point` are one. `None`: no
+    /// closed form here (or a piece not differentiable at `m`); search the pieces.
+    fn support_set(&self, _m: &Vec3, _tie: Real, _point: Real) -> Option<(usize, Vec3)> {
+        None
+    }
+}
+
+/// [`SupportMap::support_set`] of two pieces `length` apart along body x that differ at `m` by
+/// `length·|m_x|` (a capsule's or cylinder's ends).
+#[inline]
+pub(crate) fn two_ends_set(length: Real, m: &Vec3, tie: Real, point: Real) -> (usize, Vec3) {
+    if length * m.x.abs() <= tie && length > point {
+        (1, Vec3::x())
+    } else {
+        (0, Vec3::zeros())
     }
 }
 
