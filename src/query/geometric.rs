@@ -12,7 +12,7 @@
 
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
-use super::derivatives::rotation_axes;
+use super::derivatives::{rotation_axes, rotation_dots};
 use super::polytope_jacobian::polytope_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
@@ -157,6 +157,7 @@ pub(crate) fn proximity(
 /// `∂h₁(n)/∂q₁ₖ = n·(∂R₁/∂q₁ₖ) b₁*` and `∂h₂(−n)/∂q₂ₖ = −n·(∂R₂/∂q₂ₖ) b₂*`, and
 /// `∂α*/∂h_K = −α*/h_K`. Exact wherever the optimal normal and support points are unique. A
 /// sphere's support function does not depend on its attitude: its columns are exactly zero.
+#[inline]
 pub(crate) fn gradient(
     prox: &Proximity,
     dalpha_dd: &Vec3,
@@ -174,15 +175,11 @@ pub(crate) fn gradient(
     let alpha = prox.alpha;
     if shapes[0].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
-        for (k, w) in rotation_axes(pose1).iter().enumerate() {
-            g[3 + k] = w.dot(&t);
-        }
+        g[3..7].copy_from_slice(&rotation_dots(pose1, &t));
     }
     if shapes[1].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
-        for (k, w) in rotation_axes(pose2).iter().enumerate() {
-            g[10 + k] = w.dot(&t);
-        }
+        g[10..14].copy_from_slice(&rotation_dots(pose2, &t));
     }
     g
 }
