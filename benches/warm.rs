@@ -7,19 +7,21 @@
 //! contact features change as the shapes turn.
 //!
 //! For each query (proximity, gradient, Jacobian, distance, signed distance, contacts with a
-//! 0.02 margin, derivatives) the whole trajectory is timed
+//! 0.02 margin, derivatives, intersect) the whole trajectory is timed
 //! cold (the plain query) and cached (one `dcol::Cache` carried through it), interleaved,
 //! `DCOL_WARM_ROUNDS` times (default 5); per pair the median round, per step. Then the same
 //! on random jumps (every step a new random pose of the pair, the cache carried along), where
 //! a cache can only cost. The answers are compared: the largest relative difference in α*
-//! between cached and cold.
+//! between cached and cold, and for `intersect` the number of decisions that differ (none
+//! expected). `DCOL_WARM_QUERIES=intersect,proximity` times only those queries.
 //!
 //! `cargo bench --bench warm` (`-- --test`: a smoke run of 20 steps, 1 round).
 
 use dcol::{
     contact_manifold, contact_manifold_cached, derivatives, derivatives_cached, distance,
-    distance_cached, gradient, gradient_cached, jacobian, jacobian_cached, proximity,
-    proximity_cached, signed_distance, signed_distance_cached, Cache, Options, Pose, Shape,
+    distance_cached, gradient, gradient_cached, intersect, intersect_cached, jacobian,
+    jacobian_cached, proximity, proximity_cached, signed_distance, signed_distance_cached, Cache,
+    Options, Pose, Shape,
 };
 use std::hint::black_box;
 use std::time::Instant;
@@ -219,6 +221,11 @@ const QUERIES: &[(&str, Cold, Warm)] = &[
                 .alpha
         },
     ),
+    (
+        "intersect",
+        |a, p, b, q, o| f64::from(u8::from(intersect(a, p, b, q, o).unwrap().below)),
+        |a, p, b, q, o, c| f64::from(u8::from(intersect_cached(a, p, b, q, o, c).unwrap().below)),
+    ),
 ];
 
 fn median(v: &mut [f64]) -> f64 {
@@ -248,6 +255,14 @@ fn main() {
     let mut rng = Rng(seed | 1);
     let kinds = shapes(&mut rng);
     let o = Options::default();
+    let wanted: Option<Vec<String>> = std::env::var("DCOL_WARM_QUERIES")
+        .ok()
+        .map(|v| v.split(',').map(str::to_string).collect());
+    let queries: Vec<_> = QUERIES
+        .iter()
+        .filter(|q| wanted.as_ref().map_or(true, |w| w.iter().any(|n| n == q.0)))
+        .collect();
+    let mut mismatches = 0usize;
     for jumps in [false, true] {
         println!(
             "\n## {} ({} steps, {} rounds; ns per step, median round)\n",
@@ -261,23 +276,23 @@ fn main() {
         );
         println!(
             "| pair | {} |",
-            QUERIES
+            queries
                 .iter()
                 .map(|q| format!("{} cold | cached | ratio", q.0))
                 .collect::<Vec<_>>()
                 .join(" | ")
         );
-        println!("|---|{}", "--:|".repeat(3 * QUERIES.len()));
-        let mut ratios = vec![Vec::new(); QUERIES.len()];
-        let mut colds = vec![Vec::new(); QUERIES.len()];
-        let mut warms = vec![Vec::new(); QUERIES.len()];
+        println!("|---|{}", "--:|".repeat(3 * queries.len()));
+        let mut ratios = vec![Vec::new(); queries.len()];
+        let mut colds = vec![Vec::new(); queries.len()];
+        let mut warms = vec![Vec::new(); queries.len()];
         let mut worst: f64 = 0.0;
         for i in 0..kinds.len() {
             for j in i..kinds.len() {
                 let (a, b) = (&kinds[i].1, &kinds[j].1);
                 let traj = poses(a, b, &mut rng, steps, start, jumps);
                 let mut row = format!("| {}-{} |", kinds[i].0, kinds[j].0);
-                for (qi, (_, cold, warm)) in QUERIES.iter().enumerate() {
+                for (qi, (name, cold, warm)) in queries.iter().enumerate() {
                     let (mut tc, mut tw) = (Vec::new(), Vec::new());
                     for _ in 0..rounds {
                         let t = Instant::now();
@@ -292,12 +307,19 @@ fn main() {
                         }
                         tw.push(t.elapsed().as_nanos() as f64 / steps as f64);
                     }
-                    if qi == 0 || qi == 3 || qi == 4 {
+                    if matches!(*name, "proximity" | "distance" | "signed_distance") {
                         let mut cache = Cache::new();
                         for (p, q) in &traj {
                             let (x, y) = (cold(a, p, b, q, &o), warm(a, p, b, q, &o, &mut cache));
-                            let scale = if qi == 0 { x.abs() } else { 1.0 };
+                            let scale = if *name == "proximity" { x.abs() } else { 1.0 };
                             worst = worst.max((x - y).abs() / scale.max(1e-300));
+                        }
+                    }
+                    if *name == "intersect" {
+                        let mut cache = Cache::new();
+                        for (p, q) in &traj {
+                            let (x, y) = (cold(a, p, b, q, &o), warm(a, p, b, q, &o, &mut cache));
+                            mismatches += usize::from(x != y);
                         }
                     }
                     let (c, w) = (median(&mut tc), median(&mut tw));
@@ -310,7 +332,7 @@ fn main() {
             }
         }
         let mut all = "| all-pairs median |".to_string();
-        for qi in 0..QUERIES.len() {
+        for qi in 0..queries.len() {
             all += &format!(
                 " {:.0} | {:.0} | {:.2} |",
                 median(&mut colds[qi]),
@@ -323,6 +345,6 @@ fn main() {
             .iter()
             .map(|r| format!("{:.2}", r.iter().cloned().fold(0.0, f64::max)))
             .collect();
-        println!("\nworst pair ratio per query: {}; largest difference cached vs cold (alpha relative, distance absolute): {worst:.1e}", maxr.join(", "));
+        println!("\nworst pair ratio per query: {}; largest difference cached vs cold (alpha relative, distance absolute): {worst:.1e}; intersect decisions that differ: {mismatches}", maxr.join(", "));
     }
 }

@@ -4,7 +4,8 @@
  * within 1e-12 of the length scale, derivatives within 1e-9 of their largest entry) and most
  * answers come from the cache (DCOL_SOLVER_POLISH where the cold ray cast answers); a cache
  * holding garbage gives the cold answer; a NULL cache is DCOL_ERROR_NULL_POINTER and writes
- * nothing. */
+ * nothing. dcol_intersect_cached gives dcol_intersect's decision on every step (and alpha* < 1
+ * of dcol_proximity wherever alpha* is more than 1e-9 from 1). */
 #include <math.h>
 #include <string.h>
 
@@ -41,7 +42,8 @@ int main(void) {
   dcol_pose p1, p2;
   dcol_cache cp = DCOL_CACHE_INIT, cg = DCOL_CACHE_INIT, cj = DCOL_CACHE_INIT;
   dcol_cache cd = DCOL_CACHE_INIT, cx = DCOL_CACHE_INIT, cxg = DCOL_CACHE_INIT;
-  dcol_cache cs = DCOL_CACHE_INIT, cc = DCOL_CACHE_INIT;
+  dcol_cache cs = DCOL_CACHE_INIT, cc = DCOL_CACHE_INIT, ci = DCOL_CACHE_INIT;
+  int overlapping = 0;
   const double a1[3] = {0.0, 0.6, 0.8}, a2[3] = {0.8, 0.0, 0.6};
   const double ell = 0.6;
   for (i = 0; i < 24 * 3; ++i) {
@@ -76,6 +78,14 @@ int main(void) {
               r1.alpha, r0.alpha);
     for (i = 0; i < 3; ++i) CHECK(fabs(r1.point[i] - r0.point[i]) <= 1e-11 * ell);
     warm += r1.solver == DCOL_SOLVER_POLISH && r0.solver != DCOL_SOLVER_POLISH;
+    {
+      int32_t x0 = -1, x1 = -1;
+      CHECK(dcol_intersect(box, &p1, hull, &p2, NULL, &x0) == DCOL_OK);
+      CHECK(dcol_intersect_cached(box, &p1, hull, &p2, NULL, &ci, &x1) == DCOL_OK);
+      CHECK_MSG(x1 == x0, "step %d: intersect %d cached, %d cold", k, (int)x1, (int)x0);
+      if (fabs(r0.alpha - 1.0) > 1e-9) CHECK(x1 == (r0.alpha < 1.0));
+      overlapping += x1;
+    }
     steps += 1;
     CHECK(dcol_gradient(box, &p1, hull, &p2, NULL, &rg0, g0) == DCOL_OK);
     CHECK(dcol_gradient_cached(box, &p1, hull, &p2, NULL, &cg, &rg1, g1) == DCOL_OK);
@@ -112,6 +122,9 @@ int main(void) {
     }
   }
   CHECK_MSG(2 * warm > steps, "%d of %d proximity answers warm", warm, steps);
+  /* The trajectory crosses alpha* = 1: both decisions occur. */
+  CHECK_MSG(overlapping > 0 && overlapping < steps, "%d of %d steps overlapping", overlapping,
+            steps);
 
   /* Garbage in a cache: the cold answer. */
   {
@@ -122,6 +135,13 @@ int main(void) {
     CHECK(dcol_proximity(box, &p1, hull, &p2, NULL, &r0) == DCOL_OK);
     CHECK(dcol_proximity_cached(box, &p1, hull, &p2, NULL, &junk, &r1) == DCOL_OK);
     CHECK(fabs(r1.alpha - r0.alpha) <= 1e-12 * r0.alpha);
+    {
+      int32_t x0 = -1, x1 = -1;
+      for (i = 0; i < (int)sizeof junk; ++i) bytes[i] = (unsigned char)(i * 53 + 7);
+      CHECK(dcol_intersect(box, &p1, hull, &p2, NULL, &x0) == DCOL_OK);
+      CHECK(dcol_intersect_cached(box, &p1, hull, &p2, NULL, &junk, &x1) == DCOL_OK);
+      CHECK(x1 == x0);
+    }
   }
   /* A NULL cache: an error naming it, nothing written. */
   {
@@ -130,6 +150,12 @@ int main(void) {
     CHECK(dcol_proximity_cached(box, &p1, hull, &p2, NULL, NULL, &r) == DCOL_ERROR_NULL_POINTER);
     CHECK(strstr(dcol_last_error_message(), "cache") != NULL);
     CHECK(r.alpha == 0.0);
+  }
+  {
+    int32_t x = 7;
+    CHECK(dcol_intersect_cached(box, &p1, hull, &p2, NULL, NULL, &x) == DCOL_ERROR_NULL_POINTER);
+    CHECK(strstr(dcol_last_error_message(), "cache") != NULL);
+    CHECK(x == 7);
   }
   dcol_shape_free(box);
   dcol_shape_free(hull);

@@ -590,8 +590,9 @@ void test_shape_gradient() {
 void test_cached() {
   const dcol::Shape a = dcol::Shape::box(0.5, 0.35, 0.25);
   const dcol::Shape b = dcol::Shape::box(0.3, 0.3, 0.3);
-  dcol::Cache cache, c_cache;
-  dcol_cache raw = DCOL_CACHE_INIT;
+  dcol::Cache cache, c_cache, i_cache;
+  dcol_cache raw = DCOL_CACHE_INIT, i_raw = DCOL_CACHE_INIT;
+  int overlapping = 0;
   for (int k = 0; k < 50; ++k) {
     const dcol_pose p1 = dcol::pose({0, 0, 0}, {{1.0, 0.01 * k, 0.2, 0.0}});
     const dcol_pose p2 = dcol::pose({1.0 - 1e-3 * k, 0.1, 0.05}, {{1.0, 0.0, 0.3, 0.01 * k}});
@@ -603,7 +604,15 @@ void test_cached() {
     CHECK(close(w.alpha, cold.alpha, 1e-12));
     const dcol::DistanceGradient d = dcol::distance_gradient_cached(a, p1, b, p2, c_cache);
     CHECK(close(d.result.distance, dcol::distance(a, p1, b, p2).distance, 1e-12));
+    const bool x = dcol::intersect_cached(a, p1, b, p2, i_cache);
+    std::int32_t xc = -1;
+    CHECK(dcol_intersect_cached(a.get(), &p1, b.get(), &p2, nullptr, &i_raw, &xc) == DCOL_OK);
+    CHECK(x == (xc != 0));
+    CHECK(x == dcol::intersect(a, p1, b, p2));
+    overlapping += x ? 1 : 0;
   }
+  // The poses cross alpha* = 1: both decisions are exercised.
+  CHECK(overlapping > 0 && overlapping < 50);
   cache.clear();
   CHECK(std::memcmp(cache.get(), dcol::Cache().get(), sizeof(dcol_cache)) == 0);
 }

@@ -270,7 +270,8 @@ typedef struct dcol_proximity_result {
 /**
  * A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
  * dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached, dcol_distance_cached,
- * dcol_distance_gradient_cached, dcol_signed_distance_cached, dcol_contacts_cached): plain data that dcol reads and writes, all zeros meaning
+ * dcol_distance_gradient_cached, dcol_signed_distance_cached, dcol_contacts_cached,
+ * dcol_intersect_cached): plain data that dcol reads and writes, all zeros meaning
  * cold (`dcol_cache c = DCOL_CACHE_INIT;` or memset to 0). Keep one per pair of shapes, and
  * pass it to every query on that pair; copy it, zero it, or move it between threads freely.
  * Its contents are private to dcol: any bit pattern in it gives a correct answer (a cache of
@@ -971,6 +972,26 @@ enum dcol_status dcol_intersect(const struct dcol_shape *shape1,
                                 const struct dcol_pose *pose2,
                                 const struct dcol_options *options,
                                 int32_t *intersecting);
+
+/**
+ * dcol_intersect with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the
+ * first time, then what the last call on the pair left in it). A separating normal kept in it
+ * that still separates the shapes answers 0 from two support calls; between polytopes the kept
+ * contact is re-solved in closed form and certified; otherwise dcol_intersect answers, and the
+ * cache keeps the separating normal of shapes found apart. *intersecting is always
+ * dcol_intersect's (within 16 times the tolerance of touching, dcol_intersect itself answers).
+ * A cache of another pair or of changed shapes is harmless (that call runs cold).
+ *
+ * # Safety
+ * As dcol_intersect; `cache` NULL or valid for reads and writes.
+ */
+enum dcol_status dcol_intersect_cached(const struct dcol_shape *shape1,
+                                       const struct dcol_pose *pose1,
+                                       const struct dcol_shape *shape2,
+                                       const struct dcol_pose *pose2,
+                                       const struct dcol_options *options,
+                                       struct dcol_cache *cache,
+                                       int32_t *intersecting);
 
 /**
  * alpha*, x*, the contact points and all their derivatives with respect to (r1, q1, r2, q2)

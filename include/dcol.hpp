@@ -438,6 +438,17 @@ inline dcol_signed_distance_result signed_distance_cached(const Shape &shape1,
   return d;
 }
 
+/// dcol::intersect with a warm start (dcol_intersect_cached): the same decision; a separating
+/// normal kept in `cache` that still separates the shapes answers false from two support calls.
+inline bool intersect_cached(const Shape &shape1, const dcol_pose &pose1, const Shape &shape2,
+                             const dcol_pose &pose2, Cache &cache,
+                             const dcol_options *options = nullptr) {
+  std::int32_t intersecting = 0;
+  check(dcol_intersect_cached(shape1.get(), &pose1, shape2.get(), &pose2, options, cache.get(),
+                              &intersecting));
+  return intersecting != 0;
+}
+
 /// dcol::distance_gradient with a warm start (dcol_distance_gradient_cached).
 inline DistanceGradient distance_gradient_cached(const Shape &shape1, const dcol_pose &pose1,
                                                  const Shape &shape2, const dcol_pose &pose2,

@@ -42,8 +42,8 @@ pub use query::{
     alpha_below, alpha_bounds, contact_manifold, contact_manifold_cached, derivatives,
     derivatives_cached, distance, distance_cached, distance_gradient, distance_gradient_cached,
     distance_shape_gradient, distance_within, gradient, gradient_cached, gradient_mrp, intersect,
-    jacobian, jacobian_cached, jacobian_mrp, proximity, proximity_cached, shape_gradient,
-    signed_distance, signed_distance_cached, signed_distance_gradient,
+    intersect_cached, jacobian, jacobian_cached, jacobian_mrp, proximity, proximity_cached,
+    shape_gradient, signed_distance, signed_distance_cached, signed_distance_gradient,
     signed_distance_shape_gradient, Cache, Contact, DecidedBy, Decision, Derivatives, Distance,
     DistancePath, Manifold, Options, Proximity, SignedDistance,
 };

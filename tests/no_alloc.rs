@@ -66,7 +66,7 @@ thread_local! {
 type Query = fn(&Shape, &Pose, &Shape, &Pose, &Options) -> Result<(), Error>;
 
 /// Every query, reduced to `Result<(), Error>` without touching the heap.
-const QUERIES: [(&str, Query); 15] = [
+const QUERIES: [(&str, Query); 16] = [
     ("proximity_cached", |a, pa, b, pb, o| {
         // One cache carried through every call: warm where the pair and poses allow it.
         CACHE
@@ -78,6 +78,13 @@ const QUERIES: [(&str, Query); 15] = [
     ("derivatives_cached", |a, pa, b, pb, o| {
         CACHE
             .with(|c| dcol::derivatives_cached(a, pa, b, pb, o, &mut c.borrow_mut()))
+            .map(|r| {
+                black_box(r);
+            })
+    }),
+    ("intersect_cached", |a, pa, b, pb, o| {
+        CACHE
+            .with(|c| dcol::intersect_cached(a, pa, b, pb, o, &mut c.borrow_mut()))
             .map(|r| {
                 black_box(r);
             })

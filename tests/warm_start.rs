@@ -4,15 +4,16 @@
 //! holding any bit pattern at all, gives the cold answer.
 
 use dcol::ffi::cache::dcol_cache;
+use dcol::ffi::early_exit::{dcol_intersect, dcol_intersect_cached};
 use dcol::ffi::pose::dcol_pose;
 use dcol::ffi::proximity::{dcol_proximity, dcol_proximity_cached, dcol_proximity_result};
 use dcol::ffi::shape::{dcol_shape_free, dcol_shape_new_box, dcol_shape_new_convex_hull};
 use dcol::ffi::status::dcol_status;
 use dcol::{
     contact_manifold, contact_manifold_cached, derivatives, derivatives_cached, distance_gradient,
-    distance_gradient_cached, gradient, gradient_cached, jacobian, jacobian_cached, proximity,
-    proximity_cached, signed_distance, signed_distance_cached, Cache, DistancePath, Options, Pose,
-    Proximity, Shape, Solver,
+    distance_gradient_cached, gradient, gradient_cached, intersect, intersect_cached, jacobian,
+    jacobian_cached, proximity, proximity_cached, signed_distance, signed_distance_cached, Cache,
+    DecidedBy, DistancePath, Options, Pose, Proximity, Shape, Solver,
 };
 
 const OK: dcol_status = dcol_status::DCOL_OK;
@@ -477,4 +478,183 @@ fn cached_signed_distance_and_contacts_agree_with_cold() {
         "{warm} of {polytope_apart} separated polytope steps warm"
     );
     eprintln!("{steps} steps; {warm} of {polytope_apart} separated polytope signed distances warm");
+}
+
+/// The cached intersection test gives the cold one's decision on every step of trajectories over
+/// every ordered pair of the nine kinds, separated, crossing α* = 1 and overlapping (with the
+/// default tolerance, and with 1e-5 on the touching start); both agree with α* < 1 from the full
+/// proximity wherever α* is more than 1e-9 from 1; and most separated steps are decided by the
+/// kept separating normal (`DecidedBy::Cache`).
+#[test]
+fn cached_intersect_agrees_with_cold_on_trajectories() {
+    let mut rng = Rng(0x1a7e_25ec_7ca5_4ed1);
+    let kinds = shapes(&mut rng);
+    let loose = Options {
+        tolerance: 1e-5,
+        ..Options::default()
+    };
+    let (mut steps, mut apart, mut by_cache, mut crossings) = (0usize, 0usize, 0usize, 0usize);
+    for (na, a) in &kinds {
+        for (nb, b) in &kinds {
+            for (start, o) in [
+                (0.7, Options::default()),
+                (1.0, Options::default()),
+                (1.4, Options::default()),
+                (1.0, loose),
+            ] {
+                let mut cache = Cache::new();
+                let mut last = None;
+                for (p, q) in trajectory(a, b, &mut rng, 300, start) {
+                    let cold = intersect(a, &p, b, &q, &o).unwrap();
+                    let hot = intersect_cached(a, &p, b, &q, &o, &mut cache).unwrap();
+                    assert_eq!(
+                        hot.below, cold.below,
+                        "{na}-{nb} step {steps}: {hot:?} vs {cold:?}"
+                    );
+                    assert_eq!(hot.status, cold.status);
+                    let alpha = proximity(a, &p, b, &q, &Options::default()).unwrap().alpha;
+                    if (alpha - 1.0).abs() > 1e-9 {
+                        assert_eq!(hot.below, alpha < 1.0, "{na}-{nb} step {steps}: {alpha}");
+                    }
+                    crossings += usize::from(last.is_some_and(|l| l != hot.below));
+                    last = Some(hot.below);
+                    steps += 1;
+                    if !cold.below && cold.decided_by != DecidedBy::Bounds {
+                        apart += 1;
+                        by_cache += usize::from(hot.decided_by == DecidedBy::Cache);
+                    }
+                }
+            }
+        }
+    }
+    assert!(steps >= 90_000, "{steps} steps");
+    assert!(crossings >= 50, "only {crossings} crossings of alpha* = 1");
+    assert!(
+        by_cache * 10 > apart * 8,
+        "only {by_cache} of {apart} separated steps decided by the cache"
+    );
+    eprintln!(
+        "{steps} steps, {crossings} crossings of alpha* = 1; {by_cache} of {apart} separated \
+         steps (not decided by the bounds) decided by the cache"
+    );
+}
+
+/// One cache carried across different pairs, caches of random bits and of flipped bits, through
+/// Rust and the C ABI: the cold decision every time; a NULL cache is DCOL_ERROR_NULL_POINTER
+/// with nothing written.
+#[test]
+fn any_cache_gives_the_cold_intersection() {
+    let mut rng = Rng(0x7f4a_7c15_dead_0042);
+    let kinds = shapes(&mut rng);
+    let o = Options::default();
+    let mut shared = Cache::new();
+    let n = kinds.len();
+    let trajs: Vec<_> = (0..n)
+        .map(|i| trajectory(&kinds[i].1, &kinds[(i + 4) % n].1, &mut rng, 200, 1.0))
+        .collect();
+    for k in 0..200 {
+        for (i, t) in trajs.iter().enumerate() {
+            let (a, b) = (&kinds[i].1, &kinds[(i + 4) % n].1);
+            let (p, q) = &t[k];
+            let cold = intersect(a, p, b, q, &o).unwrap();
+            let hot = intersect_cached(a, p, b, q, &o, &mut shared).unwrap();
+            assert_eq!(hot.below, cold.below, "pair {i} step {k}");
+        }
+    }
+    let pose = |p: &Pose| dcol_pose {
+        position: [p.position().x, p.position().y, p.position().z],
+        quaternion: p.quaternion(),
+    };
+    // The box and the hull of `shapes` through the C constructors, and in Rust every kind
+    // against the hull.
+    let hull_shape = &kinds[2].1;
+    let hull: Vec<f64> = hull_shape.parameters()[..hull_shape.parameter_count() - 1].to_vec();
+    let (mut ca, mut cb) = (std::ptr::null_mut(), std::ptr::null_mut());
+    // SAFETY: valid out-pointers; `hull` holds n × 3 doubles.
+    unsafe {
+        assert_eq!(dcol_shape_new_box(0.5, 0.35, 0.25, &mut ca), OK);
+        assert_eq!(
+            dcol_shape_new_convex_hull(hull.as_ptr(), hull.len() / 3, 0.0, &mut cb),
+            OK
+        );
+    }
+    let mut garbage_rust = 0usize;
+    for (na, a) in &kinds {
+        let t = trajectory(a, hull_shape, &mut rng, 200, 1.0);
+        let mut warm = Cache::new();
+        for (k, (p, q)) in t.iter().enumerate() {
+            let mut garbage = dcol_cache::default();
+            // SAFETY: `Cache` and `dcol_cache` have one layout (asserted in the library), and
+            // every bit pattern of their u32 and f64 fields is a value.
+            let warm_c: dcol_cache = unsafe { std::mem::transmute(warm) };
+            if k % 2 == 0 {
+                for w in garbage.words.iter_mut() {
+                    *w = (rng.next() * 4.3e9) as u32;
+                }
+                for x in garbage.numbers.iter_mut() {
+                    *x = f64::from_bits((rng.next() * 1.8e19) as u64);
+                }
+            } else {
+                garbage = warm_c;
+                let bits = (rng.next() * 25.0) as usize;
+                garbage.words[bits] ^= 1 << (k % 5);
+                let at = (rng.next() * 70.0) as usize;
+                garbage.numbers[at] = -garbage.numbers[at] * 1.5 + 0.25;
+            }
+            let cold = intersect(a, p, hull_shape, q, &o).unwrap();
+            // SAFETY: as above.
+            let mut g: Cache = unsafe { std::mem::transmute(garbage) };
+            let hot = intersect_cached(a, p, hull_shape, q, &o, &mut g).unwrap();
+            assert_eq!(hot.below, cold.below, "{na}-hull step {k}");
+            intersect_cached(a, p, hull_shape, q, &o, &mut warm).unwrap();
+            garbage_rust += 1;
+            if *na == "box" {
+                let (pp, pq) = (pose(p), pose(q));
+                let (mut c, mut h) = (-1, -1);
+                // SAFETY: live shapes, valid poses, outputs and cache on the stack.
+                unsafe {
+                    assert_eq!(
+                        dcol_intersect(ca, &pp, cb, &pq, std::ptr::null(), &mut c),
+                        OK
+                    );
+                    assert_eq!(
+                        dcol_intersect_cached(
+                            ca,
+                            &pp,
+                            cb,
+                            &pq,
+                            std::ptr::null(),
+                            &mut garbage,
+                            &mut h
+                        ),
+                        OK
+                    );
+                }
+                assert_eq!((h, c), (i32::from(cold.below), i32::from(cold.below)));
+            }
+        }
+    }
+    assert_eq!(garbage_rust, 200 * kinds.len());
+    let t = trajectory(&kinds[0].1, hull_shape, &mut rng, 1, 1.0);
+    let (pp, pq) = (pose(&t[0].0), pose(&t[0].1));
+    let mut out = 7;
+    // SAFETY: as above; the cache is NULL on purpose.
+    let status = unsafe {
+        dcol_intersect_cached(
+            ca,
+            &pp,
+            cb,
+            &pq,
+            std::ptr::null(),
+            std::ptr::null_mut(),
+            &mut out,
+        )
+    };
+    assert_eq!(status, dcol_status::DCOL_ERROR_NULL_POINTER);
+    assert_eq!(out, 7);
+    // SAFETY: made above, freed once.
+    unsafe {
+        dcol_shape_free(ca);
+        dcol_shape_free(cb);
+    }
 }

@@ -9,8 +9,9 @@ One pair at a time: ``proximity``, ``gradient``, ``jacobian``, ``derivatives``, 
 own parameters (``Shape.parameters``): ``shape_gradient``, ``distance_shape_gradient``,
 ``signed_distance_shape_gradient``. Warm starts for a pair queried again and again on poses
 that move a little: ``Cache`` (one per pair) and ``proximity_cached``, ``gradient_cached``,
-``jacobian_cached``, ``derivatives_cached``, ``distance_cached``, ``distance_gradient_cached``
-(the plain queries' answers, found faster between polytopes). Many pairs on numpy arrays,
+``jacobian_cached``, ``derivatives_cached``, ``distance_cached``, ``distance_gradient_cached``,
+``intersect_cached`` (the plain queries' answers, found faster between polytopes; the
+intersection test also for shapes its kept separating normal still separates). Many pairs on numpy arrays,
 without the GIL, on dcol's thread pool: ``proximity_batch``, ``gradient_batch``,
 ``distance_batch``. JAX: ``dcol.jax`` (``pip install dcol[jax]``).
 
@@ -57,6 +58,7 @@ from ._dcol import (
     gradient,
     gradient_cached,
     intersect,
+    intersect_cached,
     jacobian,
     jacobian_cached,
     proximity,
@@ -194,6 +196,7 @@ __all__ = [
     "gradient_cached",
     "gradient_batch",
     "intersect",
+    "intersect_cached",
     "jacobian",
     "jacobian_cached",
     "proximity",

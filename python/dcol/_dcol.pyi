@@ -170,6 +170,10 @@ def distance_gradient_cached(
     tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
     method: Optional[Method] = None, smoothing: Optional[float] = None,
 ) -> Tuple[Distance, np.ndarray]: ...
+def intersect_cached(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike,
+                     cache: Cache, *, tolerance: Optional[float] = None,
+                     max_iterations: Optional[int] = None, method: Optional[Method] = None,
+                     smoothing: Optional[float] = None) -> bool: ...
 def signed_distance(shape1: Shape, pose1: ArrayLike, shape2: Shape, pose2: ArrayLike, *,
                     tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
                     method: Optional[Method] = None,

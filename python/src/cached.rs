@@ -1,5 +1,6 @@
 //! Warm starts: `dcol.Cache`, a per-pair cache of the pair's last answer (`dcol::Cache`), and
-//! the queries that read and update it (`proximity_cached`, ..., `distance_gradient_cached`).
+//! the queries that read and update it (`proximity_cached`, ..., `distance_gradient_cached`,
+//! `intersect_cached`).
 //! Each takes the plain query's arguments and options plus the cache, gives the plain query's
 //! answer (certified the same way, the same result classes), and raises what the C function of
 //! the same name would (`dcol_proximity_cached`, ...).
@@ -9,7 +10,7 @@ use pyo3::prelude::*;
 
 use crate::convert::Kw;
 use crate::queries::{
-    derivatives_value, distance_gradient_value, distance_value, gradient_value, inputs,
+    derivatives_value, distance_gradient_value, distance_value, finish, gradient_value, inputs,
     jacobian_value, proximity_value, run,
 };
 use crate::shapes::PyShape;
@@ -170,6 +171,42 @@ cached_query!(
     distance_gradient_value
 );
 
+/// `dcol.intersect` with a warm start from `cache` (a `dcol.Cache`, one per pair), which then
+/// holds what this call found (`dcol_intersect_cached`): a separating normal kept from the
+/// pair's last answer that still separates the shapes answers `False` from two support calls;
+/// between polytopes the kept contact is re-solved in closed form; otherwise the plain query
+/// answers. Always the plain query's decision.
+#[pyfunction]
+#[pyo3(signature = (shape1, pose1, shape2, pose2, cache, *, tolerance=None, max_iterations=None, method=None, smoothing=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn intersect_cached<'py>(
+    py: Python<'py>,
+    shape1: &Bound<'py, PyShape>,
+    pose1: &Bound<'py, PyAny>,
+    shape2: &Bound<'py, PyShape>,
+    pose2: &Bound<'py, PyAny>,
+    mut cache: PyRefMut<'py, PyCache>,
+    tolerance: Option<f64>,
+    max_iterations: Option<i64>,
+    method: Option<&Bound<'py, PyAny>>,
+    smoothing: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let func = "dcol_intersect_cached";
+    let kw = Kw {
+        tolerance,
+        max_iterations,
+        method,
+        smoothing,
+    };
+    let q = inputs(func, shape1, pose1, shape2, pose2, kw)?;
+    let c = &mut cache.inner;
+    let d = run(py, func, &q, |q| {
+        dcol::intersect_cached(q.s1, &q.p1, q.s2, &q.p2, &q.opts, c)
+    })?;
+    let value = pyo3::types::PyBool::new(py, d.below).to_owned().into_any();
+    finish(py, func, &q, d.status, d.iterations, value)
+}
+
 /// Adds `Cache` and the cached queries to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyCache>()?;
@@ -179,5 +216,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(derivatives_cached, m)?)?;
     m.add_function(wrap_pyfunction!(distance_cached, m)?)?;
     m.add_function(wrap_pyfunction!(distance_gradient_cached, m)?)?;
+    m.add_function(wrap_pyfunction!(intersect_cached, m)?)?;
     Ok(())
 }

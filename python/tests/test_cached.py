@@ -4,7 +4,8 @@ per step. Every cached answer equals the plain one (alpha within 1e-12 relative,
 distances within 1e-12 of the pair's size l, derivatives within 1e-9 of their largest entry),
 and between polytopes most answers are warm: the proximity's solver is ``"polish"`` where the
 plain one's is the ray cast, the distance's path ``"gjk_polish"`` where the plain one's is
-``"gjk"``. Also: one cache carried across pairs, ``is_warm``, ``clear``, copies, and errors as
+``"gjk"``. ``intersect_cached`` gives ``intersect``'s decision on every step (and alpha* < 1 of
+the proximity wherever alpha* is more than 1e-9 from 1). Also: one cache carried across pairs, ``is_warm``, ``clear``, copies, and errors as
 the plain queries raise them."""
 
 import copy
@@ -203,6 +204,26 @@ def test_cached_distance_equals_plain(name, a, b, polytopes):
             assert n > separated / 2, f"{name}: only {n} of {separated} {k} answers warm"
 
 
+@pytest.mark.parametrize("name,a,b,polytopes", PAIRS, ids=[p[0] for p in PAIRS])
+def test_cached_intersect_equals_plain(name, a, b, polytopes):
+    """intersect_cached against intersect over trajectories starting overlapping, touching and
+    separated: the same decision every step, both decisions occurring."""
+    rng = np.random.default_rng(zlib.crc32(name.encode()) + 2)
+    steps = overlapping = 0
+    for start in (0.7, 1.0, 1.4):
+        c = dcol.Cache()
+        for p1, p2 in trajectory(a, b, rng, STEPS, start):
+            hot = dcol.intersect_cached(a, p1, b, p2, c)
+            cold = dcol.intersect(a, p1, b, p2)
+            assert isinstance(hot, bool) and hot == cold, f"{name} step {steps}"
+            alpha = dcol.proximity(a, p1, b, p2).alpha
+            if abs(alpha - 1.0) > 1e-9:
+                assert hot == (alpha < 1.0), f"{name} step {steps}: alpha {alpha}"
+            overlapping += hot
+            steps += 1
+    assert 0 < overlapping < steps, f"{name}: {overlapping} of {steps} overlapping"
+
+
 def test_one_cache_across_pairs_gives_plain_answers():
     """One cache passed to every query on every pair, the pair changing at random each step:
     every answer is still the plain one."""
@@ -222,6 +243,7 @@ def test_one_cache_across_pairs_gives_plain_answers():
         (_, gw), (_, gc) = (dcol.gradient_cached(a, p1, b, p2, shared),
                             dcol.gradient(a, p1, b, p2))
         assert rel(gw, gc) <= DERIV, step
+        assert dcol.intersect_cached(a, p1, b, p2, shared) == dcol.intersect(a, p1, b, p2), step
         assert shared.is_warm
 
 
@@ -265,6 +287,7 @@ CACHED = [
     ("derivatives", dcol.derivatives, dcol.derivatives_cached),
     ("distance", dcol.distance, dcol.distance_cached),
     ("distance_gradient", dcol.distance_gradient, dcol.distance_gradient_cached),
+    ("intersect", dcol.intersect, dcol.intersect_cached),
 ]
 
 

@@ -5,7 +5,8 @@ use crate::query::Cache;
 
 /// A per-pair warm-start cache for the `_cached` queries (dcol_proximity_cached,
 /// dcol_gradient_cached, dcol_jacobian_cached, dcol_derivatives_cached, dcol_distance_cached,
-/// dcol_distance_gradient_cached, dcol_signed_distance_cached, dcol_contacts_cached): plain data that dcol reads and writes, all zeros meaning
+/// dcol_distance_gradient_cached, dcol_signed_distance_cached, dcol_contacts_cached,
+/// dcol_intersect_cached): plain data that dcol reads and writes, all zeros meaning
 /// cold (`dcol_cache c = DCOL_CACHE_INIT;` or memset to 0). Keep one per pair of shapes, and
 /// pass it to every query on that pair; copy it, zero it, or move it between threads freely.
 /// Its contents are private to dcol: any bit pattern in it gives a correct answer (a cache of

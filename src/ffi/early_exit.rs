@@ -1,7 +1,8 @@
-//! `dcol_alpha_below` and `dcol_intersect`: threshold questions answered without a full solve
+//! `dcol_alpha_below`, `dcol_intersect` and `dcol_intersect_cached`: threshold questions answered without a full solve
 //! when closed-form bounds or certified mid-solve bounds decide.
 
 use super::boundary::{check_out, run, Failure};
+use super::cache::{cache_mut, dcol_cache};
 use super::options::dcol_options;
 use super::pose::dcol_pose;
 use super::proximity::{check_inputs, read_inputs};
@@ -108,5 +109,43 @@ pub unsafe extern "C" fn dcol_intersect(
                 "intersecting",
             )
         }
+    })
+}
+
+/// dcol_intersect with a warm start: `cache` is the pair's `dcol_cache` (DCOL_CACHE_INIT the
+/// first time, then what the last call on the pair left in it). A separating normal kept in it
+/// that still separates the shapes answers 0 from two support calls; between polytopes the kept
+/// contact is re-solved in closed form and certified; otherwise dcol_intersect answers, and the
+/// cache keeps the separating normal of shapes found apart. *intersecting is always
+/// dcol_intersect's (within 16 times the tolerance of touching, dcol_intersect itself answers).
+/// A cache of another pair or of changed shapes is harmless (that call runs cold).
+///
+/// # Safety
+/// As dcol_intersect; `cache` NULL or valid for reads and writes.
+#[no_mangle]
+pub unsafe extern "C" fn dcol_intersect_cached(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    cache: *mut dcol_cache,
+    intersecting: *mut i32,
+) -> dcol_status {
+    run("dcol_intersect_cached", || {
+        // SAFETY: forwarded from this function's contract.
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
+        check_out(intersecting, "intersecting")?;
+        // SAFETY: forwarded from this function's contract.
+        let Some(c) = (unsafe { cache_mut(Some(cache)) })? else {
+            return Err(Failure::Null("cache"));
+        };
+        // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let d = query::intersect_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
+            .map_err(Failure::api)?;
+        // SAFETY: `intersecting` is non-NULL (checked) and valid for writes (contract).
+        unsafe { intersecting.write(i32::from(d.below)) };
+        q.outcome(d.status, d.iterations)
     })
 }

@@ -5,6 +5,7 @@
 use super::context::{Distance, Options, Proximity};
 use super::differentiate::{derivatives_warm, gradient_warm, jacobian_warm, Derivatives};
 use super::distance::distance_query_warm;
+use super::early_exit::{intersect_warm, Decision};
 use super::proximity::proximity_warm;
 pub use super::warm::Cache;
 use crate::error::Error;
@@ -100,4 +101,37 @@ pub fn distance_gradient_cached(
     cache: &mut Cache,
 ) -> Result<(Distance, [Real; 14]), Error> {
     distance_query_warm(shape1, pose1, shape2, pose2, options, true, cache)
+}
+
+/// [`crate::intersect`] with a warm start: keep one [`Cache`] per pair and pass it to every
+/// query on that pair. A separating normal the cache kept that still separates the shapes (two
+/// support calls) answers "apart" at once ([`crate::DecidedBy::Cache`]); between polytopes the
+/// kept facet of K, re-solved in closed form and certified ([`proximity_cached`]), gives α*;
+/// otherwise the cold query answers, and the cache keeps what it found (the separating normal
+/// of shapes apart). The decision is always the cold one's: within 16 times the solver
+/// tolerance of touching, where the cold path's own α* could fall on either side, the cold
+/// query answers. `decided_by` and `iterations` say how this call decided.
+///
+/// ```
+/// use dcol::{intersect, intersect_cached, Cache, Options, Pose, Shape};
+/// let (a, b) = (Shape::cuboid(0.5, 0.4, 0.3).unwrap(), Shape::cylinder(0.3, 0.8).unwrap());
+/// let mut cache = Cache::new();
+/// for k in 0..100 {
+///     let t = k as f64 * 1e-2;
+///     let pa = Pose::new([0.0, 0.0, 0.0], [1.0, 0.1 * t, 0.0, 0.0]).unwrap();
+///     let pb = Pose::new([1.5 - t, 0.2, 0.1], [1.0, 0.0, 0.2, t]).unwrap();
+///     let warm = intersect_cached(&a, &pa, &b, &pb, &Options::default(), &mut cache).unwrap();
+///     let cold = intersect(&a, &pa, &b, &pb, &Options::default()).unwrap();
+///     assert_eq!(warm.below, cold.below);
+/// }
+/// ```
+pub fn intersect_cached(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    cache: &mut Cache,
+) -> Result<Decision, Error> {
+    intersect_warm(shape1, pose1, shape2, pose2, options, cache)
 }

@@ -43,8 +43,9 @@ pub(crate) fn gradient_warm(
     options: &Options,
     warm: Option<&mut Cache>,
 ) -> Result<(Proximity, [Real; 14]), Error> {
-    if let Some(answer) = plain_derivatives(shape1, pose1, shape2, pose2, options, None, warm) {
-        return Ok(answer);
+    let mut g = [0.0; 14];
+    if let Some(p) = plain_derivatives(shape1, pose1, shape2, pose2, options, &mut g, None, warm) {
+        return Ok((p, g));
     }
     let f = query(shape1, pose1, shape2, pose2, options, Want::Gradient)?;
     Ok((f.prox, f.gradient))
@@ -73,10 +74,17 @@ pub(crate) fn jacobian_warm(
     options: &Options,
     warm: Option<&mut Cache>,
 ) -> Result<(Proximity, [[Real; 14]; 4]), Error> {
-    let mut j = [[0.0; 14]; 4];
-    if let Some((p, _)) =
-        plain_derivatives(shape1, pose1, shape2, pose2, options, Some(&mut j), warm)
-    {
+    let (mut j, mut g) = ([[0.0; 14]; 4], [0.0; 14]);
+    if let Some(p) = plain_derivatives(
+        shape1,
+        pose1,
+        shape2,
+        pose2,
+        options,
+        &mut g,
+        Some(&mut j),
+        warm,
+    ) {
         return Ok((p, j));
     }
     let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
@@ -121,17 +129,18 @@ pub(crate) fn derivatives_warm(
 ) -> Result<Derivatives, Error> {
     // The geometric answer where it has exact derivatives (no full query's room), else the
     // full query.
-    let mut jacobian = [[0.0; 14]; 4];
+    let (mut jacobian, mut g) = ([[0.0; 14]; 4], [0.0; 14]);
     let (p, dalpha) = match plain_derivatives(
         shape1,
         pose1,
         shape2,
         pose2,
         options,
+        &mut g,
         Some(&mut jacobian),
         warm,
     ) {
-        Some(answer) => answer,
+        Some(p) => (p, g),
         None => {
             let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
             jacobian = f.jacobian;

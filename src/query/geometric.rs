@@ -12,7 +12,7 @@
 
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
-use super::derivatives::rotation_axes;
+use super::derivatives::{rotation_axes, rotation_dots};
 use super::polytope_jacobian::polytope_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
@@ -50,8 +50,14 @@ const MARGIN: Real = 1e-3;
 /// What the geometric path concluded.
 pub(crate) enum Outcome {
     /// The certified bracket excluded the threshold: α* is below it (`true`) or above it;
-    /// `alpha` is the bracket's end on that side (world units).
-    Decided { below: bool, alpha: Real },
+    /// `alpha` is the bracket's end on that side (world units); `normal` (world, any length)
+    /// the direction whose support bound gave the lower end: one that separates the shapes
+    /// scaled by the threshold when not `below`.
+    Decided {
+        below: bool,
+        alpha: Real,
+        normal: Vec3,
+    },
     /// The full answer, with `∂α*/∂(r₂ − r₁)` (the optimal normal `n*/h_K(n*)`, world units).
     Answer(Proximity, Vec3),
     /// The geometric solvers could not certify an answer: run the interior-point solver.
@@ -107,10 +113,11 @@ pub(crate) fn proximity(
     let ans = match solved {
         Ok(Some(ans)) => ans,
         Ok(None) => return Outcome::Fallback,
-        Err((below, alpha)) => {
+        Err((below, alpha, normal)) => {
             return Outcome::Decided {
                 below,
                 alpha: alpha * world,
+                normal,
             }
         }
     };
@@ -150,6 +157,7 @@ pub(crate) fn proximity(
 /// `∂h₁(n)/∂q₁ₖ = n·(∂R₁/∂q₁ₖ) b₁*` and `∂h₂(−n)/∂q₂ₖ = −n·(∂R₂/∂q₂ₖ) b₂*`, and
 /// `∂α*/∂h_K = −α*/h_K`. Exact wherever the optimal normal and support points are unique. A
 /// sphere's support function does not depend on its attitude: its columns are exactly zero.
+#[inline]
 pub(crate) fn gradient(
     prox: &Proximity,
     dalpha_dd: &Vec3,
@@ -167,15 +175,11 @@ pub(crate) fn gradient(
     let alpha = prox.alpha;
     if shapes[0].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
-        for (k, w) in rotation_axes(pose1).iter().enumerate() {
-            g[3 + k] = w.dot(&t);
-        }
+        g[3..7].copy_from_slice(&rotation_dots(pose1, &t));
     }
     if shapes[1].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
-        for (k, w) in rotation_axes(pose2).iter().enumerate() {
-            g[10 + k] = w.dot(&t);
-        }
+        g[10..14].copy_from_slice(&rotation_dots(pose2, &t));
     }
     g
 }
@@ -405,11 +409,13 @@ fn two_spheres_jacobian(
     (prox.alpha.is_finite() && j.iter().flatten().all(|v| v.is_finite())).then_some(j)
 }
 
-/// `Err((below, bound))` when the cast's bracket decided the threshold: the bracket's end on
-/// that side.
-fn decided(c: &Cast) -> Result<(), (bool, Real)> {
+/// `Err((below, bound, normal))` when the cast's bracket decided the threshold: the bracket's
+/// end on that side, and the normal of its lower end.
+fn decided(c: &Cast) -> Result<(), (bool, Real, Vec3)> {
     match c.end {
-        CastEnd::Decided(below) => Err((below, if below { c.alpha_hi } else { c.alpha_lo })),
+        CastEnd::Decided(below) => {
+            Err((below, if below { c.alpha_hi } else { c.alpha_lo }, c.normal))
+        }
         _ => Ok(()),
     }
 }
@@ -550,7 +556,7 @@ fn solve_cold(
                     solver: Solver::RayCast,
                 }));
             }
-            PaddedEnd::Decided(below, alpha) => return Err((below, alpha)),
+            PaddedEnd::Decided(below, alpha, n) => return Err((below, alpha, n)),
             PaddedEnd::Failed => {}
         }
     }

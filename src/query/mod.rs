@@ -33,7 +33,7 @@ mod warm_distance;
 
 pub use cached::{
     derivatives_cached, distance_cached, distance_gradient_cached, gradient_cached,
-    jacobian_cached, proximity_cached, Cache,
+    intersect_cached, jacobian_cached, proximity_cached, Cache,
 };
 pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};

@@ -373,7 +373,7 @@ pub(crate) fn query_full(
                     decided: None,
                 });
             }
-            geometric::Outcome::Decided { below, alpha } => {
+            geometric::Outcome::Decided { below, alpha, .. } => {
                 // Only the decision is used; the bound that made it stands in for α*.
                 let prox = Proximity {
                     alpha,
@@ -606,19 +606,23 @@ pub(crate) fn proximity_warm(
 
 /// The geometric answer with exact derivatives, without the full query's room (its zeroing
 /// and the copies of the 4×14 Jacobian it carries were about a third of a sphere–sphere
-/// gradient): the gradient, and the Jacobian into `jacobian` when given. `None` wherever
+/// gradient): the proximity answer, its gradient into `grad`, and the Jacobian into
+/// `jacobian` when given (the buffers hold garbage when `None` is returned). `None` wherever
 /// [`query_full`] would answer otherwise (another method, smoothing, a half-space, coincident
 /// or overflowing origins, a geometric fallback, a gradient that overflows, derivatives that
 /// are not exact): the caller then asks the full query, which gives the same answer.
+#[inline]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn plain_derivatives(
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
     pose2: &Pose,
     options: &Options,
+    grad: &mut [Real; 14],
     jacobian: Option<&mut [[Real; 14]; 4]>,
     warm: Option<&mut Cache>,
-) -> Option<(Proximity, [Real; 14])> {
+) -> Option<Proximity> {
     let plain = options.method == Method::Auto && options.smoothing == 0.0;
     let bounded = shape1.solver_kind() != ShapeKind::Halfspace
         && shape2.solver_kind() != ShapeKind::Halfspace;
@@ -635,15 +639,18 @@ pub(crate) fn plain_derivatives(
         return None;
     };
     let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-    let g = geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2);
-    if !g.iter().all(|v| v.is_finite()) {
+    *grad = geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2);
+    let g = &*grad;
+    // One sum instead of fourteen tests: any infinity or NaN makes it non-finite (a finite
+    // gradient whose sum overflows only sends the call to the full query, the same answer).
+    if !g.iter().sum::<Real>().is_finite() {
         return None;
     }
     let exact = match jacobian {
         Some(out) => {
             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-            match geometric::jacobian(&prox, &dalpha_dd, &g, shapes, poses) {
-                Some(j) if derivatives::consistent(&j, &g, ell) => {
+            match geometric::jacobian(&prox, &dalpha_dd, g, shapes, poses) {
+                Some(j) if derivatives::consistent(&j, g, ell) => {
                     *out = j;
                     true
                 }
@@ -656,7 +663,7 @@ pub(crate) fn plain_derivatives(
         return None;
     }
     prox.derivatives = DerivativeKind::Exact;
-    Some((prox, g))
+    Some(prox)
 }
 
 #[cfg(test)]

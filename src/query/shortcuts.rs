@@ -44,9 +44,10 @@ impl Answer {
     }
 }
 
-/// The answer (`Ok(None)`: fall back), or `Err((below, bound))` when the bracket decided the
-/// threshold first.
-pub(super) type Solved = Result<Option<Answer>, (bool, Real)>;
+/// The answer (`Ok(None)`: fall back), or `Err((below, bound, normal))` when the bracket
+/// decided the threshold first: `normal` (world orientation, any length) is the direction whose
+/// support bound gave the bracket's lower end, a separating direction when not `below`.
+pub(super) type Solved = Result<Option<Answer>, (bool, Real, Vec3)>;
 
 /// A capsule and a centred box, a cylinder or a cone: Newton's method on 1/α with the
 /// segment's closest points (`crate::solver::segment_solid`); a capsule and a polytope
@@ -208,7 +209,10 @@ pub(super) fn ellipsoid_and_polytope(
     });
     let hit = match padded_cast(&cores, &(tr / len), 1.0, tol, stop) {
         PaddedEnd::Hit(h) => h,
-        PaddedEnd::Decided(below, alpha) => return Some(Err((below, alpha * len))),
+        PaddedEnd::Decided(below, alpha, m) => {
+            // A plane of normal m in the mapped space is one of normal Tᵀm in the shapes'.
+            return Some(Err((below, alpha * len, t.transpose() * m)));
+        }
         PaddedEnd::Failed => return None,
     };
     // The ball's witness moves out by its radius along the normal (from shape 1 to shape 2).

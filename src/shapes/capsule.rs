@@ -1,7 +1,7 @@
 //! Capsule: points within `R` of the segment `±L/2 e_x`. Scaled, with the slack γ (position
 //! along the axis): the cone `[αR; u − γ e_x]` and the rows `αL/2 ∓ γ ≥ 0`.
 
-use super::support::{ball_normal, PieceEval, Round, SupportMap};
+use super::support::{ball_normal, two_ends_set, PieceEval, Round, SupportMap, ROUND_EPS};
 use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
@@ -70,6 +70,7 @@ impl SupportMap for Capsule {
         let id = u32::from(m.x < 0.0);
         (self.end(id) + Round::Ball(self.radius).point(m), id)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         (id < 2).then(|| Round::Ball(self.radius).eval(&self.end(id), m))?
     }
@@ -85,6 +86,10 @@ impl SupportMap for Capsule {
     }
     fn piece_count(&self) -> u32 {
         2
+    }
+    fn support_set(&self, m: &Vec3, tie: Real, point: Real) -> Option<(usize, Vec3)> {
+        // The ends' balls are differentiable wherever `m ≠ 0` (as `piece` requires).
+        (m.norm() > ROUND_EPS).then(|| two_ends_set(self.length, m, tie, point))
     }
 }
 

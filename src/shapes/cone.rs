@@ -133,6 +133,7 @@ impl SupportMap for Cone {
             (rim, 1)
         }
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         let (apex, base, rho) = self.apex_and_rim();
         match id {

@@ -1,7 +1,7 @@
 //! Cylinder: radius `R`, length `L`, axis `e_x`. Scaled: the cone `[αR; u_y; u_z]` and the rows
 //! `αL/2 ∓ u_x ≥ 0`.
 
-use super::support::{nearest_normal, PieceEval, Round, SupportMap};
+use super::support::{nearest_normal, two_ends_set, PieceEval, Round, SupportMap, ROUND_EPS};
 use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
@@ -75,6 +75,7 @@ impl SupportMap for Cylinder {
         let id = u32::from(m.x < 0.0);
         (self.cap(id) + Round::Circle(self.radius).point(m), id)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         (id < 2).then(|| Round::Circle(self.radius).eval(&self.cap(id), m))?
     }
@@ -86,6 +87,12 @@ impl SupportMap for Cylinder {
     }
     fn piece_count(&self) -> u32 {
         2
+    }
+    fn support_set(&self, m: &Vec3, tie: Real, point: Real) -> Option<(usize, Vec3)> {
+        // The rims are differentiable where `m` has a part across the axis (as `piece` requires).
+        let across = (m.y * m.y + m.z * m.z).sqrt();
+        (across > ROUND_EPS * m.norm().max(ROUND_EPS))
+            .then(|| two_ends_set(self.length, m, tie, point))
     }
     fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
         let f = self.flat_face(m, cos_min)?;

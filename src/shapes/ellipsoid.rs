@@ -182,6 +182,7 @@ impl SupportMap for Ellipsoid {
     fn support(&self, m: &Vec3) -> (Vec3, u32) {
         (Round::Quadric(&self.p_inv).point(m), 0)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         (id == 0).then(|| Round::Quadric(&self.p_inv).eval(&Vec3::zeros(), m))?
     }

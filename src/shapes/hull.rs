@@ -389,6 +389,7 @@ impl SupportMap for ConvexHull {
             (p, k)
         }
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         let v = self.corners().get(id as usize)?;
         if self.radius > 0.0 {

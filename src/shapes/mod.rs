@@ -566,6 +566,9 @@ impl SupportMap for Shape {
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         dispatch!(self, s => s.piece(id, m))
     }
+    fn piece_point(&self, id: u32, m: &Vec3) -> Option<(Real, Vec3)> {
+        dispatch!(self, s => s.piece_point(id, m))
+    }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
         dispatch!(self, s => s.flat_face(m, cos_min))
     }
@@ -583,6 +586,9 @@ impl SupportMap for Shape {
     }
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
         dispatch!(self, s => s.vertex_pieces())
+    }
+    fn support_set(&self, m: &Vec3, tie: Real, point: Real) -> Option<(usize, Vec3)> {
+        dispatch!(self, s => s.support_set(m, tie, point))
     }
 }
 

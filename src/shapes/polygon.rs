@@ -230,6 +230,7 @@ impl SupportMap for Polygon {
             k as u32,
         )
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         Round::Ball(self.radius).eval(self.vertices.get(id as usize)?, m)
     }

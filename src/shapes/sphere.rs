@@ -44,6 +44,7 @@ impl SupportMap for Sphere {
     fn support(&self, m: &Vec3) -> (Vec3, u32) {
         (Round::Ball(self.radius).point(m), 0)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         (id == 0).then(|| Round::Ball(self.radius).eval(&Vec3::zeros(), m))?
     }

@@ -42,7 +42,7 @@ pub(crate) struct PieceEval {
 }
 
 /// Relative size below which the round part of a piece counts as not differentiable.
-const ROUND_EPS: Real = 1e-300;
+pub(crate) const ROUND_EPS: Real = 1e-300;
 
 impl Round<'_> {
     /// The round part's support point at `m` (its gradient); at the one direction where it is
@@ -81,6 +81,7 @@ impl Round<'_> {
 
     /// Value, gradient and Hessian of `a·m + ‖m‖_round`; `None` where the round part is not
     /// differentiable.
+    #[inline]
     pub(crate) fn eval(&self, a: &Vec3, m: &Vec3) -> Option<PieceEval> {
         let (value, grad, hess) = match *self {
             Round::Flat => (0.0, Vec3::zeros(), Mat3::zeros()),
@@ -146,6 +147,12 @@ pub(crate) trait SupportMap {
     }
     /// Piece `id` evaluated at `m` (`None` where it is not differentiable or `id` is unknown).
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval>;
+    /// [`SupportMap::piece`]'s value and support point only (the same numbers), for searches
+    /// that never use the Hessian: inlined, the Hessian is not formed.
+    #[inline(always)]
+    fn piece_point(&self, id: u32, m: &Vec3) -> Option<(Real, Vec3)> {
+        self.piece(id, m).map(|e| (e.value, e.grad))
+    }
     /// The outward unit normal of a flat face (a polytope facet, a disc, a padded polygon's
     /// top or bottom) whose normal makes an angle with `m` of cosine at least `cos_min`,
     /// the closest such one; `None` if there is none.
@@ -173,6 +180,25 @@ pub(crate) trait SupportMap {
     /// dot products instead of evaluating each piece with its Hessian.
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
         None
+    }
+    /// The support set at `m` in closed form, where the shape's pieces differ along its axes
+    /// only (a centred box, a capsule's or cylinder's two ends): its affine dimension and, when
+    /// that is one, its direction (body), as a search of the pieces decides it: pieces within
+    /// `tie` of the support value tie, tied points closer than `point` are one. `None`: no
+    /// closed form here (or a piece not differentiable at `m`); search the pieces.
+    fn support_set(&self, _m: &Vec3, _tie: Real, _point: Real) -> Option<(usize, Vec3)> {
+        None
+    }
+}
+
+/// [`SupportMap::support_set`] of two pieces `length` apart along body x that differ at `m` by
+/// `length·|m_x|` (a capsule's or cylinder's ends).
+#[inline]
+pub(crate) fn two_ends_set(length: Real, m: &Vec3, tie: Real, point: Real) -> (usize, Vec3) {
+    if length * m.x.abs() <= tie && length > point {
+        (1, Vec3::x())
+    } else {
+        (0, Vec3::zeros())
     }
 }
 

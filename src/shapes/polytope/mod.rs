@@ -244,6 +244,7 @@ impl SupportMap for Polytope {
         let (k, _) = argmax_dot(&self.vertices, m);
         (self.vertices[k], k as u32)
     }
+    #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         Round::Flat.eval(self.vertices.get(id as usize)?, m)
     }
@@ -266,6 +267,20 @@ impl SupportMap for Polytope {
     }
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
         Some(&self.vertices)
+    }
+    fn support_set(&self, m: &Vec3, tie: Real, point: Real) -> Option<(usize, Vec3)> {
+        // A centred box: the vertex flipped along axis i is 2hᵢ|mᵢ| below the support value,
+        // so the tied vertices span the axes where that is within `tie`.
+        let h = self.half_extents.filter(|_| self.box_support.is_some())?;
+        let mut set = (0, Vec3::zeros());
+        for i in 0..3 {
+            let edge = 2.0 * h[i];
+            if edge * m[i].abs() <= tie && edge > point {
+                set.0 += 1;
+                set.1[i] = 1.0;
+            }
+        }
+        Some(set)
     }
 }
 

@@ -61,8 +61,9 @@ pub(crate) struct PaddedHit {
 pub(crate) enum PaddedEnd {
     Hit(PaddedHit),
     /// The bracket excluded the threshold: α' below it (`true`) or above it, with the
-    /// bracket's end on that side.
-    Decided(bool, Real),
+    /// bracket's end on that side and the unit normal whose support bound gave the lower end
+    /// (a separating direction of the scaled shapes when above).
+    Decided(bool, Real, Vec3),
     /// No certificate (a degenerate simplex, or the rounds ran out).
     Failed,
 }
@@ -84,6 +85,8 @@ pub(crate) fn padded_cast<S: SupportMap>(
         return PaddedEnd::Failed;
     }
     let mut lo = 1.0 / den;
+    // The normal of `lo`'s bound.
+    let mut lo_n = *r;
     let mut hi = Real::INFINITY;
     let mut best = PaddedHit {
         alpha: Real::INFINITY,
@@ -93,19 +96,19 @@ pub(crate) fn padded_cast<S: SupportMap>(
     };
     // A threshold is decided as soon as the bounds allow: GJK's support bounds from below, the
     // ball about any point of Q it passes from above (the support point along r first).
-    let decide = |lo: Real, hi: Real| {
+    let decide = |lo: Real, hi: Real, lo_n: Vec3| {
         let s = stop?;
         if lo > s.value {
-            Some(PaddedEnd::Decided(false, lo))
+            Some(PaddedEnd::Decided(false, lo, lo_n))
         } else if s.stop_below && hi < s.value {
-            Some(PaddedEnd::Decided(true, hi))
+            Some(PaddedEnd::Decided(true, hi, lo_n))
         } else {
             None
         }
     };
     if stop.is_some() {
         let up = ball_exit(1.0, r.dot(&first.w), first.w.norm_squared(), rho);
-        if let Some(end) = decide(lo, up) {
+        if let Some(end) = decide(lo, up, lo_n) {
             return end;
         }
     }
@@ -134,8 +137,8 @@ pub(crate) fn padded_cast<S: SupportMap>(
             let n = v / vv.sqrt();
             let vtx = pair.support(&n);
             let (nr, den) = (n.dot(r), n.dot(&vtx.w) + rho);
-            if nr > 0.0 && den > 0.0 {
-                lo = lo.max(nr / den);
+            if nr > 0.0 && den > 0.0 && nr / den > lo {
+                (lo, lo_n) = (nr / den, n);
             }
             let c = x - vtx.w;
             gap = n.dot(&(v - c));
@@ -160,7 +163,7 @@ pub(crate) fn padded_cast<S: SupportMap>(
             if stop.is_some() {
                 let q = x - v;
                 let up = ball_exit(1.0, r.dot(&q), q.norm_squared(), rho);
-                if let Some(end) = decide(lo, up) {
+                if let Some(end) = decide(lo, up, lo_n) {
                     return end;
                 }
             }
@@ -183,7 +186,7 @@ pub(crate) fn padded_cast<S: SupportMap>(
             hi = up;
             best = this.unwrap_or(best);
         }
-        if let Some(end) = decide(lo, hi) {
+        if let Some(end) = decide(lo, hi, lo_n) {
             return end;
         }
         // Closed, GJK's normal supporting Q at its point, and the point found from the ray's
@@ -203,7 +206,7 @@ pub(crate) fn padded_cast<S: SupportMap>(
             .map(|f| f.alpha)
             .filter(|a| *a > lo && *a < hi);
         if hi - lo <= NARROW * lo {
-            if let Some(h) = settle_faces(pair, pts, r, rho, &v, (&mut lo, &mut hi)) {
+            if let Some(h) = settle_faces(pair, pts, r, rho, &v, (&mut lo, &mut hi), &mut lo_n) {
                 best = h;
                 if hi - lo <= rel_tol * lo {
                     return PaddedEnd::Hit(best);
@@ -236,6 +239,7 @@ fn settle_faces<S: SupportMap>(
     rho: Real,
     v: &Vec3,
     (lo, hi): (&mut Real, &mut Real),
+    lo_n: &mut Vec3,
 ) -> Option<PaddedHit> {
     const FACES: [&[usize]; 7] = [&[0, 1, 2], &[0, 1], &[1, 2], &[0, 2], &[0], &[1], &[2]];
     for ids in FACES
@@ -251,7 +255,9 @@ fn settle_faces<S: SupportMap>(
             continue;
         };
         let (l, u, exact) = certify(pair, sub, &f, r, rho);
-        *lo = lo.max(l);
+        if l > *lo {
+            (*lo, *lo_n) = (l, f.normal);
+        }
         if exact && u <= *hi {
             *hi = u;
             let p = point(sub, &f.weights);
@@ -422,7 +428,7 @@ mod tests {
         };
         assert!(matches!(
             padded_cast(&pair, &Vec3::x(), rho, 1e-14, Some(stop)),
-            PaddedEnd::Decided(true, _)
+            PaddedEnd::Decided(true, _, _)
         ));
     }
 }
