@@ -41,6 +41,7 @@
 // DCOL_BENCH_VERBOSE=1 (each overlapping disagreement's depths on stderr).
 // Markdown on stdout (run.sh writes results/trajectory.md and results/trajectory.csv).
 #include <coal/collision_object.h>
+#include <ccd/ccd.h>
 #include <coal/distance.h>
 #include <sched.h>
 
@@ -58,6 +59,19 @@
 #include "depth_check.hpp"
 
 namespace {
+
+// libccd's support and centre from compare_common's support functions (as bench_compare's).
+void ccd_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *vec) {
+  const cmp_body *body = static_cast<const cmp_body *>(obj);
+  double d[3] = {dir->v[0], dir->v[1], dir->v[2]}, p[3];
+  cmp_support_world(body, d, p);
+  ccdVec3Set(vec, p[0], p[1], p[2]);
+}
+
+void ccd_center(const void *obj, ccd_vec3_t *center) {
+  const cmp_body *body = static_cast<const cmp_body *>(obj);
+  ccdVec3Set(center, body->pose.position[0], body->pose.position[1], body->pose.position[2]);
+}
 
 double now_ns() {
   return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -82,12 +96,16 @@ enum Method {
   kGradCached,
   kCoalCold,
   kCoalWarm,
+  kIsectCold,
+  kIsectCached,
+  kMpr,
   kMethods
 };
 const char *const kMethodNames[kMethods] = {
     "dcol_proximity",       "dcol_proximity_cached",       "dcol_distance", "dcol_distance_cached",
     "dcol_signed_distance", "dcol_signed_distance_cached", "dcol_gradient", "dcol_gradient_cached",
-    "coal_distance_cold",   "coal_distance_warm"};
+    "coal_distance_cold",   "coal_distance_warm",          "dcol_intersect", "dcol_intersect_cached",
+    "ccdMPRIntersect"};
 
 enum Subset { kSeparated = 0, kOverlapping, kAll, kSubsets };
 const char *const kSubsetNames[kSubsets] = {"separated", "overlapping", "all"};
@@ -108,6 +126,9 @@ enum Check {
   kIndepDcol,
   kIndepCoal,
   kIndepCoalWarm,
+  kCIsect,
+  kIsectWrong,
+  kMprWrong,
   kChecks
 };
 const char *const kCheckNames[kChecks] = {"proximity cached vs cold",
@@ -120,7 +141,16 @@ const char *const kCheckNames[kChecks] = {"proximity cached vs cold",
                                           "signed distance vs Coal warm (overlapping)",
                                           "those overlaps: dcol vs the independent depth",
                                           "those overlaps: Coal cold vs the independent depth",
-                                          "those overlaps: Coal warm vs the independent depth"};
+                                          "those overlaps: Coal warm vs the independent depth",
+                                          "intersect cached vs cold",
+                                          "dcol_intersect wrong (outside 1e-6 of touching)",
+                                          "ccdMPRIntersect wrong (outside 1e-6 of touching)"};
+// The bound column of the agreement table.
+const char *check_bound(int c) {
+  if (c < kCoalColdSep) return "1e-12 relative";
+  if (c < kCIsect) return "1e-5 max(1, abs d)";
+  return c == kCIsect ? "equal" : "alpha* < 1";
+}
 
 struct PairStats {
   std::string name;
@@ -159,6 +189,7 @@ struct Step {
   cmp_body b1, b2;
   coal::Transform3s t1, t2;
   Subset subset;  // kAll: the cold proximity failed, the step is left out
+  double alpha;   // the cold proximity's
 };
 
 // The trajectory (warm.rs's `poses`): false when dcol refused the start.
@@ -192,6 +223,7 @@ bool make_trajectory(const cmp_shape &s1, const cmp_shape &s2, double start, lon
     st.t2 = coal_transform(st.b2);
     const bool ok = dcol_proximity(s1.handle, &st.b1.pose, s2.handle, &st.b2.pose, nullptr, &pr) == DCOL_OK;
     st.subset = !ok ? kAll : pr.alpha > 1 ? kSeparated : kOverlapping;
+    st.alpha = ok ? pr.alpha : NAN;
     out->push_back(st);
     if (k % 250 == 249)
       for (double &x : v) x = -x;
@@ -207,6 +239,7 @@ bool make_trajectory(const cmp_shape &s1, const cmp_shape &s2, double start, lon
 // What round 1 keeps of each call for the checks.
 struct Answers {
   double prox[2], dist[2], sd[2], grad[2][14], coal[2], sd_normal[3], coal_normal[2][3];
+  int isect[3];  // dcol_intersect cold, cached, ccdMPRIntersect
   bool ok[kMethods];
 };
 
@@ -231,6 +264,12 @@ void check_step(PairStats &P, const Answers &a, const Step &st) {
       scale = std::max(scale, std::fabs(a.grad[0][i]));
     }
     check(P, kCGrad, diff / scale, 1e-12);
+  }
+  if (a.ok[kIsectCold] && a.ok[kIsectCached]) check(P, kCIsect, a.isect[1] == a.isect[0] ? 0 : 1, 0);
+  if (std::fabs(st.alpha - 1) >= 1e-6) {
+    const int truth = st.alpha < 1;
+    if (a.ok[kIsectCold]) check(P, kIsectWrong, a.isect[0] == truth ? 0 : 1, 0);
+    check(P, kMprWrong, a.isect[2] == truth ? 0 : 1, 0);
   }
   bool ovl_disagree = false;
   for (int w = 0; w < 2; ++w) {
@@ -261,7 +300,7 @@ void check_step(PairStats &P, const Answers &a, const Step &st) {
 }
 
 struct TrajectoryState {
-  dcol_cache cache[4];  // proximity, distance, signed distance, gradient
+  dcol_cache cache[5];  // proximity, distance, signed distance, gradient, intersect
   coal::DistanceRequest warm;
   void reset() {
     for (dcol_cache &c : cache) c = DCOL_CACHE_INIT;
@@ -312,6 +351,25 @@ inline void call_method(int m, const cmp_shape &s1, const cmp_shape &s2, const S
       if (a) a->coal[0] = res.min_distance;
       if (a)
         for (int i = 0; i < 3; ++i) a->coal_normal[0][i] = res.normal[i];
+      break;
+    }
+    case kIsectCold:
+    case kIsectCached: {
+      int32_t hit = 0;
+      rc = m == kIsectCold ? dcol_intersect(s1.handle, p1, s2.handle, p2, nullptr, &hit)
+                           : dcol_intersect_cached(s1.handle, p1, s2.handle, p2, nullptr, &S.cache[4], &hit);
+      if (a) a->isect[m - kIsectCold] = hit != 0;
+      break;
+    }
+    case kMpr: {
+      ccd_t ccd;
+      CCD_INIT(&ccd);
+      ccd.support1 = ccd_support;
+      ccd.support2 = ccd_support;
+      ccd.center1 = ccd_center;
+      ccd.center2 = ccd_center;
+      const int hit = ccdMPRIntersect(&st.b1, &st.b2, &ccd);
+      if (a) a->isect[2] = hit != 0;
       break;
     }
     case kCoalWarm: {
@@ -430,21 +488,23 @@ std::string fmt(double x, const char *f) {
   return b;
 }
 
+const int kRatios = 11;  // kSummaryNames
 struct SeedSummary {
   long seed;
-  double ratio[9];  // all 36: see kSummaryNames
+  double ratio[kRatios];  // all 36: see kSummaryNames
   long disagree[kChecks], checked[kChecks], failed;
   long steps[kSubsets];
 };
-const char *const kSummaryNames[9] = {
+const char *const kSummaryNames[kRatios] = {
     "proximity cached / cold (separated)", "distance cached / cold (separated)",
     "signed distance cached / cold (overlapping)", "gradient cached / cold (all steps)",
     "Coal warm / cold (separated)", "Coal warm / cold (overlapping)",
     "proximity cached / Coal warm (separated)", "distance cached / Coal warm (separated)",
-    "signed distance cached / Coal warm (overlapping)"};
+    "signed distance cached / Coal warm (overlapping)", "intersect cached / cold (all steps)",
+    "intersect cached / ccdMPRIntersect (all steps)"};
 
 // The ratios of one pair type, in kSummaryNames's order.
-void ratios(const PairStats &P, double r[9]) {
+void ratios(const PairStats &P, double r[kRatios]) {
   auto q = [&](int a, int b, Subset s) { return P.med[a][s] / P.med[b][s]; };
   r[0] = q(kProxCached, kProxCold, kSeparated);
   r[1] = q(kDistCached, kDistCold, kSeparated);
@@ -455,6 +515,8 @@ void ratios(const PairStats &P, double r[9]) {
   r[6] = q(kProxCached, kCoalWarm, kSeparated);
   r[7] = q(kDistCached, kCoalWarm, kSeparated);
   r[8] = q(kSdCached, kCoalWarm, kOverlapping);
+  r[9] = q(kIsectCached, kIsectCold, kAll);
+  r[10] = q(kIsectCached, kMpr, kAll);
 }
 
 SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, double overhead, FILE *csv) {
@@ -470,7 +532,7 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
               "Coal cold | Coal warm | warm / cold | proximity cached / Coal warm | distance cached / Coal warm |\n");
   std::printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
   for (const PairStats &P : pairs) {
-    double r[9];
+    double r[kRatios];
     ratios(P, r);
     const int s = kSeparated;
     std::printf("| %s | %ld | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", P.name.c_str(), P.steps[s],
@@ -485,7 +547,7 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
               "signed distance cached / Coal warm | gradient cold (all) | cached | cached / cold |\n");
   std::printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
   for (const PairStats &P : pairs) {
-    double r[9];
+    double r[kRatios];
     ratios(P, r);
     const int s = kOverlapping;
     std::printf("| %s | %ld | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", P.name.c_str(), P.steps[s],
@@ -495,40 +557,54 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
                 fmt(P.med[kGradCold][kAll], "%.0f").c_str(), fmt(P.med[kGradCached][kAll], "%.0f").c_str(),
                 fmt(r[3], "%.2f").c_str());
   }
+  std::printf("\nThe boolean query on every block: dcol_intersect cold and cached against libccd's MPR "
+              "(ccdMPRIntersect, CCD_INIT defaults, on compare_common's support functions; no warm start).\n\n");
+  std::printf("| pair | steps | intersect cold | cached | cached / cold | ccdMPRIntersect | cached / MPR |\n");
+  std::printf("|---|--:|--:|--:|--:|--:|--:|\n");
+  for (const PairStats &P : pairs) {
+    double r[kRatios];
+    ratios(P, r);
+    std::printf("| %s | %ld | %s | %s | %s | %s | %s |\n", P.name.c_str(), P.steps[kAll],
+                fmt(P.med[kIsectCold][kAll], "%.0f").c_str(), fmt(P.med[kIsectCached][kAll], "%.0f").c_str(),
+                fmt(r[9], "%.2f").c_str(), fmt(P.med[kMpr][kAll], "%.0f").c_str(), fmt(r[10], "%.2f").c_str());
+  }
   // All-pairs medians: the median over pair types of each pair type's median (or ratio).
   std::printf("\nAll-pairs medians (median over pair types of the per-pair medians and ratios):\n\n");
   std::printf("| pair types | proximity cold | cached | distance cold | cached | Coal cold (sep.) | Coal warm (sep.) | "
-              "signed distance cold | cached | Coal cold (ovl.) | Coal warm (ovl.) | gradient cold | cached |\n");
-  std::printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
-  const int cols[12][2] = {{kProxCold, kSeparated},   {kProxCached, kSeparated}, {kDistCold, kSeparated},
+              "signed distance cold | cached | Coal cold (ovl.) | Coal warm (ovl.) | gradient cold | cached | "
+              "intersect cold | cached | ccdMPRIntersect |\n");
+  std::printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+  const int kCols = 15;
+  const int cols[kCols][2] = {{kProxCold, kSeparated},   {kProxCached, kSeparated}, {kDistCold, kSeparated},
                            {kDistCached, kSeparated}, {kCoalCold, kSeparated},   {kCoalWarm, kSeparated},
                            {kSdCold, kOverlapping},   {kSdCached, kOverlapping}, {kCoalCold, kOverlapping},
-                           {kCoalWarm, kOverlapping}, {kGradCold, kAll},         {kGradCached, kAll}};
-  std::vector<double> rat[2][9];
+                           {kCoalWarm, kOverlapping}, {kGradCold, kAll},         {kGradCached, kAll},
+                              {kIsectCold, kAll},        {kIsectCached, kAll},      {kMpr, kAll}};
+  std::vector<double> rat[2][kRatios];
   for (int g = 0; g < 2; ++g) {
-    std::vector<double> col[12];
+    std::vector<double> col[kCols];
     for (const PairStats &P : pairs) {
       if (g == 0 && P.polygon) continue;
-      for (int c = 0; c < 12; ++c)
+      for (int c = 0; c < kCols; ++c)
         if (std::isfinite(P.med[cols[c][0]][cols[c][1]]) && P.steps[cols[c][1]] > 0)
           col[c].push_back(P.med[cols[c][0]][cols[c][1]]);
-      double r[9];
+      double r[kRatios];
       ratios(P, r);
-      for (int k = 0; k < 9; ++k)
+      for (int k = 0; k < kRatios; ++k)
         if (std::isfinite(r[k])) rat[g][k].push_back(r[k]);
     }
     if (col[0].empty()) continue;
     std::printf("| %s |", g == 0 ? "28 without a polygon" : "all");
-    for (int c = 0; c < 12; ++c) std::printf(" %s |", fmt(median(col[c]), "%.0f").c_str());
+    for (int c = 0; c < kCols; ++c) std::printf(" %s |", fmt(median(col[c]), "%.0f").c_str());
     std::printf("\n");
   }
   std::printf("\n| ratio (median over pair types) | 28 without a polygon | all | best pair type | worst pair type |\n");
   std::printf("|---|--:|--:|--:|--:|\n");
-  for (int k = 0; k < 9; ++k) {
+  for (int k = 0; k < kRatios; ++k) {
     std::string best = "–", worst = "–";
     double lo = INFINITY, hi = -INFINITY;
     for (const PairStats &P : pairs) {
-      double r[9];
+      double r[kRatios];
       ratios(P, r);
       if (!std::isfinite(r[k])) continue;
       if (r[k] < lo) lo = r[k], best = P.name + " " + fmt(r[k], "%.2f");
@@ -550,7 +626,7 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
       sum.checked[c] += P.checked[c];
       worst = std::max(worst, P.worst[c]);
     }
-    std::printf("| %s | %s | %ld of %ld | %.1e |\n", kCheckNames[c], c < 4 ? "1e-12 relative" : "1e-5 max(1, abs d)",
+    std::printf("| %s | %s | %ld of %ld | %.1e |\n", kCheckNames[c], check_bound(c),
                 sum.disagree[c], sum.checked[c], worst);
   }
   std::string per_pair;
@@ -580,12 +656,12 @@ SeedSummary report(std::vector<PairStats> &pairs, long seed, const Config &cfg, 
           if (P.steps[s] > 0)
             std::fprintf(csv, "%ld,%s,%s,%s,ns,%.1f,%ld\n", seed, P.name.c_str(), kSubsetNames[s], kMethodNames[m],
                          P.med[m][s], P.steps[s]);
-      double r[9];
+      double r[kRatios];
       ratios(P, r);
-      for (int k = 0; k < 9; ++k)
+      for (int k = 0; k < kRatios; ++k)
         if (std::isfinite(r[k])) std::fprintf(csv, "%ld,%s,,%s,ratio,%.4f,\n", seed, P.name.c_str(), kSummaryNames[k], r[k]);
     }
-    for (int k = 0; k < 9; ++k) {
+    for (int k = 0; k < kRatios; ++k) {
       std::fprintf(csv, "%ld,all-pairs,,%s,ratio,%.4f,\n", seed, kSummaryNames[k], median(rat[1][k]));
       std::fprintf(csv, "%ld,all-pairs-28,,%s,ratio,%.4f,\n", seed, kSummaryNames[k], median(rat[0][k]));
     }
@@ -668,7 +744,7 @@ int main() {
   std::printf("\n|---|");
   for (size_t i = 0; i < sums.size(); ++i) std::printf("--:|");
   std::printf("\n");
-  for (int k = 0; k < 9; ++k) {
+  for (int k = 0; k < kRatios; ++k) {
     std::printf("| %s |", kSummaryNames[k]);
     for (const SeedSummary &s : sums) std::printf(" %s |", fmt(s.ratio[k], "%.2f").c_str());
     std::printf("\n");
@@ -676,23 +752,27 @@ int main() {
   long steps = 0, contract = 0;
   for (const SeedSummary &s : sums) {
     steps += s.steps[kAll];
-    contract += s.disagree[kCProx] + s.disagree[kCDist] + s.disagree[kCSd];
+    contract += s.disagree[kCProx] + s.disagree[kCDist] + s.disagree[kCSd] + s.disagree[kCIsect];
   }
   std::printf("| disagreements, cached vs cold |");
-  for (const SeedSummary &s : sums) std::printf(" %ld |", s.disagree[0] + s.disagree[1] + s.disagree[2] + s.disagree[3]);
+  for (const SeedSummary &s : sums)
+    std::printf(" %ld |", s.disagree[kCProx] + s.disagree[kCDist] + s.disagree[kCSd] + s.disagree[kCGrad] +
+                              s.disagree[kCIsect]);
   std::printf("\n| disagreements, dcol vs Coal (cold + warm) |");
   for (const SeedSummary &s : sums)
-    std::printf(" %ld |", s.disagree[4] + s.disagree[5] + s.disagree[6] + s.disagree[7]);
+    std::printf(" %ld |", s.disagree[kCoalColdSep] + s.disagree[kCoalWarmSep] + s.disagree[kCoalColdOvl] + s.disagree[kCoalWarmOvl]);
   std::printf("\n| of those overlaps: dcol / Coal cold / Coal warm off the independent depth |");
   for (const SeedSummary &s : sums)
     std::printf(" %ld / %ld / %ld |", s.disagree[kIndepDcol], s.disagree[kIndepCoal], s.disagree[kIndepCoalWarm]);
+  std::printf("\n| wrong booleans (outside 1e-6 of touching): dcol_intersect / ccdMPRIntersect |");
+  for (const SeedSummary &s : sums) std::printf(" %ld / %ld |", s.disagree[kIsectWrong], s.disagree[kMprWrong]);
   std::printf("\n");
   if (csv) std::fclose(csv);
   std::fflush(stdout);
   if (contract > 0) {
     // dcol_cache's contract (dcol.h): warm alpha* and distances within 1e-12 relative of cold.
-    std::fprintf(stderr, "bench_trajectory: %ld cached answers (alpha*, distance, signed distance) differ from the "
-                 "cold ones beyond 1e-12 relative\n", contract);
+    std::fprintf(stderr, "bench_trajectory: %ld cached answers (alpha*, distance, signed distance beyond 1e-12 "
+                 "relative; intersect at all) differ from the cold ones\n", contract);
     return 3;
   }
   return steps > 0 ? 0 : 1;
