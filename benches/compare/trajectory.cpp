@@ -17,10 +17,12 @@
 // dcol_cache per query and trajectory, carried across all its steps and blocks), coal::distance
 // cold (a fresh default DistanceRequest per call) and warm (one DistanceRequest per trajectory
 // with gjk_initial_guess = CachedGuess and updateGuess(result) after every call: GJK starts from
-// the last ray and the support functions from the last vertices). Every query runs on every step
+// the last ray and the support functions from the last vertices); dcol_intersect cold and cached
+// against libccd's ccdMPRIntersect (CCD_INIT defaults, compare_common's support functions, as
+// bench_compare; MPR has no warm start). Every query runs on every step
 // (the caches see the whole trajectory); the tables read each on its subset: proximity and
 // distance against Coal on separated blocks, signed distance against Coal on overlapping blocks,
-// the gradient on every block (a block belongs to a subset when all its steps do; the few mixed
+// the gradient and the boolean query on every block (a block belongs to a subset when all its steps do; the few mixed
 // blocks where alpha* crosses 1 count only for "all"). DCOL_BENCH_ROUNDS rounds (default 5;
 // caches and Coal's guess start cold each round); per block the median round, per pair type the
 // median over its blocks, in ns per step (the timer's own cost, measured at start, subtracted).
@@ -31,8 +33,10 @@
 // 1e-5 max(1, |d|) (Coal's default gjk_tolerance is 1e-6, as bench_posesets): distance on
 // separated steps, signed distance on overlapping steps; where the depths differ, both against
 // the independent depth of depth_check.cpp (support functions only), to say who is off. Failed
-// calls are counted. The exit status is 3 when a cached alpha*, distance or signed distance is
-// beyond 1e-12 of the cold one (dcol_cache's contract in dcol.h; the gradient is only counted).
+// calls are counted. Booleans: cached against cold (equal), both dcol_intersect and MPR against
+// alpha* < 1 outside |alpha* - 1| < 1e-6. The exit status is 3 when a cached alpha*, distance or
+// signed distance is beyond 1e-12 of the cold one or a cached boolean differs (dcol_cache's
+// contract in dcol.h; the gradient is only counted).
 //
 // Two seeds: DCOL_BENCH_SEEDS (default "3301,3302"; the first is the one the bench was developed
 // on, the second is only measured). DCOL_BENCH_TRAJECTORIES per pair type (default 8),
