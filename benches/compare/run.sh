@@ -13,7 +13,8 @@
 #   benches/compare/run.sh --trajectory   # only bench_trajectory (warm against cold, dcol against
 #                                     # Coal): results/trajectory.md and results/trajectory.csv
 # Environment: DCOL_BENCH_CASES, DCOL_BENCH_REPEAT, DCOL_BENCH_SEED (see bench_compare.cpp),
-# DCOL_BENCH_CPU=n (bench_trajectory pins itself to core n), DCOL_BENCH_RAW=file (every sample's time as CSV, for what-if questions about the medians),
+# DCOL_BENCH_CPU=n (bench_trajectory pins itself to core n),
+# DCOL_BENCH_RAW=file (every sample's time as CSV, for what-if questions about the medians),
 # DCOL_BENCH_COAL=0 (leave Coal out), DCOL_BENCH_COAL_PREFIX (use a Coal install prefix instead of
 # the wheels), and
 # DCOL_TARGET_CPU (e.g. x86-64-v3: dcol compiled for that CPU level, see the README; FCL and
