@@ -10,6 +10,7 @@
 //! gauge of the normalised Minkowski difference at `r` (α* is homogeneous of degree one in the
 //! offset, so no precision is lost at tiny or huge offsets).
 
+use super::capsule_jacobian::capsule_jacobian;
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
 use super::derivatives::{rotation_axes, rotation_dots};
@@ -280,7 +281,8 @@ pub(crate) fn unique_contact(
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
 /// its gradient `g` ([`gradient`]): in closed form for two spheres, for a sphere against a
-/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), and for two polytopes
+/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), for two capsules
+/// (`super::capsule_jacobian`), and for two polytopes
 /// touching on a facet of K (`super::polytope_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
 /// `None` where x* is not unique or the features' system is singular.
@@ -302,6 +304,9 @@ pub(crate) fn jacobian(
             return Some(j);
         }
         if let Some(j) = sphere_jacobian(prox, g, dalpha_dd, shapes, poses) {
+            return Some(j);
+        }
+        if let Some(j) = capsule_jacobian(prox, g, dalpha_dd, shapes, poses) {
             return Some(j);
         }
     }

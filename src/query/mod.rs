@@ -3,6 +3,9 @@
 
 mod assemble;
 mod cached;
+mod capsule_jacobian;
+#[cfg(test)]
+mod capsule_jacobian_tests;
 mod contact;
 mod contact_boxes;
 mod contact_reduce;
