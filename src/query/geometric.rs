@@ -13,7 +13,7 @@
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
-use super::derivatives::{rotation_axes, rotation_dots};
+use super::derivatives::rotation_axes;
 use super::polytope_jacobian::polytope_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
@@ -176,11 +176,15 @@ pub(crate) fn gradient(
     let alpha = prox.alpha;
     if shapes[0].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
-        g[3..7].copy_from_slice(&rotation_dots(pose1, &t));
+        for (k, w) in rotation_axes(pose1).iter().enumerate() {
+            g[3 + k] = w.dot(&t);
+        }
     }
     if shapes[1].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
-        g[10..14].copy_from_slice(&rotation_dots(pose2, &t));
+        for (k, w) in rotation_axes(pose2).iter().enumerate() {
+            g[10 + k] = w.dot(&t);
+        }
     }
     g
 }
