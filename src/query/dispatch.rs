@@ -2,32 +2,32 @@
 //!
 //! [`route`] gives, for the solver kinds of two shapes ([`Shape::solver_kind`]: a box and an
 //! unpadded hull are polytopes, `ConvexHull` is a padded hull), the [`Stage`]s that proximity
-//! (`super::geometric`) and the exact distance (`super::separated`, `super::distance`) try, in
-//! the order they try them, with `Method::Auto`. A stage listed for a pair runs; one not
-//! listed does not. A stage may still decline on the shapes themselves (a closed form for "a
-//! sphere and a box" needs the polytope to be a box centred at its origin; a bracket that does
-//! not close goes on to the next stage): the table says what is tried, the stage whether it
-//! certifies. The signed distance and the contacts start with the distance's stages (through
-//! `super::separated`); what follows them (EPA, the polish, the contact faces) is decided in
-//! `super::signed` and `super::contact`.
+//! (`super::geometric`), the exact distance (`super::separated`, `super::distance`) and the
+//! signed distance (`super::signed`) try, in the order they try them, with `Method::Auto`. A
+//! stage listed for a pair runs; one not listed does not. A stage may still decline on the
+//! shapes themselves (a closed form for "a sphere and a box" needs the polytope to be a box
+//! centred at its origin; a bracket that does not close goes on to the next stage): the table
+//! says what is tried, the stage whether it certifies. The contacts start from the signed
+//! distance's answer; how their faces are built is decided in `super::contact`.
 //!
 //! The table is one `match` over unordered pairs ([`pair_route`]), read top to bottom; both
 //! orders of a pair share a row, expanded once at compile time into a 9×9 array so that a
-//! query's lookup is one index. `docs/geometric-solver.md` carries its rendering
-//! ([`markdown`]); a test keeps the two in step (`DCOL_BLESS=1` rewrites the docs).
+//! query's lookup is one index. `docs/geometric-solver.md` carries its rendering (`markdown`,
+//! built for the tests); a test keeps the two in step (`DCOL_BLESS=1` rewrites the docs).
 
 use crate::shapes::{Shape, ShapeKind};
 
-/// One solver the queries try. A stage's meaning depends on the query it is listed for
-/// ([`Stage::proximity_file`], [`Stage::distance_file`] name the code).
+/// One solver the queries try. A stage's meaning depends on the query it is listed for (the
+/// docs' rendering names each query's files).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub(crate) enum Stage {
     /// A half-space and any bounded shape: closed forms (`query/halfspace.rs`).
     Halfspace,
     /// Closed forms: proximity for sphere and capsule pairs and a sphere with a centred box, a
-    /// cylinder or a cone; the distance for those, a sphere with any polytope (its centre
-    /// inside), an ellipsoid or a cone, and a capsule with a centred box, cylinder or cone.
+    /// cylinder or a cone; the distance and the signed distance for those, a sphere with any
+    /// polytope (its centre inside), an ellipsoid or a cone, and a capsule with a centred box,
+    /// cylinder or cone.
     ClosedForm,
     /// The pair's cache (when the query is given one): the features of the last answer, kept
     /// between polytopes only (Newton on other pairs' kept pieces was measured slower than the
@@ -80,6 +80,24 @@ pub(crate) enum Stage {
     /// The interior-point solver (the distance: where the proximity does not certify an
     /// overlap first).
     InteriorPoint,
+    /// The signed distance of two polytopes of few facets, or padded hulls: the separating
+    /// axes, exact on an overlap.
+    SeparatingAxes,
+    /// The signed distance of a pair with an ellipsoid, cylinder or cone: a slab along the
+    /// offset that does not separate the shapes sends them to EPA without the distance's stages
+    /// (a separated pair comes back to the distance).
+    Probe,
+    /// The signed distance: the distance's stages (this table's distance column,
+    /// `query/separated.rs`) where no earlier stage settled the pair; a separated answer is
+    /// theirs.
+    Distance,
+    /// The signed distance: GJK, then EPA, on the cores (a sphere's centre, a capsule's segment,
+    /// a padded polygon's plane polygon, a padded hull's hull), the radii taken off.
+    CoredEpa,
+    /// EPA on the shapes with its polish on curved pieces, a slab where K is too thin.
+    Epa,
+    /// EPA between two polytopes, from GJK's tetrahedron: it ends exactly.
+    ExactEpa,
 }
 
 use Stage::*;
@@ -99,6 +117,20 @@ const PROXIMITY_ORDER: [Stage; 13] = [
     Cast,
     ExactCast,
     InteriorPoint,
+];
+
+/// The order the signed distance tries its stages in (`super::signed`): its closed forms run
+/// before the distance's stages unless the inscribed balls or the probe show an overlap, and
+/// after them otherwise.
+const SIGNED_ORDER: [Stage; 8] = [
+    Halfspace,
+    SeparatingAxes,
+    Probe,
+    ClosedForm,
+    Distance,
+    CoredEpa,
+    Epa,
+    ExactEpa,
 ];
 
 /// The order the distance tries its stages in (`super::distance`, `super::separated`).
@@ -132,7 +164,8 @@ impl Stage {
             Cast => "solver/raycast.rs, solver/direct.rs, solver/polish.rs",
             ExactCast => "solver/raycast.rs",
             InteriorPoint => "solver/ipm/",
-            CoredGjk | Gjk | ExactGjk => return None,
+            CoredGjk | Gjk | ExactGjk | SeparatingAxes | Probe | Distance | CoredEpa | Epa
+            | ExactEpa => return None,
         })
     }
 
@@ -149,7 +182,24 @@ impl Stage {
             Gjk | ExactGjk => "solver/gjk/",
             InteriorPoint => "query/distance.rs, solver/ipm/",
             SegmentSolid | SphereEllipsoid | TwoEllipsoids | EllipsoidPolytope | PaddedCast
-            | Cast | ExactCast => return None,
+            | Cast | ExactCast | SeparatingAxes | Probe | Distance | CoredEpa | Epa | ExactEpa => {
+                return None
+            }
+        })
+    }
+
+    #[cfg(test)]
+    /// Where the signed distance's stage lives (`None`: not a signed-distance stage).
+    pub(crate) const fn signed_file(self) -> Option<&'static str> {
+        Some(match self {
+            Halfspace => "query/halfspace.rs",
+            SeparatingAxes => "solver/sat.rs",
+            Probe => "query/signed.rs",
+            ClosedForm => "solver/closed_form.rs, solver/segment_solid.rs",
+            Distance => "query/separated.rs",
+            CoredEpa => "query/cores.rs, solver/gjk/",
+            Epa | ExactEpa => "solver/gjk/",
+            _ => return None,
         })
     }
 
@@ -173,6 +223,12 @@ impl Stage {
             Gjk => "GJK + polish",
             ExactGjk => "exact GJK",
             InteriorPoint => "interior point",
+            SeparatingAxes => "separating axes",
+            Probe => "probe",
+            Distance => "distance",
+            CoredEpa => "cored EPA",
+            Epa => "EPA + polish",
+            ExactEpa => "exact EPA",
         }
     }
 
@@ -218,20 +274,24 @@ impl Stages {
     }
 }
 
-/// What answers one pair: proximity's stages and the distance's.
+/// What answers one pair: proximity's stages, the distance's and the signed distance's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Route {
     /// Proximity's stages (`super::geometric`, with the interior-point fallback).
     pub proximity: Stages,
     /// The exact distance's stages (`super::distance`, `super::separated`).
     pub distance: Stages,
+    /// The signed distance's stages (`super::signed`).
+    pub signed: Stages,
 }
 
-/// A row of the table: proximity's stages, then the distance's, each in its query's order.
-const fn row(proximity: &[Stage], distance: &[Stage]) -> Route {
+/// A row of the table: proximity's stages, the distance's, the signed distance's, each in its
+/// query's order.
+const fn row(proximity: &[Stage], distance: &[Stage], signed: &[Stage]) -> Route {
     Route {
         proximity: Stages::of(proximity, &PROXIMITY_ORDER),
         distance: Stages::of(distance, &DISTANCE_ORDER),
+        signed: Stages::of(signed, &SIGNED_ORDER),
     }
 }
 
@@ -240,150 +300,190 @@ const fn row(proximity: &[Stage], distance: &[Stage]) -> Route {
 pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
     use ShapeKind::*;
     match (a, b) {
-        (Halfspace, _) | (_, Halfspace) => row(&[Stage::Halfspace], &[Stage::Halfspace]),
+        (Halfspace, _) | (_, Halfspace) => row(
+            &[Stage::Halfspace],
+            &[Stage::Halfspace],
+            &[Stage::Halfspace],
+        ),
         (Sphere, Sphere) => row(
             &[ClosedForm, PaddedCast, Newton, Cast, InteriorPoint],
             &[ClosedForm, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Sphere, Ellipsoid) => row(
             &[SphereEllipsoid, Newton, Cast, InteriorPoint],
             &[ClosedForm, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Sphere, Polytope) => row(
             &[ClosedForm, PaddedCast, Newton, Cast, InteriorPoint],
             &[ClosedForm, CoredGjk, Gjk, InteriorPoint],
+            &[ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Sphere, Capsule) => row(
             &[ClosedForm, PaddedCast, Newton, Cast, InteriorPoint],
             &[ClosedForm, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Sphere, Cylinder) => row(
             &[ClosedForm, Newton, Cast, InteriorPoint],
             &[ClosedForm, FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Sphere, Cone) => row(
             &[ClosedForm, Newton, Cast, InteriorPoint],
             &[ClosedForm, FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Sphere, Polygon) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
             &[CoredGjk, Gjk, InteriorPoint],
+            &[Distance, CoredEpa, Epa],
         ),
         (Sphere, ConvexHull) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
             &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Ellipsoid) => row(
             &[TwoEllipsoids, Newton, Cast, InteriorPoint],
             &[Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Ellipsoid, Polytope) => row(
             &[EllipsoidPolytope, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Ellipsoid, Capsule) => row(
             &[Newton, Cast, InteriorPoint],
             &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Cylinder) => row(
             &[FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Ellipsoid, Cone) => row(
             &[FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Ellipsoid, Polygon) => row(
             &[Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, ConvexHull) => row(
             &[Newton, Cast, InteriorPoint],
             &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Polytope, Polytope) => row(
             &[Warm, ExactCast, InteriorPoint],
             &[Warm, ExactGjk, InteriorPoint],
+            &[SeparatingAxes, Distance, ExactEpa],
         ),
         (Polytope, Capsule) => row(
             &[SegmentSolid, PaddedCast, Newton, Cast, InteriorPoint],
             &[ClosedForm, CoredGjk, Gjk, InteriorPoint],
+            &[ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Polytope, Cylinder) => row(
             &[FlatFaces, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Polytope, Cone) => row(
             &[FlatFaces, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Polytope, Polygon) => row(
             &[PaddedCast, Cast, InteriorPoint],
             &[CoredGjk, Gjk, InteriorPoint],
+            &[Distance, CoredEpa, Epa],
         ),
         (Polytope, ConvexHull) => row(
             &[PaddedCast, Cast, InteriorPoint],
             &[FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[SeparatingAxes, Distance, CoredEpa, Epa],
         ),
         (Capsule, Capsule) => row(
             &[ClosedForm, PaddedCast, Newton, Cast, InteriorPoint],
             &[ClosedForm, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Capsule, Cylinder) => row(
             &[SegmentSolid, Newton, Cast, InteriorPoint],
             &[ClosedForm, FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Capsule, Cone) => row(
             &[SegmentSolid, Newton, Cast, InteriorPoint],
             &[ClosedForm, FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, ClosedForm, Distance, CoredEpa, Epa],
         ),
         (Capsule, Polygon) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
             &[CoredGjk, Gjk, InteriorPoint],
+            &[Distance, CoredEpa, Epa],
         ),
         (Capsule, ConvexHull) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
             &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Distance, CoredEpa, Epa],
         ),
         (Cylinder, Cylinder) => row(
             &[FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Cylinder, Cone) => row(
             &[FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Cylinder, Polygon) => row(
             &[Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Cylinder, ConvexHull) => row(
             &[Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Cone, Cone) => row(
             &[FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, Epa],
         ),
         (Cone, Polygon) => row(
             &[Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Cone, ConvexHull) => row(
             &[Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Polygon, Polygon) => row(
             &[PaddedCast, Cast, InteriorPoint],
             &[CoredGjk, Gjk, InteriorPoint],
+            &[Distance, CoredEpa, Epa],
         ),
         (Polygon, ConvexHull) => row(
             &[PaddedCast, Cast, InteriorPoint],
             &[FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[Distance, CoredEpa, Epa],
         ),
         (ConvexHull, ConvexHull) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
             &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[SeparatingAxes, Distance, CoredEpa, Epa],
         ),
         (a, b) => pair_route(b, a),
     }
@@ -404,7 +504,7 @@ pub(crate) const KINDS: [ShapeKind; 9] = [
 
 /// [`pair_route`] for every ordered pair, indexed by the kinds' `as usize`.
 const TABLE: [[Route; 9]; 9] = {
-    let mut t = [[row(&[], &[]); 9]; 9];
+    let mut t = [[row(&[], &[], &[]); 9]; 9];
     let mut i = 0;
     while i < 9 {
         assert!(
@@ -447,7 +547,8 @@ fn kind_name(k: ShapeKind) -> &'static str {
 /// The table as markdown: every unordered pair with its stages for each query, in order, then
 /// each stage's files. `docs/geometric-solver.md` holds exactly this text.
 pub(crate) fn markdown() -> String {
-    let mut s = String::from("| pair | proximity | distance |\n|---|---|---|\n");
+    let mut s =
+        String::from("| pair | proximity | distance | signed distance |\n|---|---|---|---|\n");
     let cell = |st: Stages, order: &'static [Stage]| {
         st.ordered(order)
             .map(Stage::label)
@@ -458,27 +559,34 @@ pub(crate) fn markdown() -> String {
         for &b in &KINDS[i..] {
             let r = pair_route(a, b);
             s += &format!(
-                "| {} – {} | {} | {} |\n",
+                "| {} – {} | {} | {} | {} |\n",
                 kind_name(a),
                 kind_name(b),
                 cell(r.proximity, &PROXIMITY_ORDER),
-                cell(r.distance, &DISTANCE_ORDER)
+                cell(r.distance, &DISTANCE_ORDER),
+                cell(r.signed, &SIGNED_ORDER)
             );
         }
     }
-    s += "\n| stage | proximity (`src/`) | distance (`src/`) |\n|---|---|---|\n";
+    s += "\n| stage | proximity (`src/`) | distance (`src/`) | signed distance (`src/`) |\n";
+    s += "|---|---|---|---|\n";
     let mut seen = 0;
-    for &st in PROXIMITY_ORDER.iter().chain(&DISTANCE_ORDER) {
+    for &st in PROXIMITY_ORDER
+        .iter()
+        .chain(&DISTANCE_ORDER)
+        .chain(&SIGNED_ORDER)
+    {
         if seen & st.bit() != 0 {
             continue;
         }
         seen |= st.bit();
         let f = |x: Option<&str>| x.map_or("—".to_string(), |x| format!("`{x}`"));
         s += &format!(
-            "| {} | {} | {} |\n",
+            "| {} | {} | {} | {} |\n",
             st.label(),
             f(st.proximity_file()),
-            f(st.distance_file())
+            f(st.distance_file()),
+            f(st.signed_file())
         );
     }
     s

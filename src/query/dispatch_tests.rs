@@ -4,12 +4,13 @@ use super::*;
 
 /// The conditions the queries tested in code before the table (each stage's gate as it was
 /// written in `query/geometric.rs`, `query/shortcuts.rs`, `query/separated.rs`,
-/// `query/cores.rs` and the solvers' own kind checks), for the solver kinds `a`, `b`: the
+/// `query/signed.rs`, `query/cores.rs` and the solvers' own kind checks), for the solver kinds
+/// `a`, `b` (proximity, distance, signed distance): the
 /// table must give exactly these stages, so that every pair is answered as it was.
-fn former(a: ShapeKind, b: ShapeKind) -> (Vec<Stage>, Vec<Stage>) {
+fn former(a: ShapeKind, b: ShapeKind) -> [Vec<Stage>; 3] {
     use ShapeKind::*;
     if a == Halfspace || b == Halfspace {
-        return (vec![Stage::Halfspace], vec![Stage::Halfspace]);
+        return [0, 1, 2].map(|_| vec![Stage::Halfspace]);
     }
     let k = [a, b];
     let has = |x: ShapeKind| k.contains(&x);
@@ -97,7 +98,34 @@ fn former(a: ShapeKind, b: ShapeKind) -> (Vec<Stage>, Vec<Stage>) {
     }
     d.push(if polytopes { ExactGjk } else { Gjk });
     d.push(InteriorPoint);
-    (p, d)
+
+    let mut s = Vec::new();
+    // signed::separating_axes: polytopes, or padded hulls by their hulls.
+    if all(&|x| matches!(x, Polytope | ConvexHull)) {
+        s.push(SeparatingAxes);
+    }
+    // signed's `rounded` probe.
+    if any(&|x| matches!(x, Ellipsoid | Cylinder | Cone)) {
+        s.push(Probe);
+    }
+    // signed::closed_forms (two rounded segments; sphere_solid: a sphere and a polytope,
+    // ellipsoid, cylinder or cone) and signed::capsule_and_solid (segment_solid: a capsule and
+    // a box, cylinder or cone); the early try ran on any pair with a sphere or capsule, and found
+    // nothing on the others.
+    if one(
+        Sphere,
+        &[Sphere, Capsule, Polytope, Ellipsoid, Cylinder, Cone],
+    ) || one(Capsule, &[Capsule, Polytope, Cylinder, Cone])
+    {
+        s.push(ClosedForm);
+    }
+    s.push(Distance);
+    // signed::cored: Cores::with_polygons.
+    if any(&padded) {
+        s.push(CoredEpa);
+    }
+    s.push(if polytopes { ExactEpa } else { Epa });
+    [p, d, s]
 }
 
 #[test]
@@ -105,11 +133,13 @@ fn table_gives_the_stages_the_code_tested_before() {
     for a in KINDS {
         for b in KINDS {
             let r = TABLE[a as usize][b as usize];
-            let (p, d) = former(a, b);
+            let [p, d, s] = former(a, b);
             let got_p: Vec<_> = r.proximity.ordered(&PROXIMITY_ORDER).collect();
             let got_d: Vec<_> = r.distance.ordered(&DISTANCE_ORDER).collect();
+            let got_s: Vec<_> = r.signed.ordered(&SIGNED_ORDER).collect();
             assert_eq!(got_p, p, "proximity {a:?}–{b:?}");
             assert_eq!(got_d, d, "distance {a:?}–{b:?}");
+            assert_eq!(got_s, s, "signed distance {a:?}–{b:?}");
         }
     }
 }
@@ -132,6 +162,8 @@ fn both_orders_share_a_row_and_every_row_ends_in_a_fallback() {
                 r.distance.has(Gjk) != r.distance.has(ExactGjk),
                 "{a:?}–{b:?}"
             );
+            assert!(r.signed.has(Epa) != r.signed.has(ExactEpa), "{a:?}–{b:?}");
+            assert!(r.signed.has(Distance), "{a:?}–{b:?}");
             assert!(r.proximity.has(InteriorPoint) && r.distance.has(InteriorPoint));
             assert_eq!(
                 r.proximity.ordered(&PROXIMITY_ORDER).last(),
