@@ -13,6 +13,7 @@ mod context;
 mod cores;
 mod derivatives;
 mod differentiate;
+mod dispatch;
 mod distance;
 mod early_exit;
 #[cfg(test)]
