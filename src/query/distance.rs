@@ -27,6 +27,7 @@
 use super::assemble::{add_shape, dispatch, Placement, Task};
 use super::context::{Distance, DistancePath, Options};
 use super::derivatives::{rotation_generators, row_ranges};
+use super::dispatch::Stage;
 use super::separated::Settled;
 use super::warm::Cache;
 use crate::error::{Error, ErrorDetail};
@@ -269,9 +270,10 @@ fn distance_query_until(
     }
     // Separated pairs: GJK with its certificate first (the gap however small, never 0);
     // before it, the closest features the pair's cache kept, where they still certify.
+    let stages = super::dispatch::route(shape1, shape2).distance;
     if let Some(cache) = warm
         .as_deref_mut()
-        .filter(|_| options.method == Method::Auto)
+        .filter(|_| options.method == Method::Auto && stages.has(Stage::Warm))
     {
         if let Some(d) =
             cache.warm_distance([shape1, shape2], [pose1, pose2], ell, options.tolerance)

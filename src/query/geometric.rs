@@ -10,9 +10,11 @@
 //! gauge of the normalised Minkowski difference at `r` (α* is homogeneous of degree one in the
 //! offset, so no precision is lost at tiny or huge offsets).
 
+use super::capsule_jacobian::capsule_jacobian;
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
-use super::derivatives::{rotation_axes, rotation_dots};
+use super::derivatives::rotation_axes;
+use super::dispatch::{route, Stage, Stages};
 use super::polytope_jacobian::polytope_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
@@ -88,14 +90,16 @@ pub(crate) fn proximity(
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     // α* = α'·dist/ℓ.
     let world = dist * inv;
+    let stages = route(shape1, shape2).proximity;
     // The cache keeps answers only between polytopes (`super::warm`): other pairs neither try
     // nor keep one.
-    let mut warm = warm.filter(|_| Cache::polytopes(&pair));
+    let mut warm = warm.filter(|_| stages.has(Stage::Warm));
     let stop = threshold.map(|(t, stop_below)| Stop {
         value: t / world,
         stop_below,
     });
     let solved = solve(
+        stages,
         &pair,
         [pose1, pose2],
         &ray,
@@ -175,11 +179,15 @@ pub(crate) fn gradient(
     let alpha = prox.alpha;
     if shapes[0].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
-        g[3..7].copy_from_slice(&rotation_dots(pose1, &t));
+        for (k, w) in rotation_axes(pose1).iter().enumerate() {
+            g[3 + k] = w.dot(&t);
+        }
     }
     if shapes[1].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
-        g[10..14].copy_from_slice(&rotation_dots(pose2, &t));
+        for (k, w) in rotation_axes(pose2).iter().enumerate() {
+            g[10 + k] = w.dot(&t);
+        }
     }
     g
 }
@@ -280,7 +288,8 @@ pub(crate) fn unique_contact(
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
 /// its gradient `g` ([`gradient`]): in closed form for two spheres, for a sphere against a
-/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), and for two polytopes
+/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), for two capsules
+/// (`super::capsule_jacobian`), and for two polytopes
 /// touching on a facet of K (`super::polytope_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
 /// `None` where x* is not unique or the features' system is singular.
@@ -302,6 +311,9 @@ pub(crate) fn jacobian(
             return Some(j);
         }
         if let Some(j) = sphere_jacobian(prox, g, dalpha_dd, shapes, poses) {
+            return Some(j);
+        }
+        if let Some(j) = capsule_jacobian(prox, g, dalpha_dd, shapes, poses) {
             return Some(j);
         }
     }
@@ -420,20 +432,6 @@ fn decided(c: &Cast) -> Result<(), (bool, Real, Vec3)> {
     }
 }
 
-/// Whether Newton's method on the support function goes first: with a sphere or an ellipsoid
-/// (strictly convex, so the optimum is mostly on a smooth patch of K), with a capsule (its
-/// side is a single tie), or between cylinders and cones. A cylinder or cone against a polytope
-/// or padded polygon, or two of those, meets mostly on an edge or face of K where the support
-/// alternates between many pieces, or a vertex against a rim where the Hessian is singular:
-/// the ray cast identifies those faster (measured: direct first costs 1.1–2.5× there).
-fn direct_first(pair: &Pair<'_, Shape>) -> bool {
-    use ShapeKind::*;
-    let kinds = [pair.one.shape.solver_kind(), pair.two.shape.solver_kind()];
-    let round = |k: &ShapeKind| matches!(k, Sphere | Ellipsoid);
-    let faceted = |k: &ShapeKind| matches!(k, Polytope | Polygon);
-    kinds.iter().any(round) || kinds.contains(&Capsule) || !kinds.iter().any(faceted)
-}
-
 /// Sphere and capsule pairs, a sphere with a centred box, a cylinder or a cone, in closed form.
 fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
     let seg = RoundedSegment::of;
@@ -488,10 +486,12 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
     })
 }
 
-/// The geometric answer: a closed form, else the answer on the features `warm` kept from the
-/// pair's last answer where that certifies, else the cold solvers (whose answer `warm` then
-/// keeps).
+/// The geometric answer by the pair's `stages` (`super::dispatch`): a closed form, else the
+/// answer on the features `warm` kept from the pair's last answer where that certifies, else
+/// the cold solvers (whose answer `warm` then keeps).
+#[allow(clippy::too_many_arguments)]
 fn solve(
+    stages: Stages,
     pair: &Pair<'_, Shape>,
     poses: [&Pose; 2],
     ray: &Vec3,
@@ -500,18 +500,20 @@ fn solve(
     stop: Option<Stop>,
     warm: Option<&mut Cache>,
 ) -> Solved {
-    if let Some(ans) = closed_form(pair, ray) {
-        return Ok(Some(ans));
+    if stages.has(Stage::ClosedForm) {
+        if let Some(ans) = closed_form(pair, ray) {
+            return Ok(Some(ans));
+        }
     }
     // No bracket can be certified much below the rounding of the bounds themselves.
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     let Some(cache) = warm else {
-        return solve_cold(pair, ray, iota, tol, stop);
+        return solve_cold(stages, pair, ray, iota, tol, stop);
     };
     if let Some(ans) = cache.solve(pair, poses, ray, iota, tol) {
         return Ok(Some(ans));
     }
-    let solved = solve_cold(pair, ray, iota, tol, stop);
+    let solved = solve_cold(stages, pair, ray, iota, tol, stop);
     if let Ok(Some(ans)) = &solved {
         cache.keep_answer(
             Kind::Proximity,
@@ -525,26 +527,42 @@ fn solve(
     solved
 }
 
-/// The cold solvers, after the closed forms (`tol`: the bracket to close, relative).
+/// The cold solvers of `stages`, after the closed forms (`tol`: the bracket to close,
+/// relative).
 fn solve_cold(
+    stages: Stages,
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
     iota: Real,
     tol: Real,
     stop: Option<Stop>,
 ) -> Solved {
-    if let Some(ans) = capsule_and_solid(pair, ray, iota, tol)
-        .or_else(|| sphere_and_ellipsoid(pair, ray, iota, tol))
-        .or_else(|| two_ellipsoids(pair, ray, iota, tol))
-    {
-        return Ok(Some(ans));
+    // The pair-specific answers (`super::shortcuts`), each where the table lists it (direct
+    // calls: through a table of function pointers sphere–ellipsoid took 8 % longer).
+    if stages.has(Stage::SegmentSolid) {
+        if let Some(ans) = capsule_and_solid(pair, ray, iota, tol) {
+            return Ok(Some(ans));
+        }
     }
-    if let Some(solved) = ellipsoid_and_polytope(pair, ray, iota, tol, stop) {
-        return solved;
+    if stages.has(Stage::SphereEllipsoid) {
+        if let Some(ans) = sphere_and_ellipsoid(pair, ray, iota, tol) {
+            return Ok(Some(ans));
+        }
+    }
+    if stages.has(Stage::TwoEllipsoids) {
+        if let Some(ans) = two_ellipsoids(pair, ray, iota, tol) {
+            return Ok(Some(ans));
+        }
+    }
+    if stages.has(Stage::EllipsoidPolytope) {
+        if let Some(solved) = ellipsoid_and_polytope(pair, ray, iota, tol, stop) {
+            return solved;
+        }
     }
     // Spheres, capsules and padded polygons against polytopes and each other: GJK on the
     // cores, exact on polyhedral features.
-    if let Some(cores) = Cores::with_polygons(pair).filter(Cores::polyhedral) {
+    let cores = || Cores::with_polygons(pair).filter(Cores::polyhedral);
+    if let Some(cores) = stages.has(Stage::PaddedCast).then(cores).flatten() {
         match padded_cast(&cores.posed(pair), ray, cores.pad(), tol, stop) {
             PaddedEnd::Hit(h) => {
                 let (a, b) = cores.padded(&h.normal, h.a, h.b);
@@ -560,16 +578,16 @@ fn solve_cold(
             PaddedEnd::Failed => {}
         }
     }
-    if let Some(ans) = flat_first(pair, ray, iota, tol) {
-        return Ok(Some(ans));
+    if stages.has(Stage::FlatFaces) {
+        if let Some(ans) = flat_first(pair, ray, iota, tol) {
+            return Ok(Some(ans));
+        }
     }
     // Two polytopes: the cast ends exactly, in a facet of K, within a few refinements; curved
     // pairs hand over to the polish once the bracket is narrow enough to identify the pieces.
-    let polyhedral = [pair.one.shape, pair.two.shape]
-        .iter()
-        .all(|s| s.solver_kind() == ShapeKind::Polytope);
+    let polyhedral = stages.has(Stage::ExactCast);
     let cast_tol = if polyhedral { tol } else { tol.max(HANDOVER) };
-    let newton_first = direct_first(pair);
+    let newton_first = stages.has(Stage::Newton);
     if newton_first {
         // A threshold first gets the cast's early decision (a few support calls); undecided,
         // the query goes on exactly as one without a threshold, so that both give the same

@@ -3,6 +3,9 @@
 
 mod assemble;
 mod cached;
+mod capsule_jacobian;
+#[cfg(test)]
+mod capsule_jacobian_tests;
 mod contact;
 mod contact_boxes;
 mod contact_reduce;
@@ -10,6 +13,7 @@ mod context;
 mod cores;
 mod derivatives;
 mod differentiate;
+mod dispatch;
 mod distance;
 mod early_exit;
 #[cfg(test)]

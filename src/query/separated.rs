@@ -11,6 +11,7 @@
 
 use super::context::{Distance, DistancePath};
 use super::cores::Cores;
+use super::dispatch::{route, Stage};
 use crate::math::{rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
@@ -80,9 +81,8 @@ pub(crate) fn separated(
     let r1 = *pose1.position();
     let r2 = *pose2.position();
     let d = (r2 - r1) * inv;
-    let polyhedral = [shape1, shape2]
-        .iter()
-        .all(|s| s.solver_kind() == ShapeKind::Polytope);
+    let stages = route(shape1, shape2).distance;
+    let polyhedral = stages.has(Stage::ExactGjk);
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
     let cutoff = cutoff.map(|c| c * inv);
     // GJK's tetrahedron, when asked for.
@@ -107,18 +107,22 @@ pub(crate) fn separated(
         Settled::Apart(far, [0.0; 14], true)
     };
     // Newton's method on the sphere of normals first where the witnesses are mostly on smooth
-    // pieces (not against a cutoff, which GJK decides early).
+    // pieces (not against a cutoff, which GJK decides early), after a face contact.
     let newton = || {
-        (cutoff.is_none() && newton_first([shape1.solver_kind(), shape2.solver_kind()]))
+        (cutoff.is_none() && stages.has(Stage::Newton))
             .then(|| gjk::direct::distance(&pair, &d, tol))
             .flatten()
     };
-    let closed = match closed_form(&pair, &d, tol) {
-        Ok(s) => s,
-        Err(w) => return overlap(w, false, None, None),
+    let closed = if stages.has(Stage::ClosedForm) {
+        match closed_form(&pair, &d, tol) {
+            Ok(s) => s,
+            Err(w) => return overlap(w, false, None, None),
+        }
+    } else {
+        None
     };
     let faces = || {
-        (cutoff.is_none() && newton_first([shape1.solver_kind(), shape2.solver_kind()]))
+        (cutoff.is_none() && stages.has(Stage::FlatFaces))
             .then(|| face_contact(&pair, &d, tol))
             .flatten()
     };
@@ -127,7 +131,11 @@ pub(crate) fn separated(
     } else {
         // Spheres and capsules by their cores first; where those do not certify a positive
         // gap (touching within the tolerance, or closer), the shapes themselves.
-        let cores = cored(&pair, &d, tol, cutoff, tet.as_mut());
+        let cores = if stages.has(Stage::CoredGjk) {
+            cored(&pair, &d, tol, cutoff, tet.as_mut())
+        } else {
+            Ok(None)
+        };
         match cores {
             Ok(Some(GjkEnd::Separated(s))) => s,
             Ok(Some(GjkEnd::Beyond)) => return beyond(),
@@ -366,10 +374,10 @@ fn for_faces(shape: &Shape, mut f: impl FnMut(Vec3, Real)) -> bool {
 /// support point there and that point's projection onto the face's plane (inside the face's
 /// shape, by its gauge) as the witnesses, certified as GJK's candidates are
 /// (`gjk::certify_candidate`). One support call of the other shape per face (a face's own
-/// support is its offset). Tried on the pairs that try Newton's method first
-/// ([`newton_first`]), where a face contact (more than two support pieces tied) stalls it and
-/// costs a GJK run after it; `None` where the optimum is not on a face (the projection falls
-/// outside it, or the bracket does not close).
+/// support is its offset). Tried where `super::dispatch` lists it: on the pairs with a flat
+/// face that try Newton's method first, where a face contact (more than two support pieces
+/// tied) stalls it and costs a GJK run after it; `None` where the optimum is not on a face
+/// (the projection falls outside it, or the bracket does not close).
 fn face_contact(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separation> {
     // (g, n, the other shape's support point, whether the face is shape 1's)
     let mut best: Option<(Real, Vec3, Vec3, bool)> = None;
@@ -497,24 +505,4 @@ fn cored(
         inside @ GjkEnd::Inside { .. } => Ok(Some(inside)),
         _ => Ok(None),
     }
-}
-
-/// Whether the distance tries Newton's method on the sphere of normals before GJK: on every
-/// pair but two polytopes (GJK ends exactly) and a sphere or capsule against a polytope (GJK
-/// on their cores ends exactly, in a few hundred nanoseconds). Measured on benches/proximity's
-/// separated poses, Newton first against GJK first: box–cylinder 1.67 → 1.14 µs,
-/// cylinder–cylinder 1.83 → 1.17 µs, ellipsoid–polytope 1.73 → 1.08 µs; box–capsule
-/// 0.27 → 1.13 µs (so not there).
-fn newton_first(kinds: [ShapeKind; 2]) -> bool {
-    use ShapeKind::*;
-    let has = |k: ShapeKind| kinds.contains(&k);
-    let polytopes = kinds.iter().all(|k| *k == Polytope);
-    let cored = has(Polytope) && (has(Sphere) || has(Capsule));
-    // A padded polygon's core is its plane polygon: against a polytope, a polygon, a sphere or a
-    // capsule GJK on the cores ends exactly too.
-    let flat = has(Polygon)
-        && kinds
-            .iter()
-            .all(|k| matches!(k, Polytope | Polygon | Sphere | Capsule));
-    !polytopes && !cored && !flat
 }

@@ -236,7 +236,8 @@ pub(super) fn ellipsoid_and_polytope(
 /// or cone, else one support call), and if the optimum is at a face's normal it is the best of
 /// them. Then the other shape's support point there and the point of the face's shape that puts
 /// their difference on the ray touch, and the bracket closes, exactly when that point lies in
-/// the shape (one gauge). `None` for other pairs or when the contact is not on a face.
+/// the shape (one gauge). Tried on the pairs `super::dispatch` lists it for; `None` when the
+/// contact is not on a face.
 pub(super) fn flat_first(
     pair: &Pair<'_, Shape>,
     ray: &Vec3,
@@ -246,11 +247,6 @@ pub(super) fn flat_first(
     use ShapeKind::*;
     let kinds = [pair.one.shape.solver_kind(), pair.two.shape.solver_kind()];
     let revolution = |k: ShapeKind| matches!(k, Cylinder | Cone);
-    let against = |k: ShapeKind| matches!(k, Polytope | Cylinder | Cone | Ellipsoid);
-    if !((revolution(kinds[0]) && against(kinds[1])) || (revolution(kinds[1]) && against(kinds[0])))
-    {
-        return None;
-    }
     // Each shape's best bound: its value and K's normal (from shape 1 to shape 2, world).
     let mut best = [(0.0, Vec3::zeros()); 2];
     for side in 0..2 {

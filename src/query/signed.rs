@@ -10,6 +10,7 @@
 use super::context::{DistancePath, Options, SignedDistance};
 use super::cores::Cores;
 use super::derivatives::check_representable;
+use super::dispatch::{route, Stage};
 use super::distance::{distance, MAX_OFFSET_RATIO};
 use super::separated::{witness_gradient, Start};
 use crate::error::{Error, ErrorDetail};
@@ -120,10 +121,13 @@ pub(crate) fn signed_distance_validated(
         path: d.path,
     };
     let inscribed = len < shape1.inscribed_radius() + shape2.inscribed_radius();
+    let stages = route(shape1, shape2).signed;
     // Two polytopes of few facets (boxes, small hulls; padded hulls by their hulls): the
     // separating axes decide, and answer an overlap exactly.
-    if let Some(sd) = separating_axes(shape1, pose1, shape2, pose2, ell) {
-        return checked(sd);
+    if stages.has(Stage::SeparatingAxes) {
+        if let Some(sd) = separating_axes(shape1, pose1, shape2, pose2, ell) {
+            return checked(sd);
+        }
     }
     // GJK's tetrahedron where it certified an overlap: EPA's start (polyhedral pairs), and
     // the overlap of the cores settled.
@@ -132,12 +136,7 @@ pub(crate) fn signed_distance_validated(
     // separate it is mostly overlapping: the distance query's Newton and GJK would only find
     // that out (about a microsecond on deep overlaps), so such a pair goes to EPA at once,
     // which hands a separated pair back to the distance query.
-    let rounded = [shape1, shape2].iter().any(|s| {
-        matches!(
-            s.solver_kind(),
-            ShapeKind::Ellipsoid | ShapeKind::Cylinder | ShapeKind::Cone
-        )
-    });
+    let rounded = stages.has(Stage::Probe);
     let inv = 1.0 / ell;
     let pair = Pair::new([shape1, shape2], [pose1.rotation(), pose2.rotation()], inv);
     let d = offset * inv;
@@ -154,9 +153,8 @@ pub(crate) fn signed_distance_validated(
     // distance query's try anyway (separated pairs keep the distance query's answer). A sphere
     // resting on a box no longer runs GJK to learn that it overlaps (5 600 instructions a
     // contact call in ODE, 1 900 after).
-    let early = if !(inscribed || probed)
-        && (shape1.rounded_segment().is_some() || shape2.rounded_segment().is_some())
-    {
+    let closed = stages.has(Stage::ClosedForm);
+    let early = if !(inscribed || probed) && closed {
         closed_forms(&pair, &d)
             .or_else(|| {
                 capsule_and_solid(&pair, &d, tol).map(|p| (p, Some(DistancePath::ClosedForm)))
@@ -180,15 +178,18 @@ pub(crate) fn signed_distance_validated(
             return checked(from_distance(d));
         }
     }
-    let curved = [shape1, shape2]
-        .iter()
-        .any(|s| s.solver_kind() != ShapeKind::Polytope);
+    let curved = stages.has(Stage::Epa);
     // The path, where it is not told by the penetration's own record.
-    let (end, path) = match early.or_else(|| closed_forms(&pair, &d)) {
+    let late = || closed.then(|| closed_forms(&pair, &d)).flatten();
+    let (end, path) = match early.or_else(late) {
         Some((p, path)) => (EpaEnd::Closed(p), path),
-        None => match capsule_and_solid(&pair, &d, tol) {
+        None => match closed.then(|| capsule_and_solid(&pair, &d, tol)).flatten() {
             Some(p) => (EpaEnd::Closed(p), Some(DistancePath::ClosedForm)),
-            None => match cored(&pair, &d, tol, start) {
+            None => match stages
+                .has(Stage::CoredEpa)
+                .then(|| cored(&pair, &d, tol, start))
+                .flatten()
+            {
                 Some((end, path)) => (end, path),
                 None => {
                     let tet = match start {

@@ -145,7 +145,7 @@ impl Cache {
     }
 
     /// The answer on the kept facet of K (two polytopes, the only pairs a proximity answer is
-    /// kept for: `super::geometric` filters with [`Cache::polytopes`]), certified to `tol`, or
+    /// kept for: `super::dispatch` lists `Stage::Warm` for no other proximity), certified to `tol`, or
     /// `None` (the cold path answers). On success the cache holds the new answer's features.
     pub(super) fn solve(
         &mut self,
@@ -199,14 +199,6 @@ impl Cache {
             b: facet.b,
             solver: Solver::Polish,
         })
-    }
-
-    /// Two polytopes (boxes, polytopes, hulls without padding), whose contact is a facet of K
-    /// found in closed form from its features. Other pairs keep no proximity answer: Newton's
-    /// method on their kept pieces (the polish's, from the kept normal and multipliers) was
-    /// measured slower than the cold path on every such pair type (`docs/warm-starts.md`).
-    pub(super) fn polytopes(pair: &Pair<'_, Shape>) -> bool {
-        pair.one.shape.vertex_pieces().is_some() && pair.two.shape.vertex_pieces().is_some()
     }
 
     /// Whether `kind`'s kept answer may be tried: it is one, of these shapes, and the poses

@@ -133,20 +133,6 @@ pub(crate) fn rotation_axes(pose: &Pose) -> [Vec3; 4] {
     [-v * k, axis(0), axis(1), axis(2)]
 }
 
-/// `[ω_k·t]` for the four axes of [`rotation_axes`], without forming them:
-/// `ω₀·t = −k v·t`, `ω_j·t = k (w t + t × v)_j` (`(v × e_j)·t = e_j·(t × v)`).
-#[inline]
-pub(crate) fn rotation_dots(pose: &Pose, t: &Vec3) -> [Real; 4] {
-    let q = pose.quaternion();
-    let c = q.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
-    let u = q.map(|x| x / c);
-    let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + u[3] * u[3]).sqrt();
-    let (w, v) = (u[0] / n, Vec3::new(u[1] / n, u[2] / n, u[3] / n));
-    let kt = t * (2.0 / n / c);
-    let a = kt * w + kt.cross(&v);
-    [-v.dot(&kt), a.x, a.y, a.z]
-}
-
 /// `κℓ/dist`: solver coordinates are this times physical ones (ξ, α, slacks).
 fn solver_scale(ctx: &Context<'_>) -> Real {
     1.0 / ctx.frame.point_factor() * ctx.frame.ell
