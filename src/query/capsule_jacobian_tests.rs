@@ -5,41 +5,9 @@
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::Options;
 use super::geometric::{self, Outcome, GENERAL_ONLY};
+use super::test_support::{gap, Rng};
 use crate::math::robust_norm;
 use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
-
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> Real {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as Real / (1u64 << 53) as Real
-    }
-    fn uniform(&mut self, lo: Real, hi: Real) -> Real {
-        lo + (hi - lo) * self.unit()
-    }
-    fn quaternion(&mut self) -> [Real; 4] {
-        [0; 4].map(|_| self.uniform(-1.0, 1.0))
-    }
-    fn pose(&mut self, spread: Real) -> Pose {
-        let p = [0; 3].map(|_| self.uniform(-spread, spread));
-        Pose::new(p, self.quaternion()).unwrap()
-    }
-}
-
-/// Non-dimensional largest difference of two Jacobians (r columns times ℓ, x rows over ℓ).
-fn gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
-    let mut worst: Real = 0.0;
-    for r in 0..4 {
-        for c in 0..14 {
-            let k = if c % 7 < 3 { ell } else { 1.0 } / if r < 3 { ell } else { 1.0 };
-            worst = worst.max((a[r][c] - b[r][c]).abs() * k);
-        }
-    }
-    worst
-}
 
 /// Which part of each capsule its contact point (world) lies on: its side (true) or a cap.
 fn sides(s: [&Shape; 2], p: [&Pose; 2], c: [&crate::Vec3; 2]) -> [bool; 2] {

@@ -7,28 +7,8 @@
 use super::context::Want;
 use super::geometric::GENERAL_ONLY;
 use super::proximity::query;
+use super::test_support::Rng;
 use crate::{derivatives, gradient, jacobian, DerivativeKind, Options, Pose, Real, Shape};
-
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> Real {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as Real / (1u64 << 53) as Real
-    }
-    fn uniform(&mut self, lo: Real, hi: Real) -> Real {
-        lo + (hi - lo) * self.unit()
-    }
-    fn quaternion(&mut self) -> [Real; 4] {
-        [0; 4].map(|_| self.uniform(-1.0, 1.0))
-    }
-    fn pose(&mut self, spread: Real) -> Pose {
-        let p = [0; 3].map(|_| self.uniform(-spread, spread));
-        Pose::new(p, self.quaternion()).unwrap()
-    }
-}
 
 fn shapes() -> Vec<Shape> {
     let c: Vec<[Real; 2]> = (0..5)

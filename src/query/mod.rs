@@ -31,6 +31,8 @@ mod signed;
 mod sphere_jacobian;
 #[cfg(test)]
 mod sphere_jacobian_tests;
+#[cfg(test)]
+mod test_support;
 mod warm;
 mod warm_contacts;
 mod warm_distance;

@@ -3,34 +3,8 @@
 
 use super::context::Options;
 use super::geometric::GENERAL_ONLY;
+use super::test_support::{gap, Rng};
 use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
-
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> Real {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as Real / (1u64 << 53) as Real
-    }
-    fn uniform(&mut self, lo: Real, hi: Real) -> Real {
-        lo + (hi - lo) * self.unit()
-    }
-    fn quaternion(&mut self) -> [Real; 4] {
-        // Any length: the columns are taken through the normalisation.
-        [0; 4].map(|_| self.uniform(-1.0, 1.0))
-    }
-    fn direction(&mut self) -> [Real; 3] {
-        loop {
-            let v = [0; 3].map(|_| self.uniform(-1.0, 1.0));
-            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            if n > 0.1 && n <= 1.0 {
-                return v.map(|x| x / n);
-            }
-        }
-    }
-}
 
 fn shapes(rng: &mut Rng) -> Vec<Shape> {
     let normals: Vec<[Real; 3]> = (0..14).map(|_| rng.direction()).collect();
@@ -47,18 +21,6 @@ fn shapes(rng: &mut Rng) -> Vec<Shape> {
         Shape::polytope(&normals, &offsets).unwrap(),
         Shape::convex_hull(&pts, 0.0).unwrap(),
     ]
-}
-
-/// Non-dimensional largest difference of two Jacobians (r columns times ℓ, x rows over ℓ).
-fn gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
-    let mut worst: Real = 0.0;
-    for r in 0..4 {
-        for c in 0..14 {
-            let k = if c % 7 < 3 { ell } else { 1.0 } / if r < 3 { ell } else { 1.0 };
-            worst = worst.max((a[r][c] - b[r][c]).abs() * k);
-        }
-    }
-    worst
 }
 
 /// Random poses of a pair with α* in [0.5, 2].

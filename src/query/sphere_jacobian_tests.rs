@@ -4,38 +4,9 @@
 use super::context::Options;
 use super::geometric::{self, Outcome, GENERAL_ONLY};
 use super::sphere_jacobian::sphere_jacobian;
+use super::test_support::{gap, Rng};
 use crate::math::robust_norm;
 use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
-
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> Real {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as Real / (1u64 << 53) as Real
-    }
-    fn uniform(&mut self, lo: Real, hi: Real) -> Real {
-        lo + (hi - lo) * self.unit()
-    }
-    fn pose(&mut self, spread: Real) -> Pose {
-        let p = [0; 3].map(|_| self.uniform(-spread, spread));
-        Pose::new(p, [0; 4].map(|_| self.uniform(-1.0, 1.0))).unwrap()
-    }
-}
-
-/// Non-dimensional largest difference of two Jacobians (r columns times ℓ, x rows over ℓ).
-fn gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
-    let mut worst: Real = 0.0;
-    for r in 0..4 {
-        for c in 0..14 {
-            let k = if c % 7 < 3 { ell } else { 1.0 } / if r < 3 { ell } else { 1.0 };
-            worst = worst.max((a[r][c] - b[r][c]).abs() * k);
-        }
-    }
-    worst
-}
 
 /// The feature of `shape` (box, capsule, cylinder or cone) its contact point `c` (world) lies
 /// on, from its body coordinates: 0 a vertex or the apex, 1 an edge or a rim, 2 a face or a

@@ -1,0 +1,53 @@
+//! What the derivatives' closed-form tests share: a seeded random source and the
+//! non-dimensional difference of two Jacobians.
+
+use crate::{Pose, Real};
+
+/// A xorshift64 source: the same numbers on every machine.
+pub(crate) struct Rng(pub u64);
+
+impl Rng {
+    /// Uniform in [0, 1).
+    pub(crate) fn unit(&mut self) -> Real {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as Real / (1u64 << 53) as Real
+    }
+    /// Uniform in [lo, hi).
+    pub(crate) fn uniform(&mut self, lo: Real, hi: Real) -> Real {
+        lo + (hi - lo) * self.unit()
+    }
+    /// Four components in [−1, 1): a quaternion of any length (the columns are taken through
+    /// the normalisation).
+    pub(crate) fn quaternion(&mut self) -> [Real; 4] {
+        [0; 4].map(|_| self.uniform(-1.0, 1.0))
+    }
+    /// A position in [−spread, spread)³ and a random quaternion.
+    pub(crate) fn pose(&mut self, spread: Real) -> Pose {
+        let p = [0; 3].map(|_| self.uniform(-spread, spread));
+        Pose::new(p, self.quaternion()).unwrap()
+    }
+    /// A unit direction, uniform on the sphere (rejection from the ball, norms in (0.1, 1]).
+    pub(crate) fn direction(&mut self) -> [Real; 3] {
+        loop {
+            let v = [0; 3].map(|_| self.uniform(-1.0, 1.0));
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            if n > 0.1 && n <= 1.0 {
+                return v.map(|x| x / n);
+            }
+        }
+    }
+}
+
+/// Non-dimensional largest difference of two Jacobians (r columns times ℓ, x rows over ℓ).
+pub(crate) fn gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
+    let mut worst: Real = 0.0;
+    for r in 0..4 {
+        for c in 0..14 {
+            let k = if c % 7 < 3 { ell } else { 1.0 } / if r < 3 { ell } else { 1.0 };
+            worst = worst.max((a[r][c] - b[r][c]).abs() * k);
+        }
+    }
+    worst
+}
