@@ -30,26 +30,10 @@
 
 use super::context::Proximity;
 use super::derivatives::rotation_axes;
+use super::sphere_jacobian::{decide, MARGIN, TIE};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::sensitivity::PARALLEL_SIN;
-
-/// The general solve's tie tolerance on support values, over `ℓ` (`features::TIE_TOL`).
-const TIE: Real = 1e-10;
-/// A decision this close (as a factor) to the general solve's tolerance is left to it.
-const MARGIN: Real = 100.0;
-
-/// Whether the side (`Some(true)`), an end (`Some(false)`) touches, from the support values'
-/// gap `2h|ν·a|` against the tie tolerance `tau`; `None` too close to call.
-fn side(gap: Real, tau: Real) -> Option<bool> {
-    if gap <= tau / MARGIN {
-        Some(true)
-    } else if gap >= tau * MARGIN {
-        Some(false)
-    } else {
-        None
-    }
-}
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for two capsules, from the geometric answer, its gradient `g`
 /// (the α row) and `∂α*/∂d`; `None` for other pairs, undecided features, parallel sides or a
@@ -79,9 +63,10 @@ pub(crate) fn capsule_jacobian(
     let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
     let tau = TIE * ell;
     let (c1, c2) = (nu.dot(&a1), nu.dot(&a2));
+    // A side touches when its two caps' support values tie (`2h|ν·a|` within the tolerance).
     let (side1, side2) = (
-        side(2.0 * h1 * c1.abs(), tau)?,
-        side(2.0 * h2 * c2.abs(), tau)?,
+        decide(2.0 * h1 * c1.abs(), tau)?,
+        decide(2.0 * h2 * c2.abs(), tau)?,
     );
     let c = a1.dot(&a2);
     let sin2 = 1.0 - c * c;

@@ -4,9 +4,8 @@
 
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::Options;
-use super::geometric::{self, Outcome, GENERAL_ONLY};
-use super::test_support::{gap, Rng};
-use crate::math::robust_norm;
+use super::geometric::GENERAL_ONLY;
+use super::test_support::{gap, geometric_answer, Rng};
 use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
 
 /// Which part of each capsule its contact point (world) lies on: its side (true) or a cap.
@@ -20,14 +19,7 @@ fn sides(s: [&Shape; 2], p: [&Pose; 2], c: [&crate::Vec3; 2]) -> [bool; 2] {
 
 /// The closed form where it answers, with the touching parts (sides or caps).
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], [bool; 2])> {
-    let o = Options::default();
-    let dist = robust_norm(&(p[1].position() - p[0].position()));
-    let Outcome::Answer(prox, dad) =
-        geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None, None)
-    else {
-        return None;
-    };
-    let g = geometric::gradient(&prox, &dad, s, p[0], p[1]);
+    let (prox, dad, g) = geometric_answer(s, p)?;
     let j = capsule_jacobian(&prox, &g, &dad, s, p)?;
     Some((j, sides(s, p, [&prox.contact1, &prox.contact2])))
 }

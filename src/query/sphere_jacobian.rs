@@ -29,15 +29,15 @@ use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
 /// The general solve's tie tolerance on support values, over `ℓ` (`sensitivity::TIE_TOL`).
-const TIE: Real = 1e-10;
+pub(super) const TIE: Real = 1e-10;
 /// The general solve's disc test: `1 − cos` of the normal and a flat face's at most this
 /// (`sensitivity::DISC_COS`).
 const DISC: Real = 1e-13;
 /// A decision this close (as a factor) to either tolerance is left to the general solve.
-const MARGIN: Real = 100.0;
+pub(super) const MARGIN: Real = 100.0;
 
 /// How a tolerance test came out: clearly within, clearly beyond, or too close to call.
-fn decide(value: Real, tol: Real) -> Option<bool> {
+pub(super) fn decide(value: Real, tol: Real) -> Option<bool> {
     if value <= tol / MARGIN {
         Some(true)
     } else if value >= tol * MARGIN {

@@ -2,10 +2,9 @@
 //! general feature solve, on thousands of random poses and radii per pair, both orders.
 
 use super::context::Options;
-use super::geometric::{self, Outcome, GENERAL_ONLY};
+use super::geometric::GENERAL_ONLY;
 use super::sphere_jacobian::sphere_jacobian;
-use super::test_support::{gap, Rng};
-use crate::math::robust_norm;
+use super::test_support::{gap, geometric_answer, Rng};
 use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
 
 /// The feature of `shape` (box, capsule, cylinder or cone) its contact point `c` (world) lies
@@ -45,14 +44,7 @@ fn feature(shape: &Shape, pose: &Pose, c: &crate::Vec3) -> usize {
 
 /// The closed form where it answers, with the feature of the contact on the other shape.
 fn closed_at(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], usize)> {
-    let o = Options::default();
-    let dist = robust_norm(&(p[1].position() - p[0].position()));
-    let Outcome::Answer(prox, dad) =
-        geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None, None)
-    else {
-        return None;
-    };
-    let g = geometric::gradient(&prox, &dad, s, p[0], p[1]);
+    let (prox, dad, g) = geometric_answer(s, p)?;
     let j = sphere_jacobian(&prox, &g, &dad, s, p)?;
     let b = usize::from(s[0].kind() == crate::ShapeKind::Sphere);
     Some((j, feature(s[b], p[b], &[prox.contact1, prox.contact2][b])))
@@ -60,14 +52,7 @@ fn closed_at(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], usize)> 
 
 /// The closed form where it answers, else `None`.
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
-    let o = Options::default();
-    let dist = robust_norm(&(p[1].position() - p[0].position()));
-    let Outcome::Answer(prox, dad) =
-        geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None, None)
-    else {
-        return None;
-    };
-    let g = geometric::gradient(&prox, &dad, s, p[0], p[1]);
+    let (prox, dad, g) = geometric_answer(s, p)?;
     sphere_jacobian(&prox, &g, &dad, s, p)
 }
 

@@ -1,7 +1,10 @@
-//! What the derivatives' closed-form tests share: a seeded random source and the
-//! non-dimensional difference of two Jacobians.
+//! What the derivatives' closed-form tests share: a seeded random source, the geometric answer
+//! with its gradient, and the non-dimensional difference of two Jacobians.
 
-use crate::{Pose, Real};
+use super::context::{Options, Proximity};
+use super::geometric::{self, Outcome};
+use crate::math::robust_norm;
+use crate::{Pose, Real, Shape, Vec3};
 
 /// A xorshift64 source: the same numbers on every machine.
 pub(crate) struct Rng(pub u64);
@@ -50,4 +53,21 @@ pub(crate) fn gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
         }
     }
     worst
+}
+
+/// The geometric answer of a pair (default options), `∂α*/∂d` and the gradient: what the
+/// closed-form Jacobians start from; `None` where the geometric path does not answer.
+pub(crate) fn geometric_answer(
+    s: [&Shape; 2],
+    p: [&Pose; 2],
+) -> Option<(Proximity, Vec3, [Real; 14])> {
+    let o = Options::default();
+    let dist = robust_norm(&(p[1].position() - p[0].position()));
+    let Outcome::Answer(prox, dad) =
+        geometric::proximity(s[0], p[0], s[1], p[1], &o, dist, None, None)
+    else {
+        return None;
+    };
+    let g = geometric::gradient(&prox, &dad, s, p[0], p[1]);
+    Some((prox, dad, g))
 }
