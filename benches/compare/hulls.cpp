@@ -29,6 +29,8 @@
 #include <memory>
 #include <vector>
 
+#include "timing.hpp"
+
 namespace {
 
 struct Rng {
@@ -51,17 +53,8 @@ struct Rng {
   }
 };
 
-double now_ns() {
-  return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                 std::chrono::steady_clock::now().time_since_epoch())
-                                 .count());
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using cmp_timing::median;
+using cmp_timing::now_ns;
 
 void die(const char *what) {
   std::fprintf(stderr, "bench_hulls: %s: %s\n", what, dcol_last_error_message());

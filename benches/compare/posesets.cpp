@@ -33,20 +33,12 @@
 
 #include "coal_body.hpp"
 #include "compare_common.h"
+#include "timing.hpp"
 
 namespace {
 
-double now_ns() {
-  return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                 std::chrono::steady_clock::now().time_since_epoch())
-                                 .count());
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using cmp_timing::median;
+using cmp_timing::now_ns;
 
 enum Subset { kSeparated = 0, kNear, kOverlapping, kSubsets };
 const char *const kSubsetNames[kSubsets] = {"separated", "near touching", "overlapping"};

@@ -61,6 +61,7 @@
 #include "coal_body.hpp"
 #include "compare_common.h"
 #include "depth_check.hpp"
+#include "timing.hpp"
 
 namespace {
 
@@ -77,17 +78,8 @@ void ccd_center(const void *obj, ccd_vec3_t *center) {
   ccdVec3Set(center, body->pose.position[0], body->pose.position[1], body->pose.position[2]);
 }
 
-double now_ns() {
-  return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                 std::chrono::steady_clock::now().time_since_epoch())
-                                 .count());
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using cmp_timing::median;
+using cmp_timing::now_ns;
 
 enum Method {
   kProxCold = 0,
