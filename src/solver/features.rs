@@ -100,6 +100,11 @@ fn quick<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3) -> Option<Fo
     }
     let unit = 1.0 / posed.inv_scale;
     let tie = TIE_TOL * unit * m.norm();
+    // A direction that is not finite ties nothing in the search (no contact is unique there);
+    // the closed forms' comparisons would say otherwise.
+    if !tie.is_finite() {
+        return None;
+    }
     let (dim, e) = posed.shape.support_set(&m, tie, POINT_TOL * unit)?;
     Some(Found::Tied(dim, posed.rot * e))
 }
@@ -388,7 +393,7 @@ mod tests {
 #[cfg(test)]
 mod support_set_tests {
     use super::{find, quick, Found, Tied};
-    use crate::math::{Mat3, Vec3};
+    use crate::math::{Mat3, Real, Vec3};
     use crate::shapes::Shape;
     use crate::solver::raycast::Posed;
 
@@ -449,6 +454,22 @@ mod support_set_tests {
                         (f, s) => panic!("{shape:?} at {n:?}: {f:?} against {s:?}"),
                     }
                 }
+            }
+        }
+        // A direction that is not finite: the search finds no feature, nor does the closed form.
+        for shape in &shapes {
+            let rot = Mat3::identity();
+            let posed = Posed {
+                shape,
+                rot: &rot,
+                inv_scale: 1.0,
+            };
+            for n in [
+                Vec3::new(Real::NAN, 0.0, 1.0),
+                Vec3::new(Real::INFINITY, 0.0, 0.0),
+            ] {
+                assert!(quick(&posed, 1.0, &n).is_none(), "{shape:?} {n:?}");
+                assert!(find(&posed, 1.0, &n, &mut t).is_none(), "{shape:?} {n:?}");
             }
         }
         assert!(quick_answers > 200_000, "{quick_answers}");
