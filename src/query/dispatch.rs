@@ -342,7 +342,7 @@ pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
         ),
         (Sphere, ConvexHull) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
-            &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[CoredGjk, Gjk, InteriorPoint],
             &[Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Ellipsoid) => row(
@@ -407,7 +407,7 @@ pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
         ),
         (Polytope, ConvexHull) => row(
             &[PaddedCast, Cast, InteriorPoint],
-            &[FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[CoredGjk, Gjk, InteriorPoint],
             &[SeparatingAxes, Distance, CoredEpa, Epa],
         ),
         (Capsule, Capsule) => row(
@@ -432,7 +432,7 @@ pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
         ),
         (Capsule, ConvexHull) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
-            &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[CoredGjk, Gjk, InteriorPoint],
             &[Distance, CoredEpa, Epa],
         ),
         (Cylinder, Cylinder) => row(
@@ -477,12 +477,12 @@ pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
         ),
         (Polygon, ConvexHull) => row(
             &[PaddedCast, Cast, InteriorPoint],
-            &[FlatFaces, Newton, CoredGjk, Gjk, InteriorPoint],
+            &[CoredGjk, Gjk, InteriorPoint],
             &[Distance, CoredEpa, Epa],
         ),
         (ConvexHull, ConvexHull) => row(
             &[PaddedCast, Newton, Cast, InteriorPoint],
-            &[Newton, CoredGjk, Gjk, InteriorPoint],
+            &[CoredGjk, Gjk, InteriorPoint],
             &[SeparatingAxes, Distance, CoredEpa, Epa],
         ),
         (a, b) => pair_route(b, a),
