@@ -86,8 +86,8 @@ fn former(a: ShapeKind, b: ShapeKind) -> [Vec<Stage>; 3] {
     // A padded hull is routed as a padded polygon is (its core is a polytope: GJK on the cores
     // ends exactly); before 2026-11-27 it took flat faces and Newton first (3-4x the cost).
     let padded_flat = has(Polygon) || has(ConvexHull);
-    let flat = padded_flat
-        && all(&|x| matches!(x, Polytope | Polygon | Sphere | Capsule | ConvexHull));
+    let flat =
+        padded_flat && all(&|x| matches!(x, Polytope | Polygon | Sphere | Capsule | ConvexHull));
     let newton_first = !polytopes && !cored && !flat;
     if newton_first && any(&|x| matches!(x, Polytope | Cylinder | Cone | Polygon)) {
         d.push(FlatFaces);
