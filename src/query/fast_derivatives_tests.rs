@@ -7,7 +7,7 @@
 use super::context::Want;
 use super::geometric::GENERAL_ONLY;
 use super::proximity::query;
-use super::test_support::Rng;
+use super::test_support::{gap, Rng};
 use crate::{derivatives, gradient, jacobian, DerivativeKind, Options, Pose, Real, Shape};
 
 fn shapes() -> Vec<Shape> {
@@ -66,18 +66,6 @@ fn plain_path_is_the_full_query_bit_for_bit() {
     assert!(exact > 49 * 80 / 2, "{exact}");
 }
 
-/// Non-dimensional largest difference of two Jacobians (r columns times ℓ, x rows over ℓ).
-fn jacobian_gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
-    let mut worst: Real = 0.0;
-    for r in 0..4 {
-        for c in 0..14 {
-            let k = if c % 7 < 3 { ell } else { 1.0 } / if r < 3 { ell } else { 1.0 };
-            worst = worst.max((a[r][c] - b[r][c]).abs() * k);
-        }
-    }
-    worst
-}
-
 /// Two spheres' closed-form Jacobian against the feature solve's, on 4 000 random poses and
 /// radii (separated and overlapping).
 #[test]
@@ -93,7 +81,7 @@ fn two_spheres_closed_form_matches_the_feature_solve() {
         let (pb, jb) = general(|| jacobian(&s1, &p1, &s2, &p2, &o).unwrap());
         assert_eq!(pa, pb);
         assert_eq!(pa.derivatives, DerivativeKind::Exact);
-        worst = worst.max(jacobian_gap(&ja, &jb, ra.max(rb)));
+        worst = worst.max(gap(&ja, &jb, ra.max(rb)));
     }
     assert!(worst < 1e-12, "{worst:e}");
 }

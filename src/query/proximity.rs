@@ -577,31 +577,46 @@ pub(crate) fn proximity_warm(
     // The geometric answer straight, without the derivatives' room of the full query (its
     // zeroing and copies were about a tenth of a sphere–sphere call); anything else, and every
     // fallback, is the full query's.
-    let plain = options.method == Method::Auto && options.smoothing == 0.0;
-    let bounded = shape1.solver_kind() != ShapeKind::Halfspace
-        && shape2.solver_kind() != ShapeKind::Halfspace;
-    if plain && bounded && options.validate().is_ok() {
-        let dist = robust_norm(&(pose2.position() - pose1.position()));
-        if dist > 0.0 && dist.is_finite() {
-            let outcome = geometric::proximity(
-                shape1,
-                pose1,
-                shape2,
-                pose2,
-                options,
-                dist,
-                None,
-                warm.as_deref_mut(),
-            );
-            if let geometric::Outcome::Answer(prox, _) = outcome {
-                return Ok(prox);
-            }
+    if let Some(dist) = plain_offset(shape1, pose1, shape2, pose2, options) {
+        let outcome = geometric::proximity(
+            shape1,
+            pose1,
+            shape2,
+            pose2,
+            options,
+            dist,
+            None,
+            warm.as_deref_mut(),
+        );
+        if let geometric::Outcome::Answer(prox, _) = outcome {
+            return Ok(prox);
         }
     }
     if let Some(cache) = warm {
         cache.forget(Kind::Proximity);
     }
     query(shape1, pose1, shape2, pose2, options, Want::Proximity).map(|f| f.prox)
+}
+
+/// `‖r₂ − r₁‖` where the plain geometric path answers (default method, no smoothing, no
+/// half-space, valid options, distinct and finite origins); `None` sends the caller to the
+/// full query.
+#[inline]
+fn plain_offset(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+) -> Option<Real> {
+    let plain = options.method == Method::Auto && options.smoothing == 0.0;
+    let bounded = shape1.solver_kind() != ShapeKind::Halfspace
+        && shape2.solver_kind() != ShapeKind::Halfspace;
+    if !(plain && bounded && options.validate().is_ok()) {
+        return None;
+    }
+    let dist = robust_norm(&(pose2.position() - pose1.position()));
+    (dist > 0.0 && dist.is_finite()).then_some(dist)
 }
 
 /// The geometric answer with exact derivatives, without the full query's room (its zeroing
@@ -623,16 +638,7 @@ pub(crate) fn plain_derivatives(
     jacobian: Option<&mut [[Real; 14]; 4]>,
     warm: Option<&mut Cache>,
 ) -> Option<Proximity> {
-    let plain = options.method == Method::Auto && options.smoothing == 0.0;
-    let bounded = shape1.solver_kind() != ShapeKind::Halfspace
-        && shape2.solver_kind() != ShapeKind::Halfspace;
-    if !(plain && bounded && options.validate().is_ok()) {
-        return None;
-    }
-    let dist = robust_norm(&(pose2.position() - pose1.position()));
-    if !(dist > 0.0 && dist.is_finite()) {
-        return None;
-    }
+    let dist = plain_offset(shape1, pose1, shape2, pose2, options)?;
     let geometric::Outcome::Answer(mut prox, dalpha_dd) =
         geometric::proximity(shape1, pose1, shape2, pose2, options, dist, None, warm)
     else {
