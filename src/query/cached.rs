@@ -29,6 +29,7 @@ use crate::shapes::Shape;
 ///     assert!((warm.alpha - cold.alpha).abs() <= 1e-12 * cold.alpha);
 /// }
 /// ```
+#[inline]
 pub fn proximity_cached(
     shape1: &Shape,
     pose1: &Pose,
@@ -41,6 +42,7 @@ pub fn proximity_cached(
 }
 
 /// [`crate::gradient`] with a warm start (see [`proximity_cached`]).
+#[inline]
 pub fn gradient_cached(
     shape1: &Shape,
     pose1: &Pose,
@@ -53,6 +55,7 @@ pub fn gradient_cached(
 }
 
 /// [`crate::jacobian`] with a warm start (see [`proximity_cached`]).
+#[inline]
 pub fn jacobian_cached(
     shape1: &Shape,
     pose1: &Pose,
@@ -65,6 +68,7 @@ pub fn jacobian_cached(
 }
 
 /// [`crate::derivatives`] with a warm start (see [`proximity_cached`]).
+#[inline]
 pub fn derivatives_cached(
     shape1: &Shape,
     pose1: &Pose,

@@ -24,6 +24,7 @@ use crate::shapes::Shape;
 /// assert!((prox.alpha - 2.0).abs() < 1e-9);
 /// assert!((g[7] - 0.5).abs() < 1e-8 && (g[0] + 0.5).abs() < 1e-8);
 /// ```
+#[inline]
 pub fn gradient(
     shape1: &Shape,
     pose1: &Pose,
@@ -35,6 +36,7 @@ pub fn gradient(
 }
 
 /// [`gradient`] starting from what `warm` kept of the pair's last answer (and keeping this one).
+#[inline]
 pub(crate) fn gradient_warm(
     shape1: &Shape,
     pose1: &Pose,
@@ -55,6 +57,7 @@ pub(crate) fn gradient_warm(
 /// by default on the contact features of the geometric solution where x* is unique, else on
 /// the interior-point solver's KKT conditions (barrier-smoothed where x* is not unique;
 /// `Proximity::derivatives` says which).
+#[inline]
 pub fn jacobian(
     shape1: &Shape,
     pose1: &Pose,
@@ -66,6 +69,7 @@ pub fn jacobian(
 }
 
 /// [`jacobian`] starting from what `warm` kept of the pair's last answer (and keeping this one).
+#[inline]
 pub(crate) fn jacobian_warm(
     shape1: &Shape,
     pose1: &Pose,
@@ -108,6 +112,7 @@ pub struct Derivatives {
 
 /// The Jacobian of (x*, α*) and, by the chain rule, of both contact points:
 /// `∂pᵢ = ∂rᵢ + (∂x* − ∂rᵢ)/α* − (x* − rᵢ) ∂α*/α*²`.
+#[inline]
 pub fn derivatives(
     shape1: &Shape,
     pose1: &Pose,
@@ -119,6 +124,7 @@ pub fn derivatives(
 }
 
 /// [`derivatives`] starting from what `warm` kept of the pair's last answer (and keeping this one).
+#[inline]
 pub(crate) fn derivatives_warm(
     shape1: &Shape,
     pose1: &Pose,

@@ -125,12 +125,15 @@ pub(crate) fn rotation_axes(pose: &Pose) -> [Vec3; 4] {
     let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + u[3] * u[3]).sqrt();
     let (w, v) = (u[0] / n, Vec3::new(u[1] / n, u[2] / n, u[3] / n));
     let k = 2.0 / n / c;
-    let axis = |j: usize| {
-        let mut e = Vec3::zeros();
-        e[j] = 1.0;
-        (e * w + v.cross(&e)) * k
-    };
-    [-v * k, axis(0), axis(1), axis(2)]
+    // `(ẽ_j w + v × ẽ_j) k` written out: the sums with the zero products of the general form
+    // are exact, so these are its numbers (up to the sign of a zero).
+    let (x, y, z) = (v.x, v.y, v.z);
+    [
+        -v * k,
+        Vec3::new(w * k, z * k, -y * k),
+        Vec3::new(-z * k, w * k, x * k),
+        Vec3::new(y * k, -x * k, w * k),
+    ]
 }
 
 /// `κℓ/dist`: solver coordinates are this times physical ones (ξ, α, slacks).
