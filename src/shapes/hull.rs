@@ -389,7 +389,7 @@ impl SupportMap for ConvexHull {
             (p, k)
         }
     }
-    #[inline]
+    #[inline(always)]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         let v = self.corners().get(id as usize)?;
         if self.radius > 0.0 {
@@ -421,6 +421,10 @@ impl SupportMap for ConvexHull {
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
         // Unpadded, piece `id` is the corner `id` itself (`Round::Flat`).
         (self.radius == 0.0).then(|| self.corners())
+    }
+    fn ball_pieces(&self) -> Option<(&[Vec3], Real)> {
+        // Padded, piece `id` is the corner `id` padded by the ball (`Round::Ball`).
+        (self.radius > 0.0).then(|| (self.corners(), self.radius))
     }
 }
 

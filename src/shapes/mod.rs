@@ -31,7 +31,7 @@ pub use hull::ConvexHull;
 pub use polygon::Polygon;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
-pub(crate) use support::{turned, PieceEval, SupportMap};
+pub(crate) use support::{turned, PieceEval, SupportMap, ROUND_EPS};
 
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
@@ -586,6 +586,9 @@ impl SupportMap for Shape {
     }
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
         dispatch!(self, s => s.vertex_pieces())
+    }
+    fn ball_pieces(&self) -> Option<(&[Vec3], Real)> {
+        dispatch!(self, s => s.ball_pieces())
     }
     fn support_set(&self, m: &Vec3, tie: Real, point: Real) -> Option<(usize, Vec3)> {
         dispatch!(self, s => s.support_set(m, tie, point))

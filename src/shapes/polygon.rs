@@ -230,7 +230,7 @@ impl SupportMap for Polygon {
             k as u32,
         )
     }
-    #[inline]
+    #[inline(always)]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         Round::Ball(self.radius).eval(self.vertices.get(id as usize)?, m)
     }
@@ -251,6 +251,9 @@ impl SupportMap for Polygon {
     }
     fn piece_count(&self) -> u32 {
         self.vertices.len() as u32
+    }
+    fn ball_pieces(&self) -> Option<(&[Vec3], Real)> {
+        Some((&self.vertices, self.radius))
     }
 }
 

@@ -80,8 +80,9 @@ impl Round<'_> {
     }
 
     /// Value, gradient and Hessian of `a·m + ‖m‖_round`; `None` where the round part is not
-    /// differentiable.
-    #[inline]
+    /// differentiable. Always inlined, so that a search taking only the value and the gradient
+    /// ([`SupportMap::piece_point`]) does not form the Hessian.
+    #[inline(always)]
     pub(crate) fn eval(&self, a: &Vec3, m: &Vec3) -> Option<PieceEval> {
         let (value, grad, hess) = match *self {
             Round::Flat => (0.0, Vec3::zeros(), Mat3::zeros()),
@@ -179,6 +180,12 @@ pub(crate) trait SupportMap {
     /// piece `id` the `id`-th point (a polytope): a search over all pieces can then take the
     /// dot products instead of evaluating each piece with its Hessian.
     fn vertex_pieces(&self) -> Option<&[Vec3]> {
+        None
+    }
+    /// The pieces' points (body frame) and radius when every piece is a vertex padded by the
+    /// same ball, `p(m) = v·m + r‖m‖` (a padded hull, a padded polygon): a search over all
+    /// pieces can then take the norm of `m` once.
+    fn ball_pieces(&self) -> Option<(&[Vec3], Real)> {
         None
     }
     /// The support set at `m` in closed form, where the shape's pieces differ along its axes

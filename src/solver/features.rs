@@ -7,7 +7,7 @@
 
 use super::raycast::{Pair, Posed};
 use crate::math::{Real, Vec3};
-use crate::shapes::SupportMap;
+use crate::shapes::{SupportMap, ROUND_EPS};
 
 /// The geometric solution, normalised: the ray `r` (unit), `n` with `n·r = 1`, `μ = 1/α'`,
 /// the points `a` (shape 1) and `b` (shape 2) relative to their origins.
@@ -171,6 +171,26 @@ fn tied_pieces<S: SupportMap>(
         }
         return Some(());
     }
+    if let Some((points, r)) = shape.ball_pieces().filter(|_| vertices) {
+        // Piece `id` is `v·m + r‖m‖` with gradient `v + r m/‖m‖`: what `piece` gives
+        // (`Round::Ball`, the same operations), the norm taken once.
+        let n = m.norm();
+        if !(n > ROUND_EPS) {
+            return None;
+        }
+        let (rn, ur) = (r * n, (m / n) * r);
+        for (id, v) in points.iter().enumerate() {
+            if rn + v.dot(m) >= floor {
+                if t.count == MAX_TIED {
+                    return None;
+                }
+                t.ids[t.count] = id as u32;
+                t.pts[t.count] = ur + v;
+                t.count += 1;
+            }
+        }
+        return Some(());
+    }
     for id in 0..shape.piece_count() {
         let (value, point) = shape.piece_point(id, m)?;
         if value >= floor {
@@ -325,12 +345,13 @@ pub(crate) fn identify<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Opt
 #[cfg(test)]
 mod tests {
     use super::{tied_pieces, Tied};
-    use crate::math::Vec3;
+    use crate::math::{Real, Vec3};
     use crate::shapes::{Shape, SupportMap};
 
-    /// A polytope's ties from its vertices' dot products are those of evaluating every piece:
-    /// on 20 000 directions, half of them a facet's normal or the sum of two (where vertices
-    /// tie), for a box and a 12-facet polytope.
+    /// A polytope's ties from its vertices' dot products, and a padded hull's or padded
+    /// polygon's from its ball pieces with the norm taken once, are those of evaluating every
+    /// piece, bit for bit: on 40 000 directions, half of them a facet's normal or the sum of two
+    /// (where vertices tie), for a box, a 12-facet polytope, a padded hull and a padded polygon.
     #[test]
     fn vertex_ties_match_the_piece_evaluation() {
         let mut a = Vec::new();
@@ -345,9 +366,17 @@ mod tests {
             a.push(v.normalize().into());
             b.push(0.5 + 0.01 * k as f64);
         }
+        let corners: Vec<[Real; 3]> = a
+            .iter()
+            .map(|v: &[Real; 3]| [v[0] * 0.6, v[1] * 0.5, v[2]])
+            .collect();
+        let c = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [0.6, 0.8]];
         let shapes = [
             Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
             Shape::polytope(&a, &b).unwrap(),
+            // Padded: the ball pieces' search (the norm of `m` taken once).
+            Shape::convex_hull(&corners, 0.05).unwrap(),
+            Shape::polygon(&c, &[0.4, 0.3, 0.5, 0.35, 0.45], 0.08).unwrap(),
         ];
         let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
         let mut unit = move || {
