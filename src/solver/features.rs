@@ -320,13 +320,33 @@ fn pins(found: [Found; 2]) -> Option<[Found; 2]> {
 /// Whether the contact points of the geometric solution are unique (see [`features`]).
 pub(crate) fn contact_is_unique<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> bool {
     // Boxes, capsules and cylinders answer in closed form (a search of their pieces costs
-    // about 500 instructions a shape).
+    // about 500 instructions a shape), each shape on its own: a box against a hull searches
+    // the hull's pieces only. Only the dimensions and directions are needed here, so one
+    // buffer of tied pieces serves both searches.
     let n = &sol.normal;
-    if let (Some(f0), Some(f1)) = (quick(&pair.one, 1.0, n), quick(&pair.two, -1.0, n)) {
-        return pins([f0, f1]).is_some();
-    }
-    let mut tied = [Tied::EMPTY, Tied::EMPTY];
-    features(pair, sol, &mut tied).is_some()
+    let (q0, q1) = (quick(&pair.one, 1.0, n), quick(&pair.two, -1.0, n));
+    let (f0, f1) = match (q0, q1) {
+        (Some(f0), Some(f1)) => (f0, f1),
+        (q0, q1) => {
+            let mut t = Tied::EMPTY;
+            let f0 = match q0 {
+                Some(f) => f,
+                None => match find(&pair.one, 1.0, n, &mut t) {
+                    Some(f) => f,
+                    None => return false,
+                },
+            };
+            let f1 = match q1 {
+                Some(f) => f,
+                None => match find(&pair.two, -1.0, n, &mut t) {
+                    Some(f) => f,
+                    None => return false,
+                },
+            };
+            (f0, f1)
+        }
+    };
+    pins([f0, f1]).is_some()
 }
 
 /// Both shapes' features at the solution `sol` (normal, points): `None` where x* is not unique
