@@ -626,7 +626,7 @@ fn plain_offset(
 /// [`query_full`] would answer otherwise (another method, smoothing, a half-space, coincident
 /// or overflowing origins, a geometric fallback, a gradient that overflows, derivatives that
 /// are not exact): the caller then asks the full query, which gives the same answer.
-#[inline]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plain_derivatives(
     shape1: &Shape,
