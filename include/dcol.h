@@ -282,7 +282,8 @@ typedef struct dcol_proximity_result {
  * degrees since the pair's last answer; other pairs answer cold (and cost the same). The
  * contacts of any pair start from the last separating normal: shapes it still proves apart by
  * more than the margin get no contact points from two support calls; the signed distance of
- * two polytopes it proves apart is their (warm) distance.
+ * two polytopes it proves apart is their (warm) distance. Where the kept answer keeps failing
+ * (poses that jump), the cache backs off: up to 31 calls then neither try nor keep one.
  */
 typedef struct dcol_cache {
   /**

@@ -658,3 +658,111 @@ fn any_cache_gives_the_cold_intersection() {
         dcol_shape_free(cb);
     }
 }
+
+/// Random jumps (every step a new random pose of the pair, as far as 0.4–1.4 times the sum of
+/// the bounding radii), then a trajectory, with one cache per query carried through both: every
+/// answer is the cold one (α* within 1e-12 relative, the distance within 1e-12 ℓ, the same
+/// decision); during the jumps the caches back off (most calls keep nothing: `is_warm` is
+/// false after most of them), and on the trajectory after them the warm answers come back
+/// within 33 steps (the back-off skips at most 31 calls) and answer most steps after that (of
+/// the separated ones for the distance, of those the bounding spheres do not decide for the
+/// intersection).
+#[test]
+fn caches_back_off_on_random_jumps_and_come_back() {
+    let mut rng = Rng(0x0ba0_c0ff_1ee7_5eed);
+    let kinds = shapes(&mut rng);
+    let o = Options::default();
+    let kind = |n: &str| kinds.iter().find(|k| k.0 == n).unwrap().1.clone();
+    let (jumps, steps) = (300, 150);
+    // Trajectories starting near enough touching that the bounding spheres do not decide most
+    // intersections.
+    for (na, nb, start) in [
+        ("box", "hull", 1.1),
+        ("polytope", "hull", 1.1),
+        ("capsule", "cylinder", 1.02),
+    ] {
+        let (a, b) = (kind(na), kind(nb));
+        let polytopes = nb == "hull";
+        let (mut prox, mut dist, mut inter) = (Cache::new(), Cache::new(), Cache::new());
+        let mut kept = [0usize; 3];
+        let reach = a.bounding_radius() + b.bounding_radius();
+        for _ in 0..jumps {
+            let d: [f64; 3] = rng.unit();
+            let s = rng.uniform(0.4, 1.4) * reach;
+            let p = Pose::new([0.0; 3], rng.unit()).unwrap();
+            let q = Pose::new(d.map(|x| x * s), rng.unit()).unwrap();
+            let hot = proximity_cached(&a, &p, &b, &q, &o, &mut prox).unwrap();
+            let cold = proximity(&a, &p, &b, &q, &o).unwrap();
+            assert!(difference(&hot, &cold, ell(&a, &b)).0 <= 1e-12, "{na}-{nb}");
+            let (hot, _) = distance_gradient_cached(&a, &p, &b, &q, &o, &mut dist).unwrap();
+            let (cold, _) = distance_gradient(&a, &p, &b, &q, &o).unwrap();
+            assert!((hot.distance - cold.distance).abs() <= 1e-12 * ell(&a, &b));
+            let hot = intersect_cached(&a, &p, &b, &q, &o, &mut inter).unwrap();
+            assert_eq!(hot.below, intersect(&a, &p, &b, &q, &o).unwrap().below);
+            for (k, c) in [&prox, &dist, &inter].iter().enumerate() {
+                kept[k] += usize::from(c.is_warm());
+            }
+        }
+        // Without the back-off every separated jump's answer would be kept (the proximity's
+        // and the distance's between polytopes, the intersection's normal of any pair).
+        let caches = if polytopes { 0..3 } else { 2..3 };
+        for k in caches {
+            assert!(
+                kept[k] * 5 < jumps,
+                "{na}-{nb}: cache {k} kept {} of {jumps}",
+                kept[k]
+            );
+        }
+        // A trajectory from there: the caches answer again.
+        let (mut first, mut warm, mut eligible) = ([usize::MAX; 3], [0usize; 3], [0usize; 3]);
+        for (i, (p, q)) in trajectory(&a, &b, &mut rng, steps, start)
+            .iter()
+            .enumerate()
+        {
+            let hot = proximity_cached(&a, p, &b, q, &o, &mut prox).unwrap();
+            let cold = proximity(&a, p, &b, q, &o).unwrap();
+            assert!(
+                difference(&hot, &cold, ell(&a, &b)).0 <= 1e-12,
+                "{na}-{nb} step {i}"
+            );
+            let by_prox = hot.solver == Solver::Polish && cold.solver != Solver::Polish;
+            let (hot, _) = distance_gradient_cached(&a, p, &b, q, &o, &mut dist).unwrap();
+            let (cold, _) = distance_gradient(&a, p, &b, q, &o).unwrap();
+            assert!((hot.distance - cold.distance).abs() <= 1e-12 * ell(&a, &b));
+            let by_dist = hot.path == DistancePath::GjkPolish && cold.path == DistancePath::Gjk;
+            let hot = intersect_cached(&a, p, &b, q, &o, &mut inter).unwrap();
+            assert_eq!(hot.below, intersect(&a, p, &b, q, &o).unwrap().below);
+            let counted = [
+                true,
+                cold.distance > 0.0,
+                hot.decided_by != DecidedBy::Bounds,
+            ];
+            for (k, w) in [by_prox, by_dist, hot.decided_by == DecidedBy::Cache]
+                .into_iter()
+                .enumerate()
+            {
+                if w {
+                    first[k] = first[k].min(i);
+                }
+                if i > 33 && counted[k] {
+                    eligible[k] += 1;
+                    warm[k] += usize::from(w);
+                }
+            }
+        }
+        let caches = if polytopes { 0..3 } else { 2..3 };
+        for k in caches {
+            assert!(
+                first[k] <= 33 && warm[k] * 2 > eligible[k] && eligible[k] > 50,
+                "{na}-{nb}: cache {k} warm from step {}, {} of {} steps",
+                first[k],
+                warm[k],
+                eligible[k]
+            );
+        }
+        eprintln!(
+            "{na}-{nb}: kept after {jumps} jumps {kept:?}; warm from step {first:?}, then \
+             {warm:?} of {eligible:?} steps"
+        );
+    }
+}

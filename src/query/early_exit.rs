@@ -226,7 +226,9 @@ pub(crate) fn intersect_warm(
     }
     let margin = band(options);
     if let Some(n) = cache.separating() {
-        if alpha_along(shapes, poses, &n) > 1.0 + margin {
+        let apart = alpha_along(shapes, poses, &n) > 1.0 + margin;
+        cache.separating_tried(apart);
+        if apart {
             return Ok(quick(false, DecidedBy::Cache));
         }
     }

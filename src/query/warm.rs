@@ -30,12 +30,15 @@ const GATE_MOVE: Real = 0.25;
 /// and trying would cost more than it saves.
 const GATE_COS_HALF: Real = 0.984_807_753_012_208;
 
-/// What a kind's state word holds: nothing,
+/// What a kind's state word holds (its low four bits under [`KIND_MAGIC`], the back-off's level
+/// in bits 4–6 and the calls it still skips in bits 8–15; any other word, as all zeros, is
+/// cold): nothing,
 const COLD: u32 = 0;
 /// a cold answer (normal, points, poses; features not identified yet),
-const SOLUTION: u32 = 0x6463_6f01;
+const SOLUTION: u32 = 1;
 /// or identified features (a warm answer, or a cold one identified since).
-const FEATURES: u32 = 0x6463_6f02;
+const FEATURES: u32 = 2;
+const KIND_MAGIC: u32 = 0x6463_0000;
 
 /// A feature of pieces, in the words.
 const TAG_PIECES: u32 = 1;
@@ -43,8 +46,16 @@ const TAG_PIECES: u32 = 1;
 /// Words: the two kinds' states, the shapes' piece counts, then per kind two sides of five
 /// words (a tag, a count, three piece ids).
 const WORDS: usize = 25;
-/// The word saying the separating normal (below) is kept.
+/// The separating normal's word (below): [`SEP_MAGIC`] in its high half when it holds anything
+/// (else, as all zeros, nothing), then whether the normal is kept ([`SEP_KEPT`]), the back-off's
+/// level (bits 8–10) and the calls it still skips (bits 0–7).
 const W_SEPARATING: usize = 24;
+const SEP_MAGIC: u32 = 0x6473_0000;
+const SEP_KEPT: u32 = 1 << 15;
+/// The back-off: after the `k`-th try in a row that did not decide, the next `2^(k−1) − 1`
+/// calls neither try the kept normal nor keep one (at most 31: a try in 32 calls where the
+/// normal never decides, as on random jumps); a try that decides resets it.
+const MAX_LEVEL: u32 = 6;
 const W_COUNTS: usize = 2;
 const W_FEATURES: usize = 4;
 /// Numbers: per kind a block of [`BLOCK`] (the unit normal, world; `μ` or the distance's lower
@@ -77,7 +88,8 @@ pub(super) enum Kind {
 /// `Default`) is cold. Keep one per pair of shapes and pass it to every query on that pair
 /// (`crate::proximity_cached` and its siblings); it is plain data (copy it, zero it, move it
 /// between threads). A cache used for another pair, or after a shape changed, costs one cold
-/// query and is then that pair's: it never makes an answer wrong.
+/// query and is then that pair's: it never makes an answer wrong. Where the kept answer keeps
+/// failing (poses that jump), the cache backs off: up to 31 calls then neither try nor keep one.
 ///
 /// Layout-compatible with the C `dcol_cache`.
 #[repr(C)]
@@ -104,10 +116,10 @@ impl Cache {
 
     /// Whether the cache holds an answer to start from (false: the next query is cold).
     pub fn is_warm(&self) -> bool {
-        self.words[..2]
+        [Kind::Proximity, Kind::Distance]
             .iter()
-            .any(|w| matches!(*w, SOLUTION | FEATURES))
-            || self.words[W_SEPARATING] == FEATURES
+            .any(|&k| self.state(k).0 != COLD)
+            || self.separating_state().0
     }
 
     /// Forgets what the cache holds.
@@ -201,16 +213,57 @@ impl Cache {
         })
     }
 
+    /// `kind`'s state ([`COLD`], [`SOLUTION`] or [`FEATURES`]), the back-off's level and the
+    /// calls it still skips.
+    fn state(&self, kind: Kind) -> (u32, u32, u32) {
+        let w = self.words[kind as usize];
+        if w & 0xffff_0000 != KIND_MAGIC || w & 0xf > FEATURES {
+            return (COLD, 0, 0);
+        }
+        let level = ((w >> 4) & 7).min(MAX_LEVEL);
+        (w & 0xf, level, ((w >> 8) & 0xff).min(skips(MAX_LEVEL)))
+    }
+
+    fn set_state(&mut self, kind: Kind, (state, level, skip): (u32, u32, u32)) {
+        self.words[kind as usize] = if state == COLD && level == 0 && skip == 0 {
+            COLD
+        } else {
+            KIND_MAGIC | skip << 8 | level << 4 | state
+        };
+    }
+
+    /// Sets `kind`'s state, the back-off as it is.
+    fn set_kind(&mut self, kind: Kind, state: u32) {
+        let (_, level, skip) = self.state(kind);
+        self.set_state(kind, (state, level, skip));
+    }
+
     /// Whether `kind`'s kept answer may be tried: it is one, of these shapes, and the poses
-    /// moved little since.
-    fn usable(&self, kind: Kind, pair: &Pair<'_, Shape>, poses: [&Pose; 2]) -> bool {
-        let state = self.words[kind as usize];
+    /// moved little since. A call the back-off skips is counted; poses that moved too far raise
+    /// the back-off (the next calls neither try nor keep an answer), near ones reset it.
+    fn usable(&mut self, kind: Kind, pair: &Pair<'_, Shape>, poses: [&Pose; 2]) -> bool {
+        let (state, level, skip) = self.state(kind);
+        if skip > 0 {
+            self.set_state(kind, (COLD, level, skip - 1));
+            return false;
+        }
         let ell = 1.0 / pair.one.inv_scale;
-        (state == SOLUTION || state == FEATURES)
+        let mine = (state == SOLUTION || state == FEATURES)
             && self.words[W_COUNTS] == pair.one.shape.piece_count()
             && self.words[W_COUNTS + 1] == pair.two.shape.piece_count()
-            && self.numbers[N_ELL] == ell
-            && self.near(kind, poses, ell)
+            && self.numbers[N_ELL] == ell;
+        if !mine {
+            return false;
+        }
+        let near = self.near(kind, poses, ell);
+        let level = if near { 0 } else { (level + 1).min(MAX_LEVEL) };
+        self.set_state(kind, (state, level, if near { 0 } else { skips(level) }));
+        near
+    }
+
+    /// Whether the back-off skips `kind`'s keeping on this call.
+    fn skipping(&self, kind: Kind) -> bool {
+        self.state(kind).2 > 0
     }
 
     /// The kept features of `kind`'s last answer, when the cache holds one for these shapes
@@ -225,14 +278,14 @@ impl Cache {
         if !self.usable(kind, pair, poses) {
             return None;
         }
-        if self.words[kind as usize] == FEATURES {
+        if self.state(kind).0 == FEATURES {
             return Some([self.feature(kind, pair, 0)?, self.feature(kind, pair, 1)?]);
         }
         let feats = self.identify_kept(kind, pair);
         match &feats {
             // Kept, so that a query that fails after does not identify them again.
             Some(f) => self.keep_ids(kind, f),
-            None => self.words[kind as usize] = COLD,
+            None => self.set_kind(kind, COLD),
         }
         feats
     }
@@ -248,12 +301,13 @@ impl Cache {
         a: &Vec3,
         b: &Vec3,
     ) {
-        let Some(unit) = normal.try_normalize(0.0) else {
-            self.words[kind as usize] = COLD;
+        let unit = normal.try_normalize(0.0);
+        let Some(unit) = unit.filter(|_| !self.skipping(kind)) else {
+            self.set_kind(kind, COLD);
             return;
         };
         let at = base(kind);
-        self.words[kind as usize] = SOLUTION;
+        self.set_kind(kind, SOLUTION);
         self.put(at + N_NORMAL, &unit);
         self.numbers[at + N_VALUE] = value;
         self.put(at + N_RAY, ray);
@@ -269,13 +323,18 @@ impl Cache {
         ell: Real,
         poses: [&Pose; 2],
     ) {
+        if self.skipping(kind) {
+            // Nothing is kept while the back-off skips calls.
+            return;
+        }
         let (n1, n2) = (shapes[0].piece_count(), shapes[1].piece_count());
         let same = self.words[W_COUNTS] == n1
             && self.words[W_COUNTS + 1] == n2
             && self.numbers[N_ELL] == ell;
         if !same {
             // Other shapes: the other kind's answer is not theirs.
-            self.words[1 - kind as usize] = COLD;
+            let other = [Kind::Proximity, Kind::Distance][1 - kind as usize];
+            self.set_kind(other, COLD);
             self.words[W_COUNTS] = n1;
             self.words[W_COUNTS + 1] = n2;
             self.numbers[N_ELL] = ell;
@@ -287,27 +346,65 @@ impl Cache {
         }
     }
 
-    /// The kept separating normal (unit, world, from shape 1 to shape 2), if any.
-    pub(super) fn separating(&self) -> Option<Vec3> {
+    /// The separating word: whether a normal is kept, the back-off's level and the calls it
+    /// still skips (any other word: nothing).
+    fn separating_state(&self) -> (bool, u32, u32) {
+        let w = self.words[W_SEPARATING];
+        if w & 0xffff_0000 != SEP_MAGIC {
+            return (false, 0, 0);
+        }
+        let level = ((w >> 8) & 7).min(MAX_LEVEL);
+        (w & SEP_KEPT != 0, level, (w & 0xff).min(skips(MAX_LEVEL)))
+    }
+
+    fn set_separating_state(&mut self, kept: bool, level: u32, skip: u32) {
+        self.words[W_SEPARATING] = if kept || level > 0 || skip > 0 {
+            SEP_MAGIC | if kept { SEP_KEPT } else { 0 } | level << 8 | skip
+        } else {
+            COLD
+        };
+    }
+
+    /// The separating normal to try on this call (unit, world, from shape 1 to shape 2): the
+    /// kept one, or `None` when none is kept or the back-off skips this call (counted).
+    pub(super) fn separating(&mut self) -> Option<Vec3> {
+        let (kept, level, skip) = self.separating_state();
+        if skip > 0 {
+            self.set_separating_state(false, level, skip - 1);
+            return None;
+        }
         let n = self.vec(N_SEPARATING);
-        (self.words[W_SEPARATING] == FEATURES && (n.norm_squared() - 1.0).abs() < 1e-9).then_some(n)
+        (kept && (n.norm_squared() - 1.0).abs() < 1e-9).then_some(n)
+    }
+
+    /// Records how the normal [`Cache::separating`] gave fared: `decided` resets the back-off,
+    /// a try that did not decide raises it (the next calls skip the kept normal).
+    pub(super) fn separating_tried(&mut self, decided: bool) {
+        let (kept, level, _) = self.separating_state();
+        if decided {
+            self.set_separating_state(kept, 0, 0);
+        } else {
+            let level = (level + 1).min(MAX_LEVEL);
+            self.set_separating_state(kept, level, skips(level));
+        }
     }
 
     /// Keeps `normal` (unit, from shape 1 to shape 2) as the separating normal to try next, or
-    /// forgets it (`None`).
+    /// forgets it (`None`); while the back-off skips calls, nothing is kept (nor copied).
     pub(super) fn keep_separating(&mut self, normal: Option<&Vec3>) {
-        match normal.and_then(|n| n.try_normalize(0.0)) {
-            Some(n) => {
-                self.put(N_SEPARATING, &n);
-                self.words[W_SEPARATING] = FEATURES;
-            }
-            None => self.words[W_SEPARATING] = COLD,
+        let (_, level, skip) = self.separating_state();
+        let unit = normal
+            .filter(|_| skip == 0)
+            .and_then(|n| n.try_normalize(0.0));
+        if let Some(n) = &unit {
+            self.put(N_SEPARATING, n);
         }
+        self.set_separating_state(unit.is_some(), level, skip);
     }
 
     /// Marks `kind`'s part cold (the answer was not one the cache can start from).
     pub(super) fn forget(&mut self, kind: Kind) {
-        self.words[kind as usize] = COLD;
+        self.set_kind(kind, COLD);
     }
 
     /// Keeps a warm answer's normal, value and feature weights (the ids are kept already).
@@ -319,11 +416,11 @@ impl Cache {
         lam: &[[Real; MAX_SIDE]; 2],
     ) {
         let Some(unit) = normal.try_normalize(0.0) else {
-            self.words[kind as usize] = COLD;
+            self.set_kind(kind, COLD);
             return;
         };
         let at = base(kind);
-        self.words[kind as usize] = FEATURES;
+        self.set_kind(kind, FEATURES);
         self.put(at + N_NORMAL, &unit);
         self.numbers[at + N_VALUE] = value;
         for (i, l) in lam.iter().enumerate() {
@@ -334,7 +431,7 @@ impl Cache {
 
     /// Keeps identified features' piece ids (the state becomes [`FEATURES`]).
     fn keep_ids(&mut self, kind: Kind, feats: &[Feature; 2]) {
-        self.words[kind as usize] = FEATURES;
+        self.set_kind(kind, FEATURES);
         for (i, f) in feats.iter().enumerate() {
             let w = W_FEATURES + 10 * kind as usize + 5 * i;
             match f {
@@ -401,6 +498,15 @@ impl Cache {
             b: self.vec(at + N_B),
         };
         identify(&then, &sol)
+    }
+}
+
+/// The calls the separating normal's back-off skips at `level` (0 at levels 0 and 1).
+const fn skips(level: u32) -> u32 {
+    if level == 0 {
+        0
+    } else {
+        (1 << (level - 1)) - 1
     }
 }
 
