@@ -72,6 +72,19 @@ struct Side {
     col: usize,
 }
 
+impl Side {
+    /// A side with feature `feature`, unknowns from column `col`, not yet evaluated.
+    fn new(feature: Feature, col: usize) -> Side {
+        Side {
+            feature,
+            pieces: [zero_piece(), zero_piece(), zero_piece()],
+            tangents: [Vec3::zeros(); 2],
+            axes: [Vec3::zeros(); 2],
+            col,
+        }
+    }
+}
+
 fn zero_piece() -> WorldPiece {
     WorldPiece {
         value: 0.0,
@@ -85,16 +98,10 @@ fn evaluate<S: SupportMap>(
     shape: usize,
     feature: Feature,
     n: &Vec3,
-    col: usize,
-) -> Option<Side> {
+    side: &mut Side,
+) -> Option<()> {
     let (posed, sign) = pair.side(shape);
-    let mut side = Side {
-        feature,
-        pieces: [zero_piece(), zero_piece(), zero_piece()],
-        tangents: [Vec3::zeros(); 2],
-        axes: [Vec3::zeros(); 2],
-        col,
-    };
+    side.feature = feature;
     match feature {
         Feature::Pieces { ids, count, .. } => {
             for k in 0..count {
@@ -110,11 +117,12 @@ fn evaluate<S: SupportMap>(
             let body = centre + Vec3::new(0.0, s[0], s[1]);
             side.pieces[0].grad = posed.rot * body * scale;
             side.pieces[0].value = n.dot(&side.pieces[0].grad);
+            side.pieces[0].hess = Mat3::zeros();
             side.tangents = [ey * scale, ez * scale];
             side.axes = [ey, ez];
         }
     }
-    Some(side)
+    Some(())
 }
 
 /// The residual `F` at the unknowns `z` into `res`; its largest entry.
@@ -209,22 +217,25 @@ fn store(feature: &mut Feature, z: &[Real], col: usize) {
     }
 }
 
-/// The features' system solved at the geometric solution: the features, their evaluation and
-/// the unknowns there, and the factorised reduced system ([`Reduced`]).
+/// The features' system solved at the geometric solution: the unknowns there (and, for the
+/// tests' full system, the features evaluated); the factorised reduced system ([`Reduced`])
+/// goes to the caller's.
 struct Solved {
-    /// The features evaluated (for the tests' full system).
     #[cfg(test)]
     sides: [Side; 2],
     z: [Real; DIM],
-    reduced: Reduced,
 }
 
 /// Identifies both shapes' features at `sol` and solves their system by Newton's method from it;
 /// `None` where x* is not unique, the features cannot be identified, their system is singular,
 /// or the solution leaves the features (a negative multiplier, a point off its disc).
-fn solve_features<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Option<Solved> {
+fn solve_features<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    sol: &Solution,
+    reduced: &mut Reduced,
+) -> Option<Solved> {
     let feats = identify(pair, sol)?;
-    newton(pair, &sol.r, feats, &sol.normal, sol.mu)
+    newton(pair, &sol.r, feats, &sol.normal, sol.mu, reduced)
 }
 
 /// Newton's method on the system of the features `feats` from the normal `normal` (`n·r = 1`)
@@ -236,6 +247,7 @@ fn newton<S: SupportMap>(
     mut feats: [Feature; 2],
     normal: &Vec3,
     mu: Real,
+    reduced: &mut Reduced,
 ) -> Option<Solved> {
     let r = *r;
     let cols = [4, 4 + feats[0].unknowns()];
@@ -255,12 +267,12 @@ fn newton<S: SupportMap>(
     }
     let mut res = [0.0; DIM];
     let mut step = 0;
-    let sides = loop {
+    let mut sides = [Side::new(feats[0], cols[0]), Side::new(feats[1], cols[1])];
+    loop {
         let n = Vec3::new(z[0], z[1], z[2]);
-        let sides = [
-            evaluate(pair, 0, feats[0], &n, cols[0])?,
-            evaluate(pair, 1, feats[1], &n, cols[1])?,
-        ];
+        for (i, side) in sides.iter_mut().enumerate() {
+            evaluate(pair, i, feats[i], &n, side)?;
+        }
         let worst = residual(&sides, &r, &z, &mut res);
         if !worst.is_finite() {
             return None;
@@ -269,7 +281,7 @@ fn newton<S: SupportMap>(
             if !(worst <= MAX_RESIDUAL) {
                 return None;
             }
-            break sides;
+            break;
         }
         let mut lu = [[0.0; DIM]; DIM];
         assemble(&sides, &r, &z, &mut lu);
@@ -282,7 +294,7 @@ fn newton<S: SupportMap>(
             store(f, &z, c);
         }
         step += 1;
-    };
+    }
     // The features must hold at the refined point: multipliers non-negative, a disc's point on
     // the disc.
     for f in &feats {
@@ -299,12 +311,11 @@ fn newton<S: SupportMap>(
             }
         }
     }
-    let reduced = Reduced::new(&sides, &r, &z)?;
+    reduced.build(&sides, &r, &z)?;
     Some(Solved {
         #[cfg(test)]
         sides,
         z,
-        reduced,
     })
 }
 
@@ -333,13 +344,14 @@ fn side_hessian(side: &Side, z: &[Real; DIM]) -> Mat3 {
 /// The geometric solution refined on its contact features: the normal (`n·r = 1`), `μ`, and
 /// the points `a` and `b`; `None` as for [`sensitivity`]. The caller certifies it.
 pub(crate) fn refine<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Option<Solution> {
-    let s = solve_features(pair, sol)?;
+    let mut reduced = Reduced::EMPTY;
+    let s = solve_features(pair, sol, &mut reduced)?;
     Some(Solution {
         r: sol.r,
         normal: Vec3::new(s.z[0], s.z[1], s.z[2]),
         mu: s.z[3],
-        a: s.reduced.point[0],
-        b: -s.reduced.point[1],
+        a: reduced.point[0],
+        b: -reduced.point[1],
     })
 }
 
@@ -354,12 +366,13 @@ pub(crate) fn sensitivity<S: SupportMap>(
     axes: &[[Vec3; 4]; 2],
     round: [bool; 2],
 ) -> Option<Sensitivity> {
-    let s = solve_features(pair, sol)?;
+    let mut reduced = Reduced::EMPTY;
+    let _s = solve_features(pair, sol, &mut reduced)?;
     #[cfg(test)]
     if dense_reference::DENSE.with(|d| d.get()) {
-        return dense_reference::adjoint(&s.sides, &sol.r, &s.z, axes, round);
+        return dense_reference::adjoint(&_s.sides, &sol.r, &_s.z, axes, round);
     }
-    Some(s.reduced.adjoint(axes, round))
+    Some(reduced.adjoint(axes, round))
 }
 
 /// Order of the reduced system: n, μ and at most two coordinates along the features.
@@ -406,12 +419,24 @@ struct Reduced {
 }
 
 impl Reduced {
-    /// The reduced system of `sides` at the unknowns `z`, factorised; `None` where it is
-    /// singular (a pivot below 1e-14 of its largest entry).
-    fn new(sides: &[Side; 2], r: &Vec3, z: &[Real; DIM]) -> Option<Reduced> {
-        let mut cols = [Vec3::zeros(); 2];
-        let mut rows = [Vec3::zeros(); 2];
-        let mut side_of = [0; 2];
+    /// Not built yet.
+    const EMPTY: Reduced = Reduced {
+        lu: [[0.0; RED]; RED],
+        ipiv: [0; RED],
+        order: 0,
+        cols: [Vec3::new(0.0, 0.0, 0.0); 2],
+        rows: [Vec3::new(0.0, 0.0, 0.0); 2],
+        side_of: [0; 2],
+        point: [Vec3::new(0.0, 0.0, 0.0); 2],
+        hess: [Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0); 2],
+        n: Vec3::new(0.0, 0.0, 0.0),
+        mu: 0.0,
+    };
+
+    /// Builds the reduced system of `sides` at the unknowns `z` and factorises it; `None` where
+    /// it is singular (a pivot below 1e-14 of its largest entry).
+    fn build(&mut self, sides: &[Side; 2], r: &Vec3, z: &[Real; DIM]) -> Option<()> {
+        let (cols, rows, side_of) = (&mut self.cols, &mut self.rows, &mut self.side_of);
         let mut extra = 0;
         for (i, side) in sides.iter().enumerate() {
             match side.feature {
@@ -439,13 +464,16 @@ impl Reduced {
                 }
             }
         }
-        let point = [side_point(&sides[0], z), side_point(&sides[1], z)];
-        let hess = [side_hessian(&sides[0], z), side_hessian(&sides[1], z)];
-        let h = hess[0] + hess[1];
+        self.point = [side_point(&sides[0], z), side_point(&sides[1], z)];
+        self.hess = [side_hessian(&sides[0], z), side_hessian(&sides[1], z)];
+        let h = self.hess[0] + self.hess[1];
         #[cfg(test)]
         dense_reference::LARGEST_HESSIAN.with(|c| c.set(h.amax()));
         let order = 4 + extra;
-        let mut lu = [[0.0; RED]; RED];
+        let lu = &mut self.lu;
+        for row in lu.iter_mut() {
+            row.fill(0.0);
+        }
         for i in 0..3 {
             for j in 0..3 {
                 lu[i][j] = h[(i, j)];
@@ -453,23 +481,15 @@ impl Reduced {
             lu[i][3] = -r[i];
             lu[3][i] = r[i];
             for x in 0..extra {
-                lu[i][4 + x] = cols[x][i];
-                lu[4 + x][i] = rows[x][i];
+                lu[i][4 + x] = self.cols[x][i];
+                lu[4 + x][i] = self.rows[x][i];
             }
         }
-        let ipiv = lu_factor_in_place(&mut lu, order)?;
-        Some(Reduced {
-            lu,
-            ipiv,
-            order,
-            cols,
-            rows,
-            side_of,
-            point,
-            hess,
-            n: Vec3::new(z[0], z[1], z[2]),
-            mu: z[3],
-        })
+        self.ipiv = lu_factor_in_place(lu, order)?;
+        self.order = order;
+        self.n = Vec3::new(z[0], z[1], z[2]);
+        self.mu = z[3];
+        Some(())
     }
 
     /// The outputs' sensitivities (see [`Reduced`]).
@@ -512,7 +532,8 @@ impl Reduced {
             }
             // Each output's change along a rotation axis ω of shape i is ω·q.
             let a = self.point[i];
-            let q = [0, 1, 2, 3].map(|o| {
+            let mut q = [Vec3::zeros(); 4];
+            for (o, qo) in q.iter_mut().enumerate() {
                 let ys = Vec3::new(y[0][o], y[1][o], y[2][o]);
                 let mut v = self.hess[i] * ys;
                 for x in 0..extra {
@@ -520,8 +541,8 @@ impl Reduced {
                         v += self.rows[x] * y[4 + x][o];
                     }
                 }
-                n.cross(&v) - a.cross(&ys)
-            });
+                *qo = n.cross(&v) - a.cross(&ys);
+            }
             for k in 0..4 {
                 let w = axes[i][k];
                 dmu_dtheta[4 * i + k] = w.dot(&q[0]);
