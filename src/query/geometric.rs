@@ -360,7 +360,7 @@ pub(crate) fn jacobian(
             j[i][col] = dx[i];
         }
     }
-    j.iter().flatten().all(|v| v.is_finite()).then_some(j)
+    crate::math::all_finite(&j).then_some(j)
 }
 
 #[cfg(test)]
@@ -418,7 +418,7 @@ fn two_spheres_jacobian(
         j[3][c] = -dalpha_dd[c];
         j[3][7 + c] = dalpha_dd[c];
     }
-    (prox.alpha.is_finite() && j.iter().flatten().all(|v| v.is_finite())).then_some(j)
+    (prox.alpha.is_finite() && crate::math::all_finite(&j)).then_some(j)
 }
 
 /// `Err((below, bound, normal))` when the cast's bracket decided the threshold: the bracket's
