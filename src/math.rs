@@ -227,6 +227,15 @@ pub fn mrp_quaternion_jacobian(p: [Real; 3]) -> [[Real; 3]; 4] {
     j
 }
 
+/// Whether every entry of a Jacobian is finite: `v·0` is zero for a finite `v` and NaN for an
+/// infinite or NaN one, so the sum is zero exactly when all are finite (no overflow, and a
+/// loop the compiler vectorises: the iterator over rows and entries cost ~900 instructions
+/// for 4×14).
+#[inline]
+pub(crate) fn all_finite<const R: usize, const C: usize>(m: &[[Real; C]; R]) -> bool {
+    m.as_flattened().iter().map(|v| v * 0.0).sum::<Real>() == 0.0
+}
+
 /// Robust Euclidean norm (no underflow or overflow for finite input).
 pub(crate) fn robust_norm(v: &Vec3) -> Real {
     let m = v.x.abs().max(v.y.abs()).max(v.z.abs());
@@ -306,5 +315,22 @@ mod tests {
         assert!((p.rotation().determinant() - 1.0).abs() < 1e-14);
         let p = Pose::new([0.0; 3], [1e200, 0.0, 1e200, 0.0]).unwrap();
         assert!((p.rotation().determinant() - 1.0).abs() < 1e-14);
+    }
+
+    /// `all_finite` is `is_finite` of every entry: true for entries near the largest double
+    /// (whose plain sum overflows), false for one infinity of either sign or one NaN anywhere.
+    #[test]
+    fn all_finite_is_every_entry_finite() {
+        let mut m = [[Real::MAX; 14]; 4];
+        m[1][3] = -Real::MAX;
+        assert!(all_finite(&m));
+        for (r, c) in [(0, 0), (2, 7), (3, 13)] {
+            for bad in [Real::INFINITY, Real::NEG_INFINITY, Real::NAN] {
+                let mut b = m;
+                b[r][c] = bad;
+                assert!(!all_finite(&b), "{bad} at {r},{c}");
+                assert_eq!(all_finite(&b), b.iter().flatten().all(|v| v.is_finite()));
+            }
+        }
     }
 }

@@ -135,5 +135,5 @@ pub(crate) fn capsule_jacobian(
         );
     }
     j[3] = *g;
-    j.iter().flatten().all(|v| v.is_finite()).then_some(j)
+    crate::math::all_finite(&j).then_some(j)
 }

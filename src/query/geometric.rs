@@ -288,7 +288,7 @@ pub(crate) fn unique_contact(
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
 /// its gradient `g` ([`gradient`]): in closed form for two spheres, for a sphere against a
-/// box, a capsule, a cylinder or a cone (`super::sphere_jacobian`), for two capsules
+/// box, a capsule, a cylinder, a cone or an ellipsoid (`super::sphere_jacobian`), for two capsules
 /// (`super::capsule_jacobian`), and for two polytopes
 /// touching on a facet of K (`super::polytope_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
@@ -360,7 +360,7 @@ pub(crate) fn jacobian(
             j[i][col] = dx[i];
         }
     }
-    j.iter().flatten().all(|v| v.is_finite()).then_some(j)
+    crate::math::all_finite(&j).then_some(j)
 }
 
 #[cfg(test)]
@@ -418,7 +418,7 @@ fn two_spheres_jacobian(
         j[3][c] = -dalpha_dd[c];
         j[3][7 + c] = dalpha_dd[c];
     }
-    (prox.alpha.is_finite() && j.iter().flatten().all(|v| v.is_finite())).then_some(j)
+    (prox.alpha.is_finite() && crate::math::all_finite(&j)).then_some(j)
 }
 
 /// `Err((below, bound, normal))` when the cast's bracket decided the threshold: the bracket's

@@ -32,6 +32,8 @@ mod sphere_jacobian;
 #[cfg(test)]
 mod sphere_jacobian_tests;
 #[cfg(test)]
+mod structured_solve_tests;
+#[cfg(test)]
 mod test_support;
 mod warm;
 mod warm_contacts;

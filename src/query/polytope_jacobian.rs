@@ -77,7 +77,7 @@ pub(crate) fn polytope_jacobian(
         _ => return None,
     };
     let jac = facet_jacobian(&facet, alpha, poses)?;
-    jac.iter().flatten().all(|v| v.is_finite()).then_some(jac)
+    crate::math::all_finite(&jac).then_some(jac)
 }
 
 fn facet_jacobian(facet: &Facet, alpha: Real, poses: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {

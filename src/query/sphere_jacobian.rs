@@ -1,5 +1,5 @@
 //! The Jacobian of `(x*, α*)` in closed form for a sphere against a box, a capsule, a
-//! cylinder or a cone, where the general feature solve (`crate::solver::sensitivity`) costs
+//! cylinder, a cone or an ellipsoid, where the general feature solve (`crate::solver::sensitivity`) costs
 //! ~9 000 instructions.
 //!
 //! With the sphere `s` (radius `R`, centre `r_s`) and the other shape `B` (origin `r_b`,
@@ -12,7 +12,8 @@
 //! `I − n̂n̂ᵀ` on a face, and `ttᵀ + k ccᵀ` (`k = ρ/(R + ρ)`, `ρ` the radius of curvature
 //! across the line `t`) on the side of a capsule, a cylinder or a cone; `k ccᵀ` on a rim
 //! (`c` its tangent, `ρ` the rim's radius over `‖m_yz‖`, `m` the body normal); `k(I − n̂n̂ᵀ)` on
-//! a capsule's cap. A rotation `ω` of `B` moves `w` by `ω × w + M(dy − ω × y)`, so
+//! a capsule's cap; on an ellipsoid (`h(m) = √(mᵀP⁻¹m)`, `g = P⁻¹m`) the body Hessian
+//! `(P⁻¹ − ggᵀ/h²)/h` at the body normal `m`, rotated, and `M` by a 3×3 inverse. A rotation `ω` of `B` moves `w` by `ω × w + M(dy − ω × y)`, so
 //!
 //! ```text
 //! dx* = dr_b + α* dw + w dα* = M dr_s + (I − M) dr_b + α*(ω × w − M(ω × y)) + (w − My) dα*
@@ -146,12 +147,20 @@ fn projection_jacobian(
                 Some(rim(rho))
             }
         }
+        ShapeKind::Ellipsoid => {
+            // h(m) = √(mᵀP⁻¹m): with g = P⁻¹m, ∇²h = (P⁻¹ − ggᵀ/h²)/h (body frame).
+            let p_inv = b.ellipsoid_inverse()?;
+            let g = p_inv * m;
+            let h = m.dot(&g).sqrt();
+            let hess = rot * ((p_inv - g * g.transpose() / (h * h)) / h) * rot.transpose();
+            Some((Mat3::identity() * radius + hess).try_inverse()? * hess)
+        }
         _ => None,
     }
 }
 
-/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder or a cone
-/// (either order), from the geometric answer and its gradient `g` (the α row); `None` for
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone or
+/// an ellipsoid (either order), from the geometric answer and its gradient `g` (the α row); `None` for
 /// other pairs, undecided features or a non-finite answer.
 pub(crate) fn sphere_jacobian(
     prox: &Proximity,
@@ -196,5 +205,5 @@ pub(crate) fn sphere_jacobian(
         }
     }
     j[3] = *g;
-    j.iter().flatten().all(|v| v.is_finite()).then_some(j)
+    crate::math::all_finite(&j).then_some(j)
 }

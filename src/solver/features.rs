@@ -119,6 +119,17 @@ fn find<S: SupportMap>(posed: &Posed<'_, S>, sign: Real, n: &Vec3, t: &mut Tied)
     }
     let (p, _) = posed.shape.support(&m);
     let h = p.dot(&m);
+    if posed.shape.piece_count() == 1 {
+        // One smooth piece (a sphere, an ellipsoid): it is the support function, so it ties,
+        // and its point alone has affine dimension zero.
+        if !h.is_finite() {
+            return None;
+        }
+        t.ids[0] = 0;
+        t.pts[0] = p;
+        t.count = 1;
+        return Some(Found::Tied(0, Vec3::zeros()));
+    }
     let tol = TIE_TOL * unit * m.norm();
     tied_pieces(posed.shape, &m, h - tol, t, true)?;
     if t.count == 0 {

@@ -72,6 +72,19 @@ struct Side {
     col: usize,
 }
 
+impl Side {
+    /// A side with feature `feature`, unknowns from column `col`, not yet evaluated.
+    fn new(feature: Feature, col: usize) -> Side {
+        Side {
+            feature,
+            pieces: [zero_piece(), zero_piece(), zero_piece()],
+            tangents: [Vec3::zeros(); 2],
+            axes: [Vec3::zeros(); 2],
+            col,
+        }
+    }
+}
+
 fn zero_piece() -> WorldPiece {
     WorldPiece {
         value: 0.0,
@@ -85,16 +98,10 @@ fn evaluate<S: SupportMap>(
     shape: usize,
     feature: Feature,
     n: &Vec3,
-    col: usize,
-) -> Option<Side> {
+    side: &mut Side,
+) -> Option<()> {
     let (posed, sign) = pair.side(shape);
-    let mut side = Side {
-        feature,
-        pieces: [zero_piece(), zero_piece(), zero_piece()],
-        tangents: [Vec3::zeros(); 2],
-        axes: [Vec3::zeros(); 2],
-        col,
-    };
+    side.feature = feature;
     match feature {
         Feature::Pieces { ids, count, .. } => {
             for k in 0..count {
@@ -110,33 +117,20 @@ fn evaluate<S: SupportMap>(
             let body = centre + Vec3::new(0.0, s[0], s[1]);
             side.pieces[0].grad = posed.rot * body * scale;
             side.pieces[0].value = n.dot(&side.pieces[0].grad);
+            side.pieces[0].hess = Mat3::zeros();
             side.tangents = [ey * scale, ez * scale];
             side.axes = [ey, ez];
         }
     }
-    Some(side)
+    Some(())
 }
 
-/// The residual `F` and its Jacobian at the unknowns `z`; the residual's largest entry.
-fn assemble(
-    sides: &[Side; 2],
-    r: &Vec3,
-    z: &[Real; DIM],
-    jac: &mut [[Real; DIM]; DIM],
-    res: &mut [Real; DIM],
-) -> Real {
+/// The residual `F` at the unknowns `z` into `res`; its largest entry.
+fn residual(sides: &[Side; 2], r: &Vec3, z: &[Real; DIM], res: &mut [Real; DIM]) -> Real {
     let dim = 4 + sides[0].feature.unknowns() + sides[1].feature.unknowns();
-    for row in jac.iter_mut() {
-        row.fill(0.0);
-    }
     res.fill(0.0);
     let n = Vec3::new(z[0], z[1], z[2]);
-    let mu = z[3];
-    let mut stat = -r * mu;
-    for i in 0..3 {
-        jac[i][3] = -r[i];
-        jac[3][i] = r[i];
-    }
+    let mut stat = -r * z[3];
     res[3] = n.dot(r) - 1.0;
     for side in sides {
         let c = side.col;
@@ -147,6 +141,41 @@ fn assemble(
                     let (p, l) = (&side.pieces[k], z[c + k]);
                     stat += p.grad * l;
                     sum += l;
+                    if k > 0 {
+                        res[c + k] = p.value - side.pieces[0].value;
+                    }
+                }
+                res[c] = sum;
+            }
+            Feature::Disc { .. } => {
+                let l = z[c];
+                stat += side.pieces[0].grad * l;
+                res[c] = l - 1.0;
+                for t in 0..2 {
+                    res[c + 1 + t] = side.axes[t].dot(&n);
+                }
+            }
+        }
+    }
+    res[..3].copy_from_slice(stat.as_slice());
+    res[..dim].iter().fold(0.0, |m: Real, v| m.max(v.abs()))
+}
+
+/// The Jacobian of the residual at the unknowns `z` (the full system, for Newton's steps).
+fn assemble(sides: &[Side; 2], r: &Vec3, z: &[Real; DIM], jac: &mut [[Real; DIM]; DIM]) {
+    for row in jac.iter_mut() {
+        row.fill(0.0);
+    }
+    for i in 0..3 {
+        jac[i][3] = -r[i];
+        jac[3][i] = r[i];
+    }
+    for side in sides {
+        let c = side.col;
+        match side.feature {
+            Feature::Pieces { count, .. } => {
+                for k in 0..count {
+                    let (p, l) = (&side.pieces[k], z[c + k]);
                     for i in 0..3 {
                         jac[i][c + k] = p.grad[i];
                         for j in 0..3 {
@@ -159,32 +188,25 @@ fn assemble(
                         for j in 0..3 {
                             jac[c + k][j] = g[j];
                         }
-                        res[c + k] = p.value - side.pieces[0].value;
                     }
                 }
-                res[c] = sum;
             }
             Feature::Disc { .. } => {
                 let l = z[c];
-                stat += side.pieces[0].grad * l;
                 for i in 0..3 {
                     jac[i][c] = side.pieces[0].grad[i];
                     jac[i][c + 1] = l * side.tangents[0][i];
                     jac[i][c + 2] = l * side.tangents[1][i];
                 }
                 jac[c][c] = 1.0;
-                res[c] = l - 1.0;
                 for t in 0..2 {
                     for j in 0..3 {
                         jac[c + 1 + t][j] = side.axes[t][j];
                     }
-                    res[c + 1 + t] = side.axes[t].dot(&n);
                 }
             }
         }
     }
-    res[..3].copy_from_slice(stat.as_slice());
-    res[..dim].iter().fold(0.0, |m: Real, v| m.max(v.abs()))
 }
 
 /// Writes the unknowns `z` back into the features (multipliers, disc coordinates).
@@ -195,12 +217,12 @@ fn store(feature: &mut Feature, z: &[Real], col: usize) {
     }
 }
 
-/// The features' system solved at the geometric solution: the features, their evaluation, the
-/// unknowns and the factorised Jacobian there.
+/// The features' system solved at the geometric solution: the unknowns there (and, for the
+/// tests' full system, the features evaluated); the factorised reduced system ([`Reduced`])
+/// goes to the caller's.
 struct Solved {
+    #[cfg(test)]
     sides: [Side; 2],
-    ipiv: [usize; DIM],
-    dim: usize,
     z: [Real; DIM],
 }
 
@@ -210,21 +232,22 @@ struct Solved {
 fn solve_features<S: SupportMap>(
     pair: &Pair<'_, S>,
     sol: &Solution,
-    lu: &mut [[Real; DIM]; DIM],
+    reduced: &mut Reduced,
 ) -> Option<Solved> {
     let feats = identify(pair, sol)?;
-    newton(pair, &sol.r, feats, &sol.normal, sol.mu, lu)
+    newton(pair, &sol.r, feats, &sol.normal, sol.mu, reduced)
 }
 
 /// Newton's method on the system of the features `feats` from the normal `normal` (`n·r = 1`)
-/// and `mu`, at most [`NEWTON`] steps; `None` as for [`solve_features`].
+/// and `mu`, at most [`NEWTON`] steps; `None` as for [`solve_features`]. The full system is
+/// formed and factorised only for a step: at a converged point the reduced one decides.
 fn newton<S: SupportMap>(
     pair: &Pair<'_, S>,
     r: &Vec3,
     mut feats: [Feature; 2],
     normal: &Vec3,
     mu: Real,
-    lu: &mut [[Real; DIM]; DIM],
+    reduced: &mut Reduced,
 ) -> Option<Solved> {
     let r = *r;
     let cols = [4, 4 + feats[0].unknowns()];
@@ -244,24 +267,26 @@ fn newton<S: SupportMap>(
     }
     let mut res = [0.0; DIM];
     let mut step = 0;
-    let (sides, ipiv) = loop {
+    let mut sides = [Side::new(feats[0], cols[0]), Side::new(feats[1], cols[1])];
+    loop {
         let n = Vec3::new(z[0], z[1], z[2]);
-        let sides = [
-            evaluate(pair, 0, feats[0], &n, cols[0])?,
-            evaluate(pair, 1, feats[1], &n, cols[1])?,
-        ];
-        let worst = assemble(&sides, &r, &z, lu, &mut res);
+        for (i, side) in sides.iter_mut().enumerate() {
+            evaluate(pair, i, feats[i], &n, side)?;
+        }
+        let worst = residual(&sides, &r, &z, &mut res);
         if !worst.is_finite() {
             return None;
         }
-        let ipiv = lu_factor_in_place(lu, dim)?;
         if worst <= CONVERGED || step == NEWTON {
             if !(worst <= MAX_RESIDUAL) {
                 return None;
             }
-            break (sides, ipiv);
+            break;
         }
-        lu_solve_one(lu, &ipiv, dim, &mut res);
+        let mut lu = [[0.0; DIM]; DIM];
+        assemble(&sides, &r, &z, &mut lu);
+        let ipiv = lu_factor_in_place(&mut lu, dim)?;
+        lu_solve_one(&lu, &ipiv, dim, &mut res);
         for i in 0..dim {
             z[i] -= res[i];
         }
@@ -269,7 +294,7 @@ fn newton<S: SupportMap>(
             store(f, &z, c);
         }
         step += 1;
-    };
+    }
     // The features must hold at the refined point: multipliers non-negative, a disc's point on
     // the disc.
     for f in &feats {
@@ -286,10 +311,10 @@ fn newton<S: SupportMap>(
             }
         }
     }
+    reduced.build(&sides, &r, &z)?;
     Some(Solved {
+        #[cfg(test)]
         sides,
-        ipiv,
-        dim,
         z,
     })
 }
@@ -305,17 +330,28 @@ fn side_point(side: &Side, z: &[Real; DIM]) -> Vec3 {
     }
 }
 
+/// The weighted Hessian `Σ λ_k H_k` of one side's feature (a disc's is zero).
+fn side_hessian(side: &Side, z: &[Real; DIM]) -> Mat3 {
+    let c = side.col;
+    match side.feature {
+        Feature::Pieces { count, .. } => {
+            (0..count).fold(Mat3::zeros(), |acc, k| acc + side.pieces[k].hess * z[c + k])
+        }
+        Feature::Disc { .. } => Mat3::zeros(),
+    }
+}
+
 /// The geometric solution refined on its contact features: the normal (`n·r = 1`), `μ`, and
 /// the points `a` and `b`; `None` as for [`sensitivity`]. The caller certifies it.
 pub(crate) fn refine<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> Option<Solution> {
-    let mut lu = [[0.0; DIM]; DIM];
-    let s = solve_features(pair, sol, &mut lu)?;
+    let mut reduced = Reduced::EMPTY;
+    let s = solve_features(pair, sol, &mut reduced)?;
     Some(Solution {
         r: sol.r,
         normal: Vec3::new(s.z[0], s.z[1], s.z[2]),
         mu: s.z[3],
-        a: side_point(&s.sides[0], &s.z),
-        b: -side_point(&s.sides[1], &s.z),
+        a: reduced.point[0],
+        b: -reduced.point[1],
     })
 }
 
@@ -330,118 +366,205 @@ pub(crate) fn sensitivity<S: SupportMap>(
     axes: &[[Vec3; 4]; 2],
     round: [bool; 2],
 ) -> Option<Sensitivity> {
-    let mut lu = [[0.0; DIM]; DIM];
-    let s = solve_features(pair, sol, &mut lu)?;
-    Some(adjoint(&s.sides, &lu, &s.ipiv, s.dim, &s.z, axes, round))
+    let mut reduced = Reduced::EMPTY;
+    let _s = solve_features(pair, sol, &mut reduced)?;
+    #[cfg(test)]
+    if dense_reference::DENSE.with(|d| d.get()) {
+        return dense_reference::adjoint(&_s.sides, &sol.r, &_s.z, axes, round);
+    }
+    Some(reduced.adjoint(axes, round))
 }
 
-/// The outputs' sensitivities by one transposed solve with four right-hand sides.
-#[allow(clippy::too_many_arguments)]
-fn adjoint(
-    sides: &[Side; 2],
-    lu: &[[Real; DIM]; DIM],
-    ipiv: &[usize; DIM],
-    dim: usize,
-    z: &[Real; DIM],
-    axes: &[[Vec3; 4]; 2],
-    round: [bool; 2],
-) -> Sensitivity {
-    let n = Vec3::new(z[0], z[1], z[2]);
-    let mu = z[3];
-    // Right-hand sides: e_μ and the rows of ∂a/∂z (a from shape 1's feature).
-    let mut y = [[0.0; 4]; DIM];
-    y[3][0] = 1.0;
-    let s0 = &sides[0];
-    let c = s0.col;
-    let mut a = Vec3::zeros();
-    match s0.feature {
-        Feature::Pieces { count, .. } => {
-            for k in 0..count {
-                let (p, l) = (&s0.pieces[k], z[c + k]);
-                a += p.grad * l;
-                for i in 0..3 {
-                    y[c + k][1 + i] = p.grad[i];
-                    for j in 0..3 {
-                        y[j][1 + i] += l * p.hess[(i, j)];
-                    }
-                }
-            }
-        }
-        Feature::Disc { .. } => {
-            let l = z[c];
-            a = s0.pieces[0].grad * l;
-            for i in 0..3 {
-                y[c][1 + i] = s0.pieces[0].grad[i];
-                y[c + 1][1 + i] = l * s0.tangents[0][i];
-                y[c + 2][1 + i] = l * s0.tangents[1][i];
-            }
-        }
-    }
-    lu_solve_transposed4(lu, ipiv, dim, &mut y);
-    // d(output) = −Yᵀ ∂F/∂p (+ the explicit change of a).
-    let apply = |df: &[Real; DIM]| {
-        let mut out = [0.0; 4];
-        for (row, d) in y[..dim].iter().zip(&df[..dim]) {
-            for o in 0..4 {
-                out[o] -= row[o] * d;
-            }
-        }
-        out
+/// Order of the reduced system: n, μ and at most two coordinates along the features.
+const RED: usize = 6;
+
+/// The features' system with the multipliers' sums eliminated, factorised.
+///
+/// The linearised system in (δn, δμ, δλ, δs) has the rows `Σ_k δλ_k = 0` (a side of pieces) and
+/// `δλ = 0` (a disc's multiplier) for every right-hand side the derivatives need, so
+/// `δλ₀ = −Σ_{k≥1} δλ_k` and a disc's δλ drop out exactly: the unknowns left are δn, δμ and one
+/// coordinate `t_x` per feature direction, a segment's or triangle's edge `G_k − G₀` (`k ≥ 1`)
+/// or a disc's tangent, at most two in all (x* unique). The system is
+///
+/// ```text
+///     [ H   −r  C ] [δn]   [f]
+///     [ rᵀ   0  0 ] [δμ] = [g₀]      H = Σ_k λ_k H_k (both sides), C the directions' columns
+///     [ Rᵀ   0  0 ] [t ]   [g ]      (a disc's: λ·tangent), R their rows (a disc's: its axes)
+/// ```
+///
+/// of order at most six (the full one's is up to ten), factorised once. The outputs μ and
+/// `a = Σ_{k ∈ shape 1} λ_k G_k` change by `δμ` and `δa = H₁δn + C₁t` (`H₁`, `C₁` shape 1's
+/// part), so one transposed solve with four right-hand sides gives their adjoint `Y`, and each
+/// parameter's column is `−Yᵀ ∂F/∂p`. Those are structured: a translation of the ray changes
+/// only the stationarity rows (by `−μ e_j`) and the ray row (by `n_j`); a rotation `ω` of shape
+/// i changes the stationarity rows by `ω × a_i − H_i(ω × n)` and shape i's direction rows by
+/// `−R_x·(ω × n)`, so its effect on each output is `ω·q` with one vector
+/// `q = n × (H_i y + Σ_x y_x R_x) − a_i × y` per output and shape (`y` the output's adjoint on
+/// the stationarity rows).
+struct Reduced {
+    lu: [[Real; RED]; RED],
+    ipiv: [usize; RED],
+    /// The system's order (4 + the directions).
+    order: usize,
+    /// Each direction's column `C_x`, row `R_x` and side.
+    cols: [Vec3; 2],
+    rows: [Vec3; 2],
+    side_of: [usize; 2],
+    /// Each side's point `Σ λ_k G_k` and weighted Hessian `Σ λ_k H_k`.
+    point: [Vec3; 2],
+    hess: [Mat3; 2],
+    /// The normal (`n·r = 1`) and μ.
+    n: Vec3,
+    mu: Real,
+}
+
+impl Reduced {
+    /// Not built yet.
+    const EMPTY: Reduced = Reduced {
+        lu: [[0.0; RED]; RED],
+        ipiv: [0; RED],
+        order: 0,
+        cols: [Vec3::new(0.0, 0.0, 0.0); 2],
+        rows: [Vec3::new(0.0, 0.0, 0.0); 2],
+        side_of: [0; 2],
+        point: [Vec3::new(0.0, 0.0, 0.0); 2],
+        hess: [Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0); 2],
+        n: Vec3::new(0.0, 0.0, 0.0),
+        mu: 0.0,
     };
-    let mut dmu_dr = Vec3::zeros();
-    let mut da_dr = Mat3::zeros();
-    for j in 0..3 {
-        let mut df = [0.0; DIM];
-        df[j] = -mu;
-        df[3] = n[j];
-        let o = apply(&df);
-        dmu_dr[j] = o[0];
-        for i in 0..3 {
-            da_dr[(i, j)] = o[1 + i];
-        }
-    }
-    let mut dmu_dtheta = [0.0; 8];
-    let mut da_dtheta = [Vec3::zeros(); 8];
-    for (i, side) in sides.iter().enumerate() {
-        if round[i] {
-            continue;
-        }
-        for k in 0..4 {
-            let w = axes[i][k];
-            let wn = w.cross(&n);
-            let mut df = [0.0; DIM];
-            let mut explicit = Vec3::zeros();
-            let c = side.col;
+
+    /// Builds the reduced system of `sides` at the unknowns `z` and factorises it; `None` where
+    /// it is singular (a pivot below 1e-14 of its largest entry).
+    fn build(&mut self, sides: &[Side; 2], r: &Vec3, z: &[Real; DIM]) -> Option<()> {
+        let (cols, rows, side_of) = (&mut self.cols, &mut self.rows, &mut self.side_of);
+        let mut extra = 0;
+        for (i, side) in sides.iter().enumerate() {
             match side.feature {
                 Feature::Pieces { count, .. } => {
-                    for q in 0..count {
-                        let p = &side.pieces[q];
-                        let dg = w.cross(&p.grad) - p.hess * wn;
-                        explicit += dg * z[c + q];
-                        if q > 0 {
-                            df[c + q] = -(p.grad - side.pieces[0].grad).dot(&wn);
+                    for k in 1..count {
+                        if extra == 2 {
+                            return None;
                         }
+                        let e = side.pieces[k].grad - side.pieces[0].grad;
+                        (cols[extra], rows[extra], side_of[extra]) = (e, e, i);
+                        extra += 1;
                     }
                 }
                 Feature::Disc { .. } => {
-                    explicit = w.cross(&side.pieces[0].grad) * z[c];
-                    df[c + 1] = -side.axes[0].dot(&wn);
-                    df[c + 2] = -side.axes[1].dot(&wn);
+                    let l = z[side.col];
+                    for t in 0..2 {
+                        if extra == 2 {
+                            return None;
+                        }
+                        cols[extra] = side.tangents[t] * l;
+                        rows[extra] = side.axes[t];
+                        side_of[extra] = i;
+                        extra += 1;
+                    }
                 }
             }
-            df[..3].copy_from_slice(explicit.as_slice());
-            let o = apply(&df);
-            dmu_dtheta[4 * i + k] = o[0];
-            let own = if i == 0 { explicit } else { Vec3::zeros() };
-            da_dtheta[4 * i + k] = Vec3::new(o[1], o[2], o[3]) + own;
+        }
+        self.point = [side_point(&sides[0], z), side_point(&sides[1], z)];
+        self.hess = [side_hessian(&sides[0], z), side_hessian(&sides[1], z)];
+        let h = self.hess[0] + self.hess[1];
+        #[cfg(test)]
+        dense_reference::LARGEST_HESSIAN.with(|c| c.set(h.amax()));
+        let order = 4 + extra;
+        let lu = &mut self.lu;
+        for row in lu.iter_mut() {
+            row.fill(0.0);
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                lu[i][j] = h[(i, j)];
+            }
+            lu[i][3] = -r[i];
+            lu[3][i] = r[i];
+            for x in 0..extra {
+                lu[i][4 + x] = self.cols[x][i];
+                lu[4 + x][i] = self.rows[x][i];
+            }
+        }
+        self.ipiv = lu_factor_in_place(lu, order)?;
+        self.order = order;
+        self.n = Vec3::new(z[0], z[1], z[2]);
+        self.mu = z[3];
+        Some(())
+    }
+
+    /// The outputs' sensitivities (see [`Reduced`]).
+    fn adjoint(&self, axes: &[[Vec3; 4]; 2], round: [bool; 2]) -> Sensitivity {
+        let (n, mu, order) = (self.n, self.mu, self.order);
+        let extra = order - 4;
+        // Right-hand sides: e_μ and the rows of δa = H₁δn + C₁t.
+        let mut y = [[0.0; 4]; RED];
+        y[3][0] = 1.0;
+        for j in 0..3 {
+            for i in 0..3 {
+                y[j][1 + i] = self.hess[0][(i, j)];
+            }
+        }
+        for x in 0..extra {
+            if self.side_of[x] == 0 {
+                // Shape 1's column: its edge, or a disc's scaled tangent (C₁).
+                let c = self.cols[x];
+                for i in 0..3 {
+                    y[4 + x][1 + i] = c[i];
+                }
+            }
+        }
+        lu_solve_transposed4(&self.lu, &self.ipiv, order, &mut y);
+        // Translations of the ray: ∂F/∂r_j is −μ on stationarity row j and n_j on the ray row.
+        let mut dmu_dr = Vec3::zeros();
+        let mut da_dr = Mat3::zeros();
+        for j in 0..3 {
+            let o = |k: usize| mu * y[j][k] - n[j] * y[3][k];
+            dmu_dr[j] = o(0);
+            for i in 0..3 {
+                da_dr[(i, j)] = o(1 + i);
+            }
+        }
+        let mut dmu_dtheta = [0.0; 8];
+        let mut da_dtheta = [Vec3::zeros(); 8];
+        for i in 0..2 {
+            if round[i] {
+                continue;
+            }
+            // Each output's change along a rotation axis ω of shape i is ω·q.
+            let a = self.point[i];
+            let mut q = [Vec3::zeros(); 4];
+            for (o, qo) in q.iter_mut().enumerate() {
+                let ys = Vec3::new(y[0][o], y[1][o], y[2][o]);
+                let mut v = self.hess[i] * ys;
+                for x in 0..extra {
+                    if self.side_of[x] == i {
+                        v += self.rows[x] * y[4 + x][o];
+                    }
+                }
+                *qo = n.cross(&v) - a.cross(&ys);
+            }
+            for k in 0..4 {
+                let w = axes[i][k];
+                dmu_dtheta[4 * i + k] = w.dot(&q[0]);
+                let mut da = Vec3::new(w.dot(&q[1]), w.dot(&q[2]), w.dot(&q[3]));
+                if i == 0 {
+                    // Shape 1's point moves with its shape: ω × a − H₁(ω × n).
+                    da += w.cross(&a) - self.hess[0] * w.cross(&n);
+                }
+                da_dtheta[4 * i + k] = da;
+            }
+        }
+        Sensitivity {
+            dmu_dr,
+            da_dr,
+            dmu_dtheta,
+            da_dtheta,
+            mu,
+            a: self.point[0],
         }
     }
-    Sensitivity {
-        dmu_dr,
-        da_dr,
-        dmu_dtheta,
-        da_dtheta,
-        mu,
-        a,
-    }
 }
+
+#[cfg(test)]
+#[path = "sensitivity_dense.rs"]
+pub(crate) mod dense_reference;
