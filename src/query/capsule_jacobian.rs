@@ -1,5 +1,6 @@
 //! The Jacobian of `(x*, α*)` in closed form for two capsules, where the general feature solve
-//! (`crate::solver::sensitivity`) costs ~10 000 instructions against a proximity of ~900.
+//! (`crate::solver::sensitivity`) costs several times a proximity of ~900 instructions (about
+//! 7 000 beyond proximity even after its reduced solve, `docs/derivatives.md`).
 //!
 //! Capsule `i` has its origin `rᵢ`, unit axis `aᵢ = Rᵢe_x`, half length `hᵢ` and radius `ρᵢ`;
 //! scaled by α about `rᵢ`, its segment is `rᵢ + α s aᵢ` (`|s| ≤ hᵢ`) and its radius `αρᵢ`. At

@@ -1,6 +1,6 @@
 //! The Jacobian of `(x*, α*)` in closed form for a sphere against a box, a capsule, a
 //! cylinder, a cone or an ellipsoid, where the general feature solve (`crate::solver::sensitivity`) costs
-//! ~9 000 instructions.
+//! several thousand instructions beyond proximity (`docs/derivatives.md`).
 //!
 //! With the sphere `s` (radius `R`, centre `r_s`) and the other shape `B` (origin `r_b`,
 //! attitude `Q`), the scaled shapes touch where `B` scaled by α* about `r_b` is at distance
