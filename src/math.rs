@@ -108,6 +108,74 @@ impl Pose {
         Pose::new(position, quaternion_from_mrp(mrp))
     }
 
+    /// A pose from a position and a rotation matrix `rotation` (world from body, by rows: a body
+    /// point `b` sits at `r + R b`), used as given: no quaternion is normalised and no matrix
+    /// rebuilt. `R` must be a rotation to [`ROTATION_TOLERANCE`]: every entry of `R Rᵀ − I`
+    /// within it and `det R > 0` (a matrix computed from a unit quaternion, or a product of a
+    /// few such, is one to about 1e-15). The quaternion kept for warm starts and derivatives is
+    /// `R`'s, not normalised.
+    ///
+    /// Fails with [`Error::InvalidPose`] on a non-finite component or a matrix that is not a
+    /// rotation to that tolerance.
+    ///
+    /// ```
+    /// use dcol::math::Pose;
+    /// let q = Pose::new([1.0, 2.0, 3.0], [0.9, 0.1, -0.3, 0.2]).unwrap();
+    /// let r = q.rotation();
+    /// let rows = [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]);
+    /// let m = Pose::from_rotation([1.0, 2.0, 3.0], rows).unwrap();
+    /// assert_eq!(m.rotation(), q.rotation());
+    /// assert!(Pose::from_rotation([0.0; 3], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]).is_err());
+    /// ```
+    #[inline]
+    pub fn from_rotation(position: [Real; 3], rotation: [[Real; 3]; 3]) -> Result<Pose, Error> {
+        let m = Mat3::from(rotation).transpose();
+        let (r0, r1, r2) = (m.row(0), m.row(1), m.row(2));
+        // One test for every entry of R Rᵀ − I: a NaN or infinity anywhere makes `dev` NaN or
+        // infinite, which fails it.
+        let dev = (r0.dot(&r0) - 1.0)
+            .abs()
+            .max((r1.dot(&r1) - 1.0).abs())
+            .max((r2.dot(&r2) - 1.0).abs())
+            .max(r0.dot(&r1).abs())
+            .max(r0.dot(&r2).abs())
+            .max(r1.dot(&r2).abs());
+        if !(position[0] + position[1] + position[2]).is_finite() {
+            // Names the position's culprit (a sum of finite coordinates may overflow: then Ok).
+            Pose::new(position, [1.0, 0.0, 0.0, 0.0])?;
+        }
+        if !(dev <= ROTATION_TOLERANCE) {
+            for (k, v) in rotation.iter().flatten().enumerate() {
+                if !v.is_finite() {
+                    return Err(Error::InvalidPose(ErrorDetail::at(
+                        "rotation",
+                        k,
+                        *v,
+                        "must be finite",
+                    )));
+                }
+            }
+            return Err(Error::InvalidPose(ErrorDetail::new(
+                "rotation",
+                dev,
+                "is not a rotation: the largest entry of R R^T - I must be at most 1e-12",
+            )));
+        }
+        let det = r0.dot(&r1.cross(&r2));
+        if !(det > 0.0) {
+            return Err(Error::InvalidPose(ErrorDetail::new(
+                "rotation",
+                det,
+                "is a reflection, not a rotation (its determinant must be positive)",
+            )));
+        }
+        Ok(Pose {
+            position: Vec3::from(position),
+            quaternion: quaternion_from_rotation(&m),
+            rotation: m,
+        })
+    }
+
     /// A pose with identity attitude.
     pub fn from_position(position: [Real; 3]) -> Result<Pose, Error> {
         Pose::new(position, [1.0, 0.0, 0.0, 0.0])
@@ -126,6 +194,46 @@ impl Pose {
     /// The rotation matrix `Q` (world from body) of the normalised quaternion.
     pub fn rotation(&self) -> &Mat3 {
         &self.rotation
+    }
+}
+
+/// How far from a rotation a matrix given to [`Pose::from_rotation`] may be: the largest entry
+/// of `R Rᵀ − I`.
+pub const ROTATION_TOLERANCE: Real = 1e-12;
+
+/// A quaternion `[w, x, y, z]` of the rotation `m` (not normalised: `4 q_k q` for its largest
+/// component `q_k`, Shepperd's choice, without the square root).
+pub fn quaternion_from_rotation(m: &Mat3) -> [Real; 4] {
+    let (m00, m11, m22) = (m[(0, 0)], m[(1, 1)], m[(2, 2)]);
+    let t = m00 + m11 + m22;
+    if t >= m00 && t >= m11 && t >= m22 {
+        [
+            1.0 + t,
+            m[(2, 1)] - m[(1, 2)],
+            m[(0, 2)] - m[(2, 0)],
+            m[(1, 0)] - m[(0, 1)],
+        ]
+    } else if m00 >= m11 && m00 >= m22 {
+        [
+            m[(2, 1)] - m[(1, 2)],
+            1.0 + m00 - m11 - m22,
+            m[(0, 1)] + m[(1, 0)],
+            m[(0, 2)] + m[(2, 0)],
+        ]
+    } else if m11 >= m22 {
+        [
+            m[(0, 2)] - m[(2, 0)],
+            m[(0, 1)] + m[(1, 0)],
+            1.0 - m00 + m11 - m22,
+            m[(1, 2)] + m[(2, 1)],
+        ]
+    } else {
+        [
+            m[(1, 0)] - m[(0, 1)],
+            m[(0, 2)] + m[(2, 0)],
+            m[(1, 2)] + m[(2, 1)],
+            1.0 - m00 - m11 + m22,
+        ]
     }
 }
 
@@ -306,5 +414,70 @@ mod tests {
         assert!((p.rotation().determinant() - 1.0).abs() < 1e-14);
         let p = Pose::new([0.0; 3], [1e200, 0.0, 1e200, 0.0]).unwrap();
         assert!((p.rotation().determinant() - 1.0).abs() < 1e-14);
+    }
+
+    /// A pose from a rotation matrix: the matrix kept as given, its quaternion the same rotation
+    /// (each of Shepperd's four branches: attitudes near the identity and near half turns about
+    /// each axis); bad matrices rejected with the culprit named.
+    #[test]
+    fn pose_from_rotation() {
+        let mut seed = 3u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
+        };
+        let mut qs = vec![
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [1e-9, 1.0, 1e-3, 0.0],
+            [0.0, 1e-3, 1.0, 1e-9],
+        ];
+        for _ in 0..2000 {
+            qs.push([rnd(), rnd(), rnd(), rnd()]);
+        }
+        for q in qs {
+            let p = Pose::new([rnd(), rnd(), rnd()], q).unwrap();
+            let r = p.rotation();
+            let rows = [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]);
+            let m = Pose::from_rotation([p.position.x, p.position.y, p.position.z], rows).unwrap();
+            assert_eq!(m.rotation(), p.rotation());
+            assert_eq!(m.position(), p.position());
+            // Its quaternion is the rotation's, up to scale and sign.
+            let q2 = m.quaternion();
+            let n1: Real = q.iter().map(|v| v * v).sum::<Real>().sqrt();
+            let n2: Real = q2.iter().map(|v| v * v).sum::<Real>().sqrt();
+            let dot: Real = q.iter().zip(&q2).map(|(a, b)| a * b).sum();
+            assert!((dot.abs() / (n1 * n2) - 1.0).abs() < 1e-14, "{q:?} {q2:?}");
+            assert!((rotation_from_quaternion(q2) - r).norm() < 1e-14);
+        }
+        let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        assert!(Pose::from_rotation([1e308, 1e308, 0.0], id).is_ok());
+        let bad = |pos: [Real; 3], m: [[Real; 3]; 3], what: &str| {
+            let e = Pose::from_rotation(pos, m).unwrap_err();
+            assert!(matches!(e, Error::InvalidPose(_)));
+            assert!(e.to_string().contains(what), "{e}");
+        };
+        bad([0.0, Real::NAN, 0.0], id, "position");
+        let mut m = id;
+        m[1][2] = Real::INFINITY;
+        bad([0.0; 3], m, "rotation");
+        m[1][2] = 2e-12;
+        bad([0.0; 3], m, "not a rotation");
+        m[1][2] = 5e-13; // within the tolerance
+        assert!(Pose::from_rotation([0.0; 3], m).is_ok());
+        bad(
+            [0.0; 3],
+            [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+            "reflection",
+        );
+        bad(
+            [0.0; 3],
+            [[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            "not a rotation",
+        );
     }
 }
