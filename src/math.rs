@@ -129,22 +129,23 @@ impl Pose {
     /// ```
     #[inline]
     pub fn from_rotation(position: [Real; 3], rotation: [[Real; 3]; 3]) -> Result<Pose, Error> {
-        let m = Mat3::from(rotation).transpose();
-        let (r0, r1, r2) = (m.row(0), m.row(1), m.row(2));
-        // One test for every entry of R Rᵀ − I: a NaN or infinity anywhere makes `dev` NaN or
-        // infinite, which fails it.
-        let dev = (r0.dot(&r0) - 1.0)
-            .abs()
-            .max((r1.dot(&r1) - 1.0).abs())
-            .max((r2.dot(&r2) - 1.0).abs())
-            .max(r0.dot(&r1).abs())
-            .max(r0.dot(&r2).abs())
-            .max(r1.dot(&r2).abs());
+        let [r0, r1, r2] = rotation;
+        let dot = |u: &[Real; 3], v: &[Real; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+        // One test for every entry of R Rᵀ − I (a NaN or infinity anywhere fails it).
+        let t = ROTATION_TOLERANCE;
+        let near = |v: Real, want: Real| (v - want).abs() <= t;
+        // `&`, not `&&`: six comparisons without a branch each.
+        let rotation_ok = near(dot(&r0, &r0), 1.0)
+            & near(dot(&r1, &r1), 1.0)
+            & near(dot(&r2, &r2), 1.0)
+            & near(dot(&r0, &r1), 0.0)
+            & near(dot(&r0, &r2), 0.0)
+            & near(dot(&r1, &r2), 0.0);
         if !(position[0] + position[1] + position[2]).is_finite() {
             // Names the position's culprit (a sum of finite coordinates may overflow: then Ok).
             Pose::new(position, [1.0, 0.0, 0.0, 0.0])?;
         }
-        if !(dev <= ROTATION_TOLERANCE) {
+        if !rotation_ok {
             for (k, v) in rotation.iter().flatten().enumerate() {
                 if !v.is_finite() {
                     return Err(Error::InvalidPose(ErrorDetail::at(
@@ -155,13 +156,25 @@ impl Pose {
                     )));
                 }
             }
+            let dev = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)]
+                .iter()
+                .map(|&(i, j)| {
+                    let id = if i == j { 1.0 } else { 0.0 };
+                    (dot(&rotation[i], &rotation[j]) - id).abs()
+                })
+                .fold(0.0, Real::max);
             return Err(Error::InvalidPose(ErrorDetail::new(
                 "rotation",
                 dev,
                 "is not a rotation: the largest entry of R R^T - I must be at most 1e-12",
             )));
         }
-        let det = r0.dot(&r1.cross(&r2));
+        let cross = [
+            r1[1] * r2[2] - r1[2] * r2[1],
+            r1[2] * r2[0] - r1[0] * r2[2],
+            r1[0] * r2[1] - r1[1] * r2[0],
+        ];
+        let det = dot(&r0, &cross);
         if !(det > 0.0) {
             return Err(Error::InvalidPose(ErrorDetail::new(
                 "rotation",
@@ -169,6 +182,9 @@ impl Pose {
                 "is a reflection, not a rotation (its determinant must be positive)",
             )));
         }
+        let m = Mat3::new(
+            r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2],
+        );
         Ok(Pose {
             position: Vec3::from(position),
             quaternion: quaternion_from_rotation(&m),
