@@ -22,7 +22,7 @@ for name in dcol_status_string dcol_last_error_message dcol_version dcol_shape_n
   dcol_scene_set_pose dcol_scene_size dcol_scene_pairs_within dcol_signed_distance dcol_contacts \
   dcol_proximity_cached dcol_gradient_cached dcol_jacobian_cached dcol_derivatives_cached \
   dcol_distance_cached dcol_distance_gradient_cached dcol_signed_distance_cached \
-  dcol_contacts_cached dcol_intersect_cached dcol_contacts_matrix; do
+  dcol_contacts_cached dcol_intersect_cached; do
   if ! grep -qx "$name" <<<"$symbols"; then
     echo "FAILED: $lib does not export $name"
     exit 1

@@ -372,26 +372,6 @@ typedef struct dcol_contact {
 } dcol_contact;
 
 /**
- * Where a shape is, with its attitude as a rotation matrix (for engines that keep one: ODE's
- * dGeomGetRotation, Bullet's btTransform basis): a body point b sits at position + R b.
- *
- * `rotation` is R by rows (R[i][j] at rotation[3 * i + j]), world-from-body, used as given:
- * it must be a rotation to 1e-12 (every entry of R R^T - I at most 1e-12 in magnitude, and
- * det R > 0), as a matrix computed from a unit quaternion, or a product of a few such, is to
- * about 1e-15. Anything else is rejected (DCOL_ERROR_INVALID_POSE), never normalised.
- */
-typedef struct dcol_pose_matrix {
-  /**
-   * r, the body origin in world coordinates.
-   */
-  double position[3];
-  /**
-   * R by rows, world-from-body.
-   */
-  double rotation[9];
-} dcol_pose_matrix;
-
-/**
  * Everything differentiable about a proximity query, from one solve (dcol_derivatives).
  * Columns are always (r1, q1, r2, q2): 14, the quaternion columns with respect to the four
  * numbers given (through the normalisation), as in dcol_gradient. Matrices are row-major
@@ -941,33 +921,6 @@ enum dcol_status dcol_contacts_cached(const struct dcol_shape *shape1,
                                       const struct dcol_pose *pose1,
                                       const struct dcol_shape *shape2,
                                       const struct dcol_pose *pose2,
-                                      double margin,
-                                      const struct dcol_options *options,
-                                      struct dcol_cache *cache,
-                                      struct dcol_contact *contacts,
-                                      size_t capacity,
-                                      size_t *count);
-
-/**
- * dcol_contacts (or dcol_contacts_cached, when `cache` is not NULL) with the poses' attitudes
- * as rotation matrices (see dcol_pose_matrix): the same contacts as those functions given the
- * quaternions of these matrices, to rounding (bit for bit when the matrix is the one dcol
- * computes from that quaternion), without the quaternion's normalisation and its matrix.
- * For engines that keep matrices (ODE, Bullet): their quaternions would be computed from the
- * matrix only to be turned back into one.
- *
- * `cache` may be NULL (no warm start, as dcol_contacts); otherwise it is the pair's dcol_cache,
- * as in dcol_contacts_cached. A matrix that is not a rotation to 1e-12 is
- * DCOL_ERROR_INVALID_POSE.
- *
- * # Safety
- * As dcol_contacts, `pose1`, `pose2` being NULL or valid dcol_pose_matrix; `cache` NULL or
- * valid for reads and writes.
- */
-enum dcol_status dcol_contacts_matrix(const struct dcol_shape *shape1,
-                                      const struct dcol_pose_matrix *pose1,
-                                      const struct dcol_shape *shape2,
-                                      const struct dcol_pose_matrix *pose2,
                                       double margin,
                                       const struct dcol_options *options,
                                       struct dcol_cache *cache,

@@ -117,10 +117,8 @@ GeomData *geom_data(dGeomID geom) { return static_cast<GeomData *>(dGeomGetClass
 
 struct Resolved {
   const dcol_shape *shape;
-  dcol_pose_matrix pose;  // ODE's rotation matrix as it is (dcol_contacts_matrix)
-  double radius;          // bounding radius about pose.position
-  dGeomID geom;
-  int cls;
+  dcol_pose pose;
+  double radius;  // bounding radius about pose.position
 };
 
 enum class Res { kOk, kRejected, kPlainConvex, kUnsupported };
@@ -157,29 +155,16 @@ const dcol_shape *cached_shape(const Key &k) {
   return s;
 }
 
-// The geom's own frame (body pose and offset composed) with ODE's rotation matrix (3x4 by rows).
-void geom_pose(dGeomID geom, dcol_pose_matrix *pose) {
-  const dReal *p = dGeomGetPosition(geom);
-  const dReal *R = dGeomGetRotation(geom);
-  for (int i = 0; i < 3; ++i) {
-    pose->position[i] = p[i];
-    for (int j = 0; j < 3; ++j) pose->rotation[3 * i + j] = R[4 * i + j];
-  }
+void geom_pose(dGeomID geom, dcol_pose *pose) {
+  const dReal *p = dGeomGetPosition(geom);  // the geom's own frame: body pose and offset composed
+  dQuaternion q;
+  dGeomGetQuaternion(geom, q);  // (w, x, y, z), as dcol's
+  for (int i = 0; i < 3; ++i) pose->position[i] = p[i];
+  for (int i = 0; i < 4; ++i) pose->quaternion[i] = q[i];
 }
 
 // ODE's capsules and cylinders lie along their geom's z axis, dcol's along body x: the dcol body
-// frame is the geom's turned by -90 degrees about y (x to z): R' = R Ry(-90), columns (R e_z,
-// R e_y, -R e_x), exact.
-void x_axis_to_z(dcol_pose_matrix *pose) {
-  for (int i = 0; i < 3; ++i) {
-    double *row = &pose->rotation[3 * i];
-    const double a = row[0];
-    row[0] = row[2];
-    row[2] = -a;
-  }
-}
-
-// The same turn on a quaternion: q' = q * (c, 0, -c, 0), c = sqrt(1/2).
+// frame is the geom's turned by -90 degrees about y (x to z), q' = q * (c, 0, -c, 0), c = sqrt(1/2).
 void x_axis_to_z(dcol_pose *pose) {
   const double c = std::sqrt(0.5);
   const double w = pose->quaternion[0], x = pose->quaternion[1], y = pose->quaternion[2], z = pose->quaternion[3];
@@ -191,22 +176,7 @@ void x_axis_to_z(dcol_pose *pose) {
 
 bool check_record(dGeomID geom, ConvexRecord &rec);
 
-// A resolved geom's pose with ODE's quaternion (for the functions that take a dcol_pose, and when
-// dcol rejects ODE's matrix as not a rotation to 1e-12: a geom without a body keeps the matrix
-// dGeomSetRotation was given, which ODE's own quaternion approximates).
-dcol_pose quaternion_pose(const Resolved &r) {
-  dcol_pose pose;
-  dQuaternion q;
-  dGeomGetQuaternion(r.geom, q);  // (w, x, y, z), as dcol's
-  for (int i = 0; i < 3; ++i) pose.position[i] = r.pose.position[i];  // a convex's shift included
-  for (int i = 0; i < 4; ++i) pose.quaternion[i] = q[i];
-  if (r.cls == dCapsuleClass || r.cls == dCylinderClass) x_axis_to_z(&pose);
-  return pose;
-}
-
 Res resolve(dGeomID geom, int cls, Resolved *r) {
-  r->geom = geom;
-  r->cls = cls;
   switch (cls) {
     case dSphereClass: {
       const double radius = dGeomSphereGetRadius(geom);
@@ -250,9 +220,9 @@ Res resolve(dGeomID geom, int cls, Resolved *r) {
       r->radius = rec.radius;
       geom_pose(geom, &r->pose);
       if (rec.shift[0] != 0 || rec.shift[1] != 0 || rec.shift[2] != 0) {
-        const double *R = r->pose.rotation;  // 3x3 by rows
+        const dReal *R = dGeomGetRotation(geom);  // 3x4 row-major
         for (int i = 0; i < 3; ++i)
-          r->pose.position[i] += R[3 * i] * rec.shift[0] + R[3 * i + 1] * rec.shift[1] + R[3 * i + 2] * rec.shift[2];
+          r->pose.position[i] += R[4 * i] * rec.shift[0] + R[4 * i + 1] * rec.shift[1] + R[4 * i + 2] * rec.shift[2];
       }
       break;
     }
@@ -383,39 +353,20 @@ int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, 
     ++g.stats.rejected;
     return 0;
   }
-  dcol_pose_matrix hp;
+  dcol_pose hp;
   for (int k = 0; k < 3; ++k) hp.position[k] = c[k] - (h + 1.0) * n[k];
-  // A rotation whose third column is n (the half-space's normal; its other columns do not
-  // matter): Rodrigues' e_z -> m for m = n or -n, whichever has m_z >= 0, and for -n turned by a
-  // half turn about x (columns 2 and 3 negated).
-  const double sg = n[2] >= 0 ? 1.0 : -1.0;
-  const double mx = sg * n[0], my = sg * n[1], mz = sg * n[2], k = 1.0 / (1.0 + mz);
-  const double R[9] = {1.0 - mx * mx * k, -mx * my * k, mx, -mx * my * k, 1.0 - my * my * k, my, -mx, -my, mz};
-  for (int i = 0; i < 3; ++i) {
-    hp.rotation[3 * i] = R[3 * i];
-    hp.rotation[3 * i + 1] = sg * R[3 * i + 1];
-    hp.rotation[3 * i + 2] = sg * R[3 * i + 2];
+  // The attitude turning e_z to n: (1 + n_z, -n_y, n_x, 0) normalised (e_x's half turn if n = -e_z).
+  double q[4] = {1.0 + n[2], -n[1], n[0], 0.0};
+  if (q[0] < 1e-12) {
+    q[0] = 0;
+    q[1] = 1;
+    q[2] = 0;
   }
+  const double ql = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+  for (int k = 0; k < 4; ++k) hp.quaternion[k] = q[k] / ql;
   dcol_contact cs[DCOL_MAX_CONTACTS];
   std::size_t count = 0;
-  dcol_status st =
-      dcol_contacts_matrix(g.halfspace, &hp, solid.shape, &solid.pose, 0.0, nullptr, nullptr, cs, capacity(flags), &count);
-  if (st == DCOL_ERROR_INVALID_POSE) {
-    // The solid's matrix is not a rotation to 1e-12: ODE's quaternion of it.
-    dcol_pose hq;
-    for (int k = 0; k < 3; ++k) hq.position[k] = hp.position[k];
-    // The attitude turning e_z to n: (1 + n_z, -n_y, n_x, 0) normalised (e_x's half turn if n = -e_z).
-    double q[4] = {1.0 + n[2], -n[1], n[0], 0.0};
-    if (q[0] < 1e-12) {
-      q[0] = 0;
-      q[1] = 1;
-      q[2] = 0;
-    }
-    const double ql = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-    for (int k = 0; k < 4; ++k) hq.quaternion[k] = q[k] / ql;
-    const dcol_pose sq = quaternion_pose(solid);
-    st = dcol_contacts(g.halfspace, &hq, solid.shape, &sq, 0.0, nullptr, cs, capacity(flags), &count);
-  }
+  const dcol_status st = dcol_contacts(g.halfspace, &hp, solid.shape, &solid.pose, 0.0, nullptr, cs, capacity(flags), &count);
   if (st != DCOL_OK && st != DCOL_ERROR_NOT_CONVERGED) {
     ++g.stats.rejected;
     return 0;
@@ -467,19 +418,13 @@ int collide(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int skip) 
   PairHint &hint = pair_hint(o1, o2);
   if (!hint.had_contacts && !hint.apart_known) {
     std::int32_t below = 1;
-    const dcol_pose q1 = quaternion_pose(r1), q2 = quaternion_pose(r2);
-    const dcol_status st = dcol_alpha_below(r1.shape, &q1, r2.shape, &q2, 1.0 + 1e-6, nullptr, &below);
+    const dcol_status st = dcol_alpha_below(r1.shape, &r1.pose, r2.shape, &r2.pose, 1.0 + 1e-6, nullptr, &below);
     if (st == DCOL_OK && !below) return 0;
   }
   dcol_contact cs[DCOL_MAX_CONTACTS];
   std::size_t n = 0;
-  dcol_status st = dcol_contacts_matrix(r1.shape, &r1.pose, r2.shape, &r2.pose, 0.0, nullptr, &hint.cache, cs,
-                                        capacity(flags), &n);
-  if (st == DCOL_ERROR_INVALID_POSE) {
-    // A matrix that is not a rotation to 1e-12: ODE's quaternions of the two.
-    const dcol_pose q1 = quaternion_pose(r1), q2 = quaternion_pose(r2);
-    st = dcol_contacts_cached(r1.shape, &q1, r2.shape, &q2, 0.0, nullptr, &hint.cache, cs, capacity(flags), &n);
-  }
+  const dcol_status st = dcol_contacts_cached(r1.shape, &r1.pose, r2.shape, &r2.pose, 0.0, nullptr, &hint.cache, cs,
+                                              capacity(flags), &n);
   if (st != DCOL_OK && st != DCOL_ERROR_NOT_CONVERGED) {
     ++g.stats.rejected;
     return 0;
@@ -604,7 +549,7 @@ void release_all() { g.clear(); }
 const dcol_shape *shape_of(dGeomID geom, dcol_pose *pose) {
   Resolved r;
   if (resolve(geom, dGeomGetClass(geom), &r) != Res::kOk) return nullptr;
-  if (pose) *pose = quaternion_pose(r);
+  if (pose) *pose = r.pose;
   return r.shape;
 }
 

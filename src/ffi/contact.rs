@@ -2,10 +2,10 @@
 
 use super::boundary::{check_out, run, Failure};
 use super::cache::{cache_mut, dcol_cache};
-use super::options::{dcol_options, read_options};
-use super::pose::{dcol_pose, dcol_pose_matrix, PoseInput};
-use super::proximity::Inputs;
-use super::shape::{dcol_shape, shape_ref};
+use super::options::dcol_options;
+use super::pose::dcol_pose;
+use super::proximity::{check_inputs, read_inputs};
+use super::shape::dcol_shape;
 use super::status::dcol_status;
 use crate::query::{self, Contact};
 
@@ -121,78 +121,25 @@ pub unsafe extern "C" fn dcol_contacts_cached(
     }
 }
 
-/// dcol_contacts (or dcol_contacts_cached, when `cache` is not NULL) with the poses' attitudes
-/// as rotation matrices (see dcol_pose_matrix): the same contacts as those functions given the
-/// quaternions of these matrices, to rounding (bit for bit when the matrix is the one dcol
-/// computes from that quaternion), without the quaternion's normalisation and its matrix.
-/// For engines that keep matrices (ODE, Bullet): their quaternions would be computed from the
-/// matrix only to be turned back into one.
-///
-/// `cache` may be NULL (no warm start, as dcol_contacts); otherwise it is the pair's dcol_cache,
-/// as in dcol_contacts_cached. A matrix that is not a rotation to 1e-12 is
-/// DCOL_ERROR_INVALID_POSE.
-///
-/// # Safety
-/// As dcol_contacts, `pose1`, `pose2` being NULL or valid dcol_pose_matrix; `cache` NULL or
-/// valid for reads and writes.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn dcol_contacts_matrix(
-    shape1: *const dcol_shape,
-    pose1: *const dcol_pose_matrix,
-    shape2: *const dcol_shape,
-    pose2: *const dcol_pose_matrix,
-    margin: f64,
-    options: *const dcol_options,
-    cache: *mut dcol_cache,
-    contacts: *mut dcol_contact,
-    capacity: usize,
-    count: *mut usize,
-) -> dcol_status {
-    let args = (margin, contacts, capacity, count);
-    let cache = (!cache.is_null()).then_some(cache);
-    // SAFETY: forwarded from this function's contract (a NULL cache is `None`).
-    unsafe {
-        contacts_in(
-            "dcol_contacts_matrix",
-            shape1,
-            pose1,
-            shape2,
-            pose2,
-            options,
-            cache,
-            args,
-        )
-    }
-}
-
 /// The body of dcol_contacts and dcol_contacts_cached (`cache`: `None` for the first);
 /// `args`: the margin, the contacts buffer, its capacity and the count's place.
 ///
 /// # Safety
 /// As dcol_contacts; `cache` `Some` of NULL or a pointer valid for reads and writes.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
-unsafe fn contacts_in<P: PoseInput>(
+unsafe fn contacts_in(
     name: &'static str,
     shape1: *const dcol_shape,
-    pose1: *const P,
+    pose1: *const dcol_pose,
     shape2: *const dcol_shape,
-    pose2: *const P,
+    pose2: *const dcol_pose,
     options: *const dcol_options,
     cache: Option<*mut dcol_cache>,
     (margin, contacts, capacity, count): (f64, *mut dcol_contact, usize, *mut usize),
 ) -> dcol_status {
     run(name, || {
         // SAFETY: forwarded from this function's contract.
-        let s1 = unsafe { shape_ref(shape1, "shape1") }?;
-        if pose1.is_null() {
-            return Err(Failure::Null("pose1"));
-        }
-        // SAFETY: forwarded from this function's contract.
-        let s2 = unsafe { shape_ref(shape2, "shape2") }?;
-        if pose2.is_null() {
-            return Err(Failure::Null("pose2"));
-        }
+        let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         if capacity > 0 {
             check_out(contacts, "contacts")?;
         }
@@ -200,15 +147,7 @@ unsafe fn contacts_in<P: PoseInput>(
         // SAFETY: forwarded from this function's contract.
         let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
-        let q = unsafe {
-            Inputs {
-                shape1: s1,
-                pose1: P::read_pose(pose1, "pose1", "pose1->")?,
-                shape2: s2,
-                pose2: P::read_pose(pose2, "pose2", "pose2->")?,
-                options: read_options(options)?,
-            }
-        };
+        let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
         // Only the points leave: a pair apart by more than the margin need not know by how
         // much (`exact_distance` false).
         let mut m = query::Manifold::empty();

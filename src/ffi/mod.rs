@@ -64,7 +64,7 @@ pub mod boundary;
 pub(crate) mod finite;
 
 pub use batch::{dcol_proximity_batch, DCOL_BATCH_MAX_THREADS};
-pub use contact::{dcol_contact, dcol_contacts, dcol_contacts_matrix, DCOL_MAX_CONTACTS};
+pub use contact::{dcol_contact, dcol_contacts, DCOL_MAX_CONTACTS};
 pub use derivatives::{
     dcol_derivatives, dcol_derivatives_result, dcol_gradient_mrp, dcol_jacobian_mrp,
 };
@@ -75,7 +75,7 @@ pub use distance::{
 pub use early_exit::{dcol_alpha_below, dcol_intersect};
 pub use info::{dcol_last_error_message, dcol_status_string, dcol_version};
 pub use options::{dcol_options, dcol_options_default};
-pub use pose::{dcol_pose, dcol_pose_matrix};
+pub use pose::dcol_pose;
 pub use proximity::{
     dcol_gradient, dcol_jacobian, dcol_proximity, dcol_proximity_result, DCOL_DERIVATIVES_EXACT,
     DCOL_DERIVATIVES_NONE, DCOL_DERIVATIVES_SMOOTHED, DCOL_DERIVATIVES_SUBGRADIENT,
