@@ -26,37 +26,30 @@ pub(crate) fn reduce(pos: &[Vec3], depth: &[Real], cap: usize, chosen: &mut [usi
         }
         return n;
     }
-    let (pos, depth) = (&pos[..n], &depth[..n]);
     let mut used = [false; BUF];
-    let deepest = pick(&used[..n], |i| depth[i]).unwrap_or(0);
+    let deepest = pick(n, &used, |i| depth[i]).unwrap_or(0);
     chosen[0] = deepest;
     used[deepest] = true;
     let p0 = pos[deepest];
-    // Each candidate's distance to the nearest chosen point (only unused ones are read).
+    // Each candidate's distance to the nearest chosen point.
     let mut near = [0.0; BUF];
-    for (d, p) in near.iter_mut().zip(pos) {
-        *d = (p - p0).norm();
+    for i in 0..n {
+        near[i] = (pos[i] - p0).norm();
     }
     let mut k = 1;
     while k < cap {
         let best = if k == 2 {
             let (a, e) = (pos[chosen[0]], pos[chosen[1]] - pos[chosen[0]]);
-            pick(&used[..n], |i| e.cross(&(pos[i] - a)).norm_squared())
+            pick(n, &used, |i| e.cross(&(pos[i] - a)).norm_squared())
         } else {
-            pick(&used[..n], |i| near[i])
+            pick(n, &used, |i| near[i])
         };
         let Some(b) = best else { break };
         chosen[k] = b;
         used[b] = true;
         let pb = pos[b];
-        // `d < near` where `near.min(d)` was (the same but for NaN, which `finish` rejects).
-        for ((d, p), u) in near.iter_mut().zip(pos).zip(&used[..n]) {
-            if !*u {
-                let e = (p - pb).norm();
-                if e < *d {
-                    *d = e;
-                }
-            }
+        for i in 0..n {
+            near[i] = near[i].min((pos[i] - pb).norm());
         }
         k += 1;
     }
@@ -65,10 +58,10 @@ pub(crate) fn reduce(pos: &[Vec3], depth: &[Real], cap: usize, chosen: &mut [usi
 
 /// The first unused candidate of the best `score` (each scored once), `None` when all are used.
 #[inline]
-fn pick(used: &[bool], score: impl Fn(usize) -> Real) -> Option<usize> {
+fn pick(n: usize, used: &[bool; BUF], score: impl Fn(usize) -> Real) -> Option<usize> {
     let mut best: Option<(usize, Real)> = None;
-    for (i, u) in used.iter().enumerate() {
-        if *u {
+    for i in 0..n {
+        if used[i] {
             continue;
         }
         let s = score(i);
