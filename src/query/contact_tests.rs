@@ -134,9 +134,9 @@ fn box_on_a_halfspace_is_the_general_path() {
         cases > 11_000 && points > 15_000 && closed > 3_000,
         "{cases} {points} {closed}"
     );
-    // Analytic: a 0.6 x 0.4 x 0.2 box resting 0.01 deep on the plane z = 0, and tilted about
-    // x by 0.1 rad (its lower edge at depth 0.01, the upper 0.2 sin 0.1 higher... the face's
-    // other two corners at 0.4 sin 0.1 - 0.01 above the plane, within a margin of 0.05).
+    // Analytic: a 0.6 x 0.4 x 0.2 box resting 0.01 deep on the plane z = 0; then turned about x
+    // by 0.1 rad with its lower edge 0.01 deep: the bottom face's other two corners are
+    // 0.4 sin 0.1 higher, 0.4 sin 0.1 - 0.01 above the plane (within a margin of 0.05).
     let b = Shape::cuboid(0.3, 0.2, 0.1).unwrap();
     let ph = Pose::from_position([0.0, 0.0, -0.7]).unwrap();
     let pb = Pose::from_position([0.0, 0.0, 0.09]).unwrap();
