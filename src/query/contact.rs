@@ -15,6 +15,7 @@
 //! points within the margin is a contact (a box resting on a floor gives its four corners).
 
 use super::contact_boxes::End;
+use super::contact_halfspace::{box_on_halfspace, BoxOnPlane};
 use super::contact_reduce::{clip_polygon, clip_segment, reduce, segments, V2};
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
@@ -193,6 +194,13 @@ pub(crate) fn manifold(
     let strict = |s: &Shape| matches!(s.kind(), ShapeKind::Sphere | ShapeKind::Ellipsoid);
     if known.is_none() {
         if let Some(pair) = super::halfspace::split(shape1, pose1, shape2, pose2)? {
+            if let Some(b) = box_on_plane(&pair, margin) {
+                let mut pts = Points::new();
+                for (p, d) in b.pos.iter().zip(&b.depth).take(b.count) {
+                    pts.push(*p, *d);
+                }
+                return finish(&b.sd, &pts, cap, out, (pose1, pose2));
+            }
             if let Some(()) = on_halfspace_alone(&pair, strict(pair.other), margin, cap, out)? {
                 return Ok(());
             }
@@ -273,6 +281,15 @@ fn on_halfspace_alone(
         return Ok(None);
     }
     finish(&sd, &pts, cap, out, poses).map(Some)
+}
+
+/// A centred box on a half-space in closed form (`super::contact_halfspace`, the same numbers
+/// as [`on_halfspace_alone`]); `None` for other shapes and where the general path answers.
+fn box_on_plane(pair: &HalfspacePair<'_>, margin: Real) -> Option<BoxOnPlane> {
+    let poly = box_polytope(pair.other)?;
+    let half = poly.half_extents()?;
+    let b = box_on_halfspace(pair, poly, &half, margin)?;
+    finite(&b.sd).then_some(b)
 }
 
 /// Fills `out` with the manifold of the candidate points `pts` for the signed distance `sd`:
@@ -737,55 +754,5 @@ fn on_halfspace(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A box's facet from its fast path is the general search's to the last bit (points, order,
-    /// normal): random attitudes and directions, the axes, the ties between facets (45
-    /// degrees, where both pick the last best facet).
-    #[test]
-    fn box_feature_is_the_general_one() {
-        let b = Shape::cuboid(0.3, 0.2, 0.1).unwrap();
-        assert!(box_polytope(&b).is_some());
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
-        };
-        let mut dirs = vec![];
-        for v in [
-            [1.0, 0.0, 0.0],
-            [0.0, -1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 1.0, 0.0],
-            [1.0, -1.0, 1.0],
-            [0.0, 1.0, -1.0],
-        ] {
-            dirs.push(Vec3::from(v).normalize());
-        }
-        for _ in 0..400 {
-            dirs.push(Vec3::new(rnd(), rnd(), rnd()).normalize());
-        }
-        for (i, d) in dirs.iter().enumerate() {
-            let q = if i % 2 == 0 {
-                [1.0, 0.0, 0.0, 0.0]
-            } else {
-                [rnd(), rnd(), rnd(), rnd()]
-            };
-            let pose = Pose::new([rnd(), rnd(), rnd()], q).unwrap();
-            let (mut fast, mut general) = (Feature::empty(), Feature::empty());
-            feature(&b, &pose, d, 1e-9, &mut fast);
-            feature_general(&b, &pose, d, 1e-9, &mut general);
-            assert_eq!(
-                fast.pts.as_slice(),
-                general.pts.as_slice(),
-                "direction {d:?}"
-            );
-            assert_eq!(fast.face, general.face);
-            // Every direction is within 55 degrees of a facet's normal: always a facet.
-            assert_eq!(fast.k(), 4);
-        }
-    }
-}
+#[path = "contact_tests.rs"]
+mod tests;

@@ -205,3 +205,88 @@ pub(crate) fn segments<const N: usize>(
         out.push(a[0] + da * s);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The choice written plainly (a pass over all candidates per pick, each scored from
+    /// scratch): the distance to the nearest chosen point as the minimum over the chosen ones.
+    fn plain(pos: &[Vec3], depth: &[Real], cap: usize) -> Vec<usize> {
+        let n = pos.len();
+        if n <= cap {
+            return (0..n).collect();
+        }
+        let best = |chosen: &Vec<usize>, score: &dyn Fn(usize) -> Real| {
+            let mut b: Option<(usize, Real)> = None;
+            for i in (0..n).filter(|i| !chosen.contains(i)) {
+                let s = score(i);
+                if b.map_or(true, |(_, v)| s > v) {
+                    b = Some((i, s));
+                }
+            }
+            b.map(|(i, _)| i)
+        };
+        let mut chosen = vec![best(&vec![], &|i| depth[i]).unwrap()];
+        while chosen.len() < cap {
+            let c = chosen.clone();
+            let next = if c.len() == 2 {
+                let (a, e) = (pos[c[0]], pos[c[1]] - pos[c[0]]);
+                best(&c, &|i| e.cross(&(pos[i] - a)).norm_squared())
+            } else {
+                best(&c, &|i| {
+                    c.iter()
+                        .map(|&j| (pos[i] - pos[j]).norm())
+                        .fold(Real::INFINITY, Real::min)
+                })
+            };
+            match next {
+                Some(b) => chosen.push(b),
+                None => break,
+            }
+        }
+        chosen
+    }
+
+    /// `reduce` chooses what the plain definition chooses, in the same order: random clouds,
+    /// regular polygons (ties of distance and depth), repeated points, 1 to 16 of 2 to 64.
+    #[test]
+    fn reduce_is_the_plain_choice() {
+        let mut seed = 5u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
+        };
+        let mut reduced = 0;
+        for t in 0..3000 {
+            let n = 2 + t % 63;
+            let (pos, depth): (Vec<Vec3>, Vec<Real>) = match t % 3 {
+                0 => (0..n)
+                    .map(|_| (Vec3::new(rnd(), rnd(), 0.1 * rnd()), rnd()))
+                    .unzip(),
+                1 => (0..n)
+                    .map(|i| {
+                        let a = std::f64::consts::TAU * i as Real / n as Real;
+                        (Vec3::new(a.cos(), a.sin(), 0.0), 0.01)
+                    })
+                    .unzip(),
+                _ => (0..n)
+                    .map(|i| {
+                        (
+                            Vec3::new((i % 4) as Real, (i % 3) as Real, 0.0),
+                            (i % 2) as Real,
+                        )
+                    })
+                    .unzip(),
+            };
+            let cap = 1 + t % 16;
+            let mut chosen = [0usize; 16];
+            let k = reduce(&pos, &depth, cap, &mut chosen);
+            assert_eq!(chosen[..k].to_vec(), plain(&pos, &depth, cap), "case {t}");
+            reduced += usize::from(n > cap);
+        }
+        assert!(reduced > 2000, "{reduced}");
+    }
+}

@@ -8,6 +8,7 @@ mod capsule_jacobian;
 mod capsule_jacobian_tests;
 mod contact;
 mod contact_boxes;
+mod contact_halfspace;
 mod contact_reduce;
 mod context;
 mod cores;
