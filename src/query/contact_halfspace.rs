@@ -10,11 +10,10 @@
 //! each of its corners `q` within the margin of the plane is a candidate at `q + n·depth/2`,
 //! `depth = c − n·(q − r_H)`.
 
-use super::context::{DistancePath, SignedDistance};
+use super::context::SignedDistance;
 use super::halfspace::HalfspacePair;
 use crate::math::{Real, Vec3};
 use crate::shapes::Polytope;
-use crate::solver::SolveStatus;
 
 /// A polytope's facet is used when its normal is within about 72 degrees of the normal (as
 /// `query::contact`'s `COS_FACET`).
@@ -58,24 +57,13 @@ pub(crate) fn box_on_halfspace(
         half.z.copysign(m.z),
     );
     let h = s.dot(&m);
-    let distance = g - pair.depth - h;
-    let on_b = rb + rot * s;
-    let on_h = on_b - n * distance;
-    let (normal, closest1, closest2) = if pair.hs_first {
-        (n, on_h, on_b)
-    } else {
-        (-n, on_b, on_h)
-    };
+    // The witness on the box is `on_b` (the half-space's closed form computes `r_B + w` alike).
+    let w = rot * s;
+    let on_b = rb + w;
+    let sd = pair.signed(g, h, &w);
+    let distance = sd.distance;
     let mut out = BoxOnPlane {
-        sd: SignedDistance {
-            distance,
-            normal,
-            closest1,
-            closest2,
-            iterations: 0,
-            status: SolveStatus::Converged,
-            path: DistancePath::ClosedForm,
-        },
+        sd,
         pos: [Vec3::zeros(); 4],
         depth: [0.0; 4],
         count: 0,

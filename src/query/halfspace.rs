@@ -343,6 +343,11 @@ impl HalfspacePair<'_> {
 
     /// The signed distance `g − c − h` with the witness `r_B + w` on B.
     fn answer(&self, g: Real, h: Real, w: &Vec3) -> Result<SignedDistance, Error> {
+        Ok(self.signed(g, h, w))
+    }
+
+    /// [`Self::answer`]'s signed distance (also the box-on-plane contacts').
+    pub(crate) fn signed(&self, g: Real, h: Real, w: &Vec3) -> SignedDistance {
         let n = self.normal;
         let sd = g - self.depth - h;
         let on_b = self.pose_b.position() + w;
@@ -352,7 +357,7 @@ impl HalfspacePair<'_> {
         } else {
             (-n, on_b, on_h)
         };
-        Ok(SignedDistance {
+        SignedDistance {
             distance: sd,
             normal,
             closest1,
@@ -360,7 +365,7 @@ impl HalfspacePair<'_> {
             iterations: 0,
             status: SolveStatus::Converged,
             path: DistancePath::ClosedForm,
-        })
+        }
     }
 
     /// The distance (0 when touching or overlapping, both witnesses then B's deepest point),
