@@ -7,16 +7,11 @@
 use super::context::Want;
 use super::geometric::GENERAL_ONLY;
 use super::proximity::query;
-use super::test_support::{gap, Rng};
+use super::test_support::{gap, pentagon, Rng};
 use crate::{derivatives, gradient, jacobian, DerivativeKind, Options, Pose, Real, Shape};
 
 fn shapes() -> Vec<Shape> {
-    let c: Vec<[Real; 2]> = (0..5)
-        .map(|i| {
-            let t = i as Real * std::f64::consts::TAU / 5.0;
-            [t.cos(), t.sin()]
-        })
-        .collect();
+    let c = pentagon();
     vec![
         Shape::sphere(0.5).unwrap(),
         Shape::ellipsoid([[1.5, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap(),

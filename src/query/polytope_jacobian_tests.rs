@@ -3,22 +3,15 @@
 
 use super::context::Options;
 use super::geometric::GENERAL_ONLY;
-use super::test_support::{gap, Rng};
+use super::test_support::{gap, hull_points, random_polytope, Rng};
 use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
 
 fn shapes(rng: &mut Rng) -> Vec<Shape> {
-    let normals: Vec<[Real; 3]> = (0..14).map(|_| rng.direction()).collect();
-    let offsets: Vec<Real> = (0..14).map(|_| rng.uniform(0.4, 0.6)).collect();
-    let pts: Vec<[Real; 3]> = (0..30)
-        .map(|_| {
-            let d = rng.direction();
-            let r = rng.uniform(0.4, 0.6);
-            [d[0] * r * 1.2, d[1] * r, d[2] * r * 0.8]
-        })
-        .collect();
+    let polytope = random_polytope(rng);
+    let pts = hull_points(rng);
     vec![
         Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
-        Shape::polytope(&normals, &offsets).unwrap(),
+        polytope,
         Shape::convex_hull(&pts, 0.0).unwrap(),
     ]
 }

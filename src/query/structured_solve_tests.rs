@@ -3,31 +3,19 @@
 //! switched off, on random and near-degenerate poses of every ordered pair of kinds.
 
 use super::geometric::{self, GENERAL_ONLY};
-use super::test_support::{geometric_answer, Rng};
+use super::test_support::{geometric_answer, hull_points, pentagon, random_polytope, Rng};
 use crate::solver::sensitivity::dense_reference::{DENSE, LARGEST_HESSIAN};
 use crate::{Pose, Real, Shape};
 
 fn shapes(rng: &mut Rng) -> Vec<Shape> {
-    let normals: Vec<[Real; 3]> = (0..14).map(|_| rng.direction()).collect();
-    let offsets: Vec<Real> = (0..14).map(|_| rng.uniform(0.4, 0.6)).collect();
-    let pts: Vec<[Real; 3]> = (0..30)
-        .map(|_| {
-            let d = rng.direction();
-            let r = rng.uniform(0.4, 0.6);
-            [d[0] * r * 1.2, d[1] * r, d[2] * r * 0.8]
-        })
-        .collect();
-    let c: Vec<[Real; 2]> = (0..5)
-        .map(|i| {
-            let t = i as Real * std::f64::consts::TAU / 5.0;
-            [t.cos(), t.sin()]
-        })
-        .collect();
+    let polytope = random_polytope(rng);
+    let pts = hull_points(rng);
+    let c = pentagon();
     vec![
         Shape::sphere(0.5).unwrap(),
         Shape::ellipsoid([[1.5, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap(),
         Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
-        Shape::polytope(&normals, &offsets).unwrap(),
+        polytope,
         Shape::capsule(0.25, 0.8).unwrap(),
         Shape::cylinder(0.3, 0.9).unwrap(),
         Shape::cone(1.0, 0.5).unwrap(),

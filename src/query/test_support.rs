@@ -1,5 +1,6 @@
-//! What the derivatives' closed-form tests share: a seeded random source, the geometric answer
-//! with its gradient, and the non-dimensional difference of two Jacobians.
+//! What the derivatives' closed-form tests share: a seeded random source, their test shapes'
+//! data, the geometric answer with its gradient, and the non-dimensional difference of two
+//! Jacobians.
 
 use super::context::{Options, Proximity};
 use super::geometric::{self, Outcome};
@@ -41,6 +42,34 @@ impl Rng {
             }
         }
     }
+}
+
+/// A polytope of 14 random facets at distances 0.4–0.6 (normals drawn first, then offsets).
+pub(crate) fn random_polytope(rng: &mut Rng) -> Shape {
+    let normals: Vec<[Real; 3]> = (0..14).map(|_| rng.direction()).collect();
+    let offsets: Vec<Real> = (0..14).map(|_| rng.uniform(0.4, 0.6)).collect();
+    Shape::polytope(&normals, &offsets).unwrap()
+}
+
+/// 30 random points 0.4–0.6 from the origin, stretched 1.2 : 1 : 0.8 (the tests' hulls).
+pub(crate) fn hull_points(rng: &mut Rng) -> Vec<[Real; 3]> {
+    (0..30)
+        .map(|_| {
+            let d = rng.direction();
+            let r = rng.uniform(0.4, 0.6);
+            [d[0] * r * 1.2, d[1] * r, d[2] * r * 0.8]
+        })
+        .collect()
+}
+
+/// The edge normals of a regular pentagon (the tests' padded polygon, offsets 0.5).
+pub(crate) fn pentagon() -> Vec<[Real; 2]> {
+    (0..5)
+        .map(|i| {
+            let t = i as Real * std::f64::consts::TAU / 5.0;
+            [t.cos(), t.sin()]
+        })
+        .collect()
 }
 
 /// Non-dimensional largest difference of two Jacobians (r columns times ℓ, x rows over ℓ).
