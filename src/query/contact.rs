@@ -408,23 +408,15 @@ fn feature(shape: &Shape, pose: &Pose, dir: &Vec3, window: Real, f: &mut Feature
         // A centred box (six facets, no gauge climb): the general path's facet (the last best
         // aligned normal, as `Polytope::facet_index` picks it) and corner loop, without its
         // dispatch and searches; the same points to the last bit.
-        let (normals, _) = poly.facets();
         let verts = poly.vertices();
-        let mut k = 0;
-        let mut best = normals[0].dot(&m);
-        for (i, nrm) in normals.iter().enumerate().skip(1) {
-            let c = nrm.dot(&m);
-            if c.total_cmp(&best) != std::cmp::Ordering::Less {
-                (k, best) = (i, c);
-            }
-        }
+        let (k, best) = poly.scan_facet(&m);
         let len = m.norm();
         if len > 0.0 && best >= COS_FACET * len {
             if let Some(corners) = poly.facet_loop(k) {
                 for &c in corners.iter().take(MAX_FACE) {
                     f.push(world(&verts[c as usize]));
                 }
-                f.face = rot * normals[k];
+                f.face = rot * poly.facets().0[k];
                 if f.k() >= 3 {
                     return;
                 }

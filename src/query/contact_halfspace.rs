@@ -83,15 +83,7 @@ pub(crate) fn box_on_halfspace(
         }
     };
     // The facet best aligned with m (the last on a tie), as `query::contact::feature`.
-    let (normals, _) = poly.facets();
-    let mut k = 0;
-    let mut best = normals[0].dot(&m);
-    for (i, nrm) in normals.iter().enumerate().skip(1) {
-        let c = nrm.dot(&m);
-        if c.total_cmp(&best) != std::cmp::Ordering::Less {
-            (k, best) = (i, c);
-        }
-    }
+    let (k, best) = poly.scan_facet(&m);
     let corners = poly.facet_loop(k).filter(|c| c.len() >= 3);
     match corners {
         Some(corners) if best >= COS_FACET * m.norm() => {

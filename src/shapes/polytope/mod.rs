@@ -138,6 +138,21 @@ impl Polytope {
         self.faces.as_deref()?.edge_directions.as_deref()
     }
 
+    /// The facet whose outward unit normal is best aligned with `m` by a scan of every facet
+    /// (the last on a tie, as [`Polytope::facet_index`] picks it; for a box's six facets, its
+    /// choice without its search) and that normal's dot product with `m`.
+    pub(crate) fn scan_facet(&self, m: &Vec3) -> (usize, Real) {
+        let mut k = 0;
+        let mut best = self.normals[0].dot(m);
+        for (i, nrm) in self.normals.iter().enumerate().skip(1) {
+            let c = nrm.dot(m);
+            if c.total_cmp(&best) != std::cmp::Ordering::Less {
+                (k, best) = (i, c);
+            }
+        }
+        (k, best)
+    }
+
     /// The index of the facet whose outward unit normal is closest to `m`, when its cosine
     /// with `m` is at least `cos_min` ([`SupportMap::flat_face`]).
     pub(crate) fn facet_index(&self, m: &Vec3, cos_min: Real) -> Option<usize> {
