@@ -209,6 +209,7 @@ pub(crate) fn segments<const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::query::test_support::lcg;
 
     /// The choice written plainly (a pass over all candidates per pick, each scored from
     /// scratch): the distance to the nearest chosen point as the minimum over the chosen ones.
@@ -252,13 +253,7 @@ mod tests {
     /// regular polygons (ties of distance and depth), repeated points, 1 to 16 of 2 to 64.
     #[test]
     fn reduce_is_the_plain_choice() {
-        let mut seed = 5u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
-        };
+        let mut rnd = lcg(5);
         let mut reduced = 0;
         for t in 0..3000 {
             let n = 2 + t % 63;

@@ -2,6 +2,7 @@
 //! against the general path.
 
 use super::*;
+use crate::query::test_support::lcg;
 
 /// A box's facet from its fast path is the general search's to the last bit (points, order,
 /// normal): random attitudes and directions, the axes, the ties between facets (45
@@ -10,13 +11,7 @@ use super::*;
 fn box_feature_is_the_general_one() {
     let b = Shape::cuboid(0.3, 0.2, 0.1).unwrap();
     assert!(box_polytope(&b).is_some());
-    let mut seed = 7u64;
-    let mut rnd = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
-    };
+    let mut rnd = lcg(7);
     let mut dirs = vec![];
     for v in [
         [1.0, 0.0, 0.0],
@@ -59,13 +54,7 @@ fn box_feature_is_the_general_one() {
 /// margins 0 to 0.2, 1 to 16 points; and analytic cases.
 #[test]
 fn box_on_a_halfspace_is_the_general_path() {
-    let mut seed = 11u64;
-    let mut rnd = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
-    };
+    let mut rnd = lcg(11);
     let floor = Shape::halfspace(0.7).unwrap();
     let (mut points, mut closed, mut cases) = (0, 0, 0);
     for i in 0..6000 {
