@@ -261,24 +261,32 @@ fn clip_to_facet(
 }
 
 /// Clips the polygon `poly` (in a box's frame), in place, to `|p_i| ≤ href_i` for the two axes
-/// `i ≠ k` (two buffers taking turns); false when nothing is left.
+/// `i ≠ k` (two buffers taking turns); false when nothing is left. Each edge `(p, q)` in order,
+/// `p`'s value carried over from the edge before (no indexing, one evaluation per point).
 #[inline(always)]
 fn clip_rect(poly: &mut ArrayVec<Vec3, MAX>, href: &Vec3, k: usize) -> bool {
     let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
     let (mut cur, mut next) = (poly, &mut tmp);
     for i in [(k + 1) % 3, (k + 2) % 3] {
+        let h = href[i];
         for side in [1.0, -1.0] {
             next.clear();
+            let Some(&first) = cur.first() else {
+                return false;
+            };
+            let f = |p: &Vec3| side * p[i] - h;
             let n = cur.len();
-            for a in 0..n {
-                let (p, q) = (cur[a], cur[if a + 1 == n { 0 } else { a + 1 }]);
-                let (fp, fq) = (side * p[i] - href[i], side * q[i] - href[i]);
+            let (mut p, mut fp) = (first, f(&first));
+            for a in 1..=n {
+                let q = if a < n { cur[a] } else { first };
+                let fq = f(&q);
                 if fp <= 0.0 {
                     let _ = next.try_push(p);
                 }
                 if (fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0) {
                     let _ = next.try_push(p + (q - p) * (fp / (fp - fq)));
                 }
+                (p, fp) = (q, fq);
             }
             std::mem::swap(&mut cur, &mut next);
             if cur.is_empty() {
