@@ -424,7 +424,7 @@ mod tests {
     /// some cut on every side, some missing the rectangle, corners on the rectangle's edges.
     #[test]
     fn clip_rect_is_the_indexed_clipping() {
-        let mut r = lcg(0xc11_b0c5);
+        let mut r = lcg(0xc11b0c5);
         let (mut cut, mut empty, mut sizes) = (0, 0, [0usize; MAX + 1]);
         for case in 0..20_000 {
             let href = Vec3::new(0.2 + r().abs(), 0.2 + r().abs(), 0.2 + r().abs());

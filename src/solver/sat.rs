@@ -468,7 +468,7 @@ mod tests {
     /// tie), tolerances 0 to 1e-3, outputs of 3 and 48 slots.
     #[test]
     fn eight_vertices_are_the_listed_path() {
-        let mut r = lcg(0x5a7_e1);
+        let mut r = lcg(0x5a7e1);
         let (mut cases, mut sizes) = (0, [0usize; 9]);
         for i in 0..6000 {
             let shape = if i % 4 == 3 {
