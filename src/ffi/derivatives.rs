@@ -316,7 +316,7 @@ pub unsafe extern "C" fn dcol_gradient_mrp(
         let converged = prox.status.is_converged();
         let (r1, r2) = (m.position1.into(), m.position2.into());
         let grad = g.iter().copied().filter(|_| converged);
-        representable(proximity_numbers(&prox).chain(grad), &r1, &r2)?;
+        representable(proximity_numbers(&prox).into_iter().chain(grad), &r1, &r2)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || g.iter().all(|v| v.is_finite()) {
@@ -376,7 +376,7 @@ pub unsafe extern "C" fn dcol_jacobian_mrp(
         let converged = prox.status.is_converged();
         let (r1, r2) = (m.position1.into(), m.position2.into());
         let jac = j.iter().flatten().copied().filter(|_| converged);
-        representable(proximity_numbers(&prox).chain(jac), &r1, &r2)?;
+        representable(proximity_numbers(&prox).into_iter().chain(jac), &r1, &r2)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()) {

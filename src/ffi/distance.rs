@@ -32,11 +32,9 @@ fn arr(v: &Vec3) -> [f64; 3] {
 }
 
 /// The numbers of a distance result.
-pub(crate) fn numbers(d: &Distance) -> impl Iterator<Item = f64> + '_ {
-    std::iter::once(d.distance)
-        .chain(d.closest1.iter().copied())
-        .chain(d.closest2.iter().copied())
-        .chain(d.normal.iter().copied())
+pub(crate) fn numbers(d: &Distance) -> [f64; 10] {
+    let ([a, b, c], [e, f, g], [h, i, j]) = (arr(&d.closest1), arr(&d.closest2), arr(&d.normal));
+    [d.distance, a, b, c, e, f, g, h, i, j]
 }
 
 impl From<&Distance> for dcol_distance_result {
@@ -298,7 +296,11 @@ unsafe fn distance_gradient_in(
         }
         .map_err(Failure::api)?;
         let converged = d.status.is_converged();
-        q.representable(numbers(&d).chain(g.iter().copied().filter(|_| converged)))?;
+        q.representable(
+            numbers(&d)
+                .into_iter()
+                .chain(g.iter().copied().filter(|_| converged)),
+        )?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
         if d.status.is_converged() || g.iter().all(|v| v.is_finite()) {

@@ -18,9 +18,7 @@ pub(crate) fn representable(
 }
 
 /// The numbers of a proximity result: α*, x* and the contact points.
-pub(crate) fn proximity_numbers(p: &Proximity) -> impl Iterator<Item = f64> + '_ {
-    std::iter::once(p.alpha)
-        .chain(p.point.iter().copied())
-        .chain(p.contact1.iter().copied())
-        .chain(p.contact2.iter().copied())
+pub(crate) fn proximity_numbers(p: &Proximity) -> [f64; 10] {
+    let (x, c1, c2) = (&p.point, &p.contact1, &p.contact2);
+    [p.alpha, x.x, x.y, x.z, c1.x, c1.y, c1.z, c2.x, c2.y, c2.z]
 }

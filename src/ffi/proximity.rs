@@ -397,7 +397,11 @@ unsafe fn gradient_in(
         }
         .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
-        q.representable(proximity_numbers(&prox).chain(g.iter().copied().filter(|_| converged)))?;
+        q.representable(
+            proximity_numbers(&prox)
+                .into_iter()
+                .chain(g.iter().copied().filter(|_| converged)),
+        )?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || g.iter().all(|v| v.is_finite()) {
@@ -517,7 +521,7 @@ unsafe fn jacobian_in(
         .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
         let jac = j.iter().flatten().copied().filter(|_| converged);
-        q.representable(proximity_numbers(&prox).chain(jac))?;
+        q.representable(proximity_numbers(&prox).into_iter().chain(jac))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         if prox.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()) {
