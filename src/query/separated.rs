@@ -394,10 +394,18 @@ fn face_contact(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Option<Separatio
             (&pair.two, &pair.one)
         };
         let s = own.inv_scale;
+        // The other shape's points lie within this of its origin: `out·p ≤ reach`.
+        let reach = other.shape.bounding_radius() * other.inv_scale;
         for_faces(own.shape, |f, off| {
             // n from shape 1 to shape 2: the face's outward normal on shape 1, its opposite on
             // shape 2; the other shape's support at −(outward normal) either way.
             let out = own.rot * f;
+            let lin = if first { out.dot(d) } else { -out.dot(d) } - off * s;
+            // The gap is at most `lin + reach`: a face that cannot give a positive gap larger
+            // than the best so far needs no support call (the choice is the same).
+            if !(lin + reach > best.map_or(0.0, |(gb, ..)| gb.max(0.0))) {
+                return;
+            }
             let p = other.support(&-out).0;
             let (n, g) = if first {
                 (out, out.dot(d) - off * s + out.dot(&p))

@@ -31,6 +31,11 @@ const ARMIJO: Real = 1e-4;
 const MAX_CHANGES: u32 = 0;
 /// Halvings of a step before the line search gives up.
 const MAX_HALVINGS: u32 = 8;
+/// Tie solves on the way to an answer: the first, and two more on the pieces found at the
+/// previous one's end (callgrind, 2 000 poses of the second pose set's generator on seed 11,
+/// `dcol_distance` instructions: one round → two, box–cylinder 13.10 M → 12.38 M,
+/// cylinder–cylinder 12.51 M → 11.82 M; three, 12.28 M and 11.76 M).
+const TIE_ROUNDS: usize = 3;
 
 /// The step (radians) below which Newton stops: the iterate it leads to is within about its
 /// square, below `tol` (the certificate then decides), but not below [`CONVERGED_STEP`].
@@ -152,11 +157,38 @@ pub(crate) fn distance<S: SupportMap>(
         if v.id != ids {
             changes += 1;
             if changes > MAX_CHANGES {
-                return tied(pair, d, tol, n, seen);
+                break;
             }
         }
     }
-    tied(pair, d, tol, n, seen)
+    // The tie solve. Where it ends on pieces that are not all the support's at its normal (a
+    // multiplier outside [0, 1], or a bracket that does not close), it runs again from there
+    // with the support's new piece tied to the one the multiplier favoured, up to
+    // `TIE_ROUNDS` times, instead of leaving the pair to GJK.
+    for _ in 0..TIE_ROUNDS {
+        match tied(pair, d, tol, n, seen) {
+            Ok(s) => return Some(s),
+            Err(None) => return None,
+            Err(Some((m, nu))) => {
+                let ids = pair.support(&m).id;
+                let mut again = seen;
+                for shape in 0..2 {
+                    let [f, k] = seen[shape];
+                    if ids[shape] != f && ids[shape] != k {
+                        // Keep the piece the multiplier favours.
+                        let keep = if f != k && nu[shape] > 0.5 { k } else { f };
+                        again[shape] = [keep, ids[shape]];
+                    }
+                }
+                if again == seen {
+                    return None;
+                }
+                seen = again;
+                n = m;
+            }
+        }
+    }
+    None
 }
 
 /// The optimum on a kink: each shape whose support alternated between two pieces has them
@@ -164,18 +196,20 @@ pub(crate) fn distance<S: SupportMap>(
 /// Lagrangian `n·d − Σ_shapes [(1 − ν) p_f + ν p_k]` in the tangent coordinates (its Hessian
 /// with the sphere's curvature term) and the multipliers (solved for afresh each step); the
 /// witnesses are the pieces' points weighted `(1 − ν, ν)`, which must lie in [0, 1]. Certified
-/// as GJK's candidates are.
+/// as GJK's candidates are. Where it converges but a multiplier lies outside [0, 1] or the
+/// bracket does not close, `Err` with its final normal and multipliers (a start for another
+/// round on other pieces); `Err(None)` where it fails otherwise.
 fn tied<S: SupportMap>(
     pair: &Pair<'_, S>,
     d: &Vec3,
     tol: Real,
     mut n: Vec3,
     pieces: [[u32; 2]; 2],
-) -> Option<Separation> {
+) -> Result<Separation, Option<(Vec3, [Real; 2])>> {
     let ties: Vec2Ties = pieces.map(|p| (p[0] != p[1]).then_some(p));
     let count = ties.iter().flatten().count();
     if count == 0 {
-        return None;
+        return Err(None);
     }
     let converged = converged_step(tol);
     let mut nu = [0.5; 2];
@@ -188,7 +222,7 @@ fn tied<S: SupportMap>(
         let (mut cval, mut cgrad) = ([0.0; 2], [Vec3::zeros(); 2]);
         let mut m = 0;
         for shape in 0..2 {
-            let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n)?;
+            let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n).ok_or(None)?;
             match k {
                 None => {
                     value += f.value;
@@ -218,10 +252,10 @@ fn tied<S: SupportMap>(
             [t1.dot(&cgrad[0]), t2.dot(&cgrad[0])],
             [t1.dot(&cgrad[1]), t2.dot(&cgrad[1])],
         ];
-        let (dy, new_nu) = tie_step([a11, a12, a22], gy, cval, cy, count)?;
+        let (dy, new_nu) = tie_step([a11, a12, a22], gy, cval, cy, count).ok_or(None)?;
         let step = dy[0].hypot(dy[1]);
         if !step.is_finite() {
-            return None;
+            return Err(None);
         }
         let mut j = 0;
         for shape in 0..2 {
@@ -237,23 +271,25 @@ fn tied<S: SupportMap>(
                 .zip(&ties)
                 .any(|(w, t)| t.is_some() && !(-1e-9..=1.0 + 1e-9).contains(w))
             {
-                return None;
+                return Err(Some((n, nu)));
             }
             // The witnesses at the final normal, weighted by the multipliers.
             let mut wit = [Vec3::zeros(); 2];
             for shape in 0..2 {
-                let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n)?;
+                let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n).ok_or(None)?;
                 let w = nu[shape].clamp(0.0, 1.0);
                 wit[shape] = k.map_or(f.grad, |k| f.grad * (1.0 - w) + k.grad * w);
             }
             // Shape 1's point is its gradient; shape 2's gradient is minus its point.
-            return certify_candidate(pair, d, tol, &n, wit[0], -wit[1]).map(|s| Separation {
-                route: Route::Polish,
-                ..s
-            });
+            return certify_candidate(pair, d, tol, &n, wit[0], -wit[1])
+                .map(|s| Separation {
+                    route: Route::Polish,
+                    ..s
+                })
+                .ok_or(Some((n, nu)));
         }
     }
-    None
+    Err(None)
 }
 
 /// Shape `shape`'s first piece at `n` and, when it is tied, its second.
