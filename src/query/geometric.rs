@@ -306,17 +306,62 @@ pub(crate) fn jacobian(
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
 ) -> Option<[[Real; 14]; 4]> {
+    let mut j = [[0.0; 14]; 4];
+    jacobian_into(prox, dalpha_dd, g, shapes, poses, &mut j)?;
+    Some(j)
+}
+
+/// How [`jacobian_into`] formed the Jacobian.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Formed {
+    /// A closed form for spheres and capsules: its α row is the gradient `g` and its columns
+    /// of `r₁` and `r₂` sum to the identity by construction (up to rounding).
+    Closed,
+    /// The polytopes' closed form or the general feature solve.
+    Solved,
+}
+
+/// [`jacobian`] written into `j` (every entry; garbage when `None` is returned), saying how
+/// it was formed: the sphere and capsule closed forms write their columns in place, without
+/// the copies of the 4×14 result through `Option`s and returns.
+#[inline]
+pub(crate) fn jacobian_into(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    g: &[Real; 14],
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+    out: &mut [[Real; 14]; 4],
+) -> Option<Formed> {
     if !general_only() {
-        if let Some(j) = two_spheres_jacobian(prox, dalpha_dd, shapes) {
-            return Some(j);
-        }
-        if let Some(j) = sphere_jacobian(prox, g, dalpha_dd, shapes, poses) {
-            return Some(j);
-        }
-        if let Some(j) = capsule_jacobian(prox, g, dalpha_dd, shapes, poses) {
-            return Some(j);
+        let kinds = shapes.map(|s| s.solver_kind());
+        let closed = match kinds {
+            [ShapeKind::Sphere, ShapeKind::Sphere] => {
+                two_spheres_jacobian(prox, dalpha_dd, shapes, out)
+            }
+            [ShapeKind::Capsule, ShapeKind::Capsule] => {
+                capsule_jacobian(prox, g, dalpha_dd, shapes, poses, out)
+            }
+            [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
+                sphere_jacobian(prox, g, dalpha_dd, shapes, poses, out)
+            }
+            _ => None,
+        };
+        if closed.is_some() {
+            return Some(Formed::Closed);
         }
     }
+    *out = general_jacobian(prox, dalpha_dd, shapes, poses)?;
+    Some(Formed::Solved)
+}
+
+/// The polytopes' closed form or the general feature solve (see [`jacobian`]).
+fn general_jacobian(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+) -> Option<[[Real; 14]; 4]> {
     let (pair, sol, s) = normalised(prox, dalpha_dd, shapes, poses);
     if !general_only() {
         if let Some(j) = polytope_jacobian(&pair, &sol, prox.alpha, shapes, poses) {
@@ -404,21 +449,22 @@ fn two_spheres_jacobian(
     prox: &Proximity,
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
-) -> Option<[[Real; 14]; 4]> {
+    j: &mut [[Real; 14]; 4],
+) -> Option<()> {
     if shapes.iter().any(|s| s.solver_kind() != ShapeKind::Sphere) {
         return None;
     }
     let (_, r1) = shapes[0].rounded_segment()?;
     let (_, r2) = shapes[1].rounded_segment()?;
     let (k1, k2) = (r1 / (r1 + r2), r2 / (r1 + r2));
-    let mut j = [[0.0; 14]; 4];
+    *j = [[0.0; 14]; 4];
     for c in 0..3 {
         j[c][c] = k2;
         j[c][7 + c] = k1;
         j[3][c] = -dalpha_dd[c];
         j[3][7 + c] = dalpha_dd[c];
     }
-    (prox.alpha.is_finite() && crate::math::all_finite(&j)).then_some(j)
+    (prox.alpha.is_finite() && crate::math::all_finite(j)).then_some(())
 }
 
 /// `Err((below, bound, normal))` when the cast's bracket decided the threshold: the bracket's

@@ -655,12 +655,11 @@ pub(crate) fn plain_derivatives(
     let exact = match jacobian {
         Some(out) => {
             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-            match geometric::jacobian(&prox, &dalpha_dd, g, shapes, poses) {
-                Some(j) if derivatives::consistent(&j, g, ell) => {
-                    *out = j;
-                    true
-                }
-                _ => false,
+            // The closed forms hold the identities `consistent` checks by construction.
+            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, out) {
+                Some(geometric::Formed::Closed) => true,
+                Some(geometric::Formed::Solved) => derivatives::consistent(out, g, ell),
+                None => false,
             }
         }
         None => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
