@@ -15,6 +15,7 @@ use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
 use super::derivatives::rotation_axes;
 use super::dispatch::{route, Stage, Stages};
+use super::ellipsoid_jacobian::ellipsoid_jacobian;
 use super::polytope_jacobian::polytope_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
@@ -314,7 +315,7 @@ pub(crate) fn jacobian(
 /// How [`jacobian_into`] formed the Jacobian.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Formed {
-    /// A closed form for spheres and capsules: its α row is the gradient `g` and its columns
+    /// A closed form for spheres, capsules and ellipsoids: its α row is the gradient `g` and its columns
     /// of `r₁` and `r₂` sum to the identity by construction (up to rounding).
     Closed,
     /// The polytopes' closed form or the general feature solve.
@@ -341,6 +342,9 @@ pub(crate) fn jacobian_into(
             }
             [ShapeKind::Capsule, ShapeKind::Capsule] => {
                 capsule_jacobian(prox, g, dalpha_dd, shapes, poses, out)
+            }
+            [ShapeKind::Ellipsoid, ShapeKind::Ellipsoid] => {
+                ellipsoid_jacobian(prox, g, dalpha_dd, shapes, poses, out)
             }
             [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
                 sphere_jacobian(prox, g, dalpha_dd, shapes, poses, out)
