@@ -230,10 +230,22 @@ pub fn mrp_quaternion_jacobian(p: [Real; 3]) -> [[Real; 3]; 4] {
 /// Whether every entry of a Jacobian is finite: `v·0` is zero for a finite `v` and NaN for an
 /// infinite or NaN one, so the sum is zero exactly when all are finite (no overflow, and a
 /// loop the compiler vectorises: the iterator over rows and entries cost ~900 instructions
-/// for 4×14).
+/// for 4×14). The sum runs in four independent lanes (a NaN reaches its lane's sum whatever
+/// the order): one sequential chain of 56 additions cost ~100 instructions a Jacobian.
 #[inline]
 pub(crate) fn all_finite<const R: usize, const C: usize>(m: &[[Real; C]; R]) -> bool {
-    m.as_flattened().iter().map(|v| v * 0.0).sum::<Real>() == 0.0
+    let flat = m.as_flattened();
+    let mut lanes = [0.0; 4];
+    let mut chunks = flat.chunks_exact(4);
+    for chunk in &mut chunks {
+        for (l, v) in lanes.iter_mut().zip(chunk) {
+            *l += v * 0.0;
+        }
+    }
+    for (l, v) in lanes.iter_mut().zip(chunks.remainder()) {
+        *l += v * 0.0;
+    }
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) == 0.0
 }
 
 /// Robust Euclidean norm (no underflow or overflow for finite input).

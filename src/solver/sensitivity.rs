@@ -485,7 +485,13 @@ impl Reduced {
                 lu[4 + x][i] = self.rows[x][i];
             }
         }
-        self.ipiv = lu_factor_in_place(lu, order)?;
+        // The order as a constant in each arm: the inlined factorisation's loops are unrolled
+        // for it (the same operations in the same order as with a variable order).
+        self.ipiv = match order {
+            4 => lu_factor_in_place(lu, 4),
+            5 => lu_factor_in_place(lu, 5),
+            _ => lu_factor_in_place(lu, RED),
+        }?;
         self.order = order;
         self.n = Vec3::new(z[0], z[1], z[2]);
         self.mu = z[3];
@@ -494,7 +500,24 @@ impl Reduced {
 
     /// The outputs' sensitivities (see [`Reduced`]).
     fn adjoint(&self, axes: &[[Vec3; 4]; 2], round: [bool; 2]) -> Sensitivity {
-        let (n, mu, order) = (self.n, self.mu, self.order);
+        // The order as a constant in each arm: the inlined loops over the directions and the
+        // solve are unrolled for it (the same operations in the same order).
+        match self.order {
+            4 => self.adjoint_of_order(axes, round, 4),
+            5 => self.adjoint_of_order(axes, round, 5),
+            _ => self.adjoint_of_order(axes, round, RED),
+        }
+    }
+
+    /// [`Reduced::adjoint`] for the system's order `order`.
+    #[inline(always)]
+    fn adjoint_of_order(
+        &self,
+        axes: &[[Vec3; 4]; 2],
+        round: [bool; 2],
+        order: usize,
+    ) -> Sensitivity {
+        let (n, mu) = (self.n, self.mu);
         let extra = order - 4;
         // Right-hand sides: e_μ and the rows of δa = H₁δn + C₁t.
         let mut y = [[0.0; 4]; RED];
