@@ -30,7 +30,6 @@
 //! sine, the answer is `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::derivatives::rotation_axes;
 use super::sphere_jacobian::{decide, MARGIN, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
@@ -58,6 +57,7 @@ pub(crate) fn capsule_jacobian(
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
+    axes: &[[Vec3; 4]; 2],
     j: &mut [[Real; 14]; 4],
 ) -> Option<()> {
     if shapes.iter().any(|s| s.solver_kind() != ShapeKind::Capsule) {
@@ -132,14 +132,14 @@ pub(crate) fn capsule_jacobian(
         }
     }
     let (as1, at2) = (alpha * s, alpha * t);
-    for (kk, omega) in rotation_axes(poses[0]).iter().enumerate() {
+    for (kk, omega) in axes[0].iter().enumerate() {
         let z = omega.cross(&a1);
         let dx = (z - l * z) * as1 + v1 * w.dot(&z) + c0 * g[3 + kk];
         for i in 0..3 {
             j[i][3 + kk] = dx[i];
         }
     }
-    for (kk, omega) in rotation_axes(poses[1]).iter().enumerate() {
+    for (kk, omega) in axes[1].iter().enumerate() {
         let z = omega.cross(&a2);
         let dx = (l * z) * at2 + v2 * w.dot(&z) + c0 * g[10 + kk];
         for i in 0..3 {

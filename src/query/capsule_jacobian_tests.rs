@@ -4,7 +4,7 @@
 
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::Options;
-use super::geometric::GENERAL_ONLY;
+use super::geometric::{pair_axes, GENERAL_ONLY};
 use super::test_support::{gap, geometric_answer, Rng};
 use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
 
@@ -21,7 +21,7 @@ fn sides(s: [&Shape; 2], p: [&Pose; 2], c: [&crate::Vec3; 2]) -> [bool; 2] {
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], [bool; 2])> {
     let (prox, dad, g) = geometric_answer(s, p)?;
     let mut j = [[0.0; 14]; 4];
-    capsule_jacobian(&prox, &g, &dad, s, p, &mut j)?;
+    capsule_jacobian(&prox, &g, &dad, s, p, &pair_axes(s, p), &mut j)?;
     Some((j, sides(s, p, [&prox.contact1, &prox.contact2])))
 }
 

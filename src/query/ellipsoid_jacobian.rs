@@ -29,7 +29,6 @@
 //! `T₂ = −α*N([g₂]× + H₂[n]×)` (`δᵢ` written as matrices acting on `ω`).
 
 use super::context::Proximity;
-use super::derivatives::rotation_axes;
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
@@ -42,6 +41,7 @@ pub(crate) fn ellipsoid_jacobian(
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
+    axes: &[[Vec3; 4]; 2],
     j: &mut [[Real; 14]; 4],
 ) -> Option<()> {
     if shapes
@@ -88,7 +88,7 @@ pub(crate) fn ellipsoid_jacobian(
     ) * alpha;
     let t2 = mul(&nm, &(g2.cross_matrix() + mul(&h2, &n.cross_matrix()))) * -alpha;
     for (i, t) in [t1, t2].iter().enumerate() {
-        for (k, omega) in rotation_axes(poses[i]).iter().enumerate() {
+        for (k, omega) in axes[i].iter().enumerate() {
             let c = 7 * i + 3 + k;
             let dx = t * omega + c0 * g[c];
             for r in 0..3 {

@@ -3,7 +3,7 @@
 
 use super::context::Options;
 use super::ellipsoid_jacobian::ellipsoid_jacobian;
-use super::geometric::GENERAL_ONLY;
+use super::geometric::{pair_axes, GENERAL_ONLY};
 use super::test_support::{gap, geometric_answer, Rng};
 use crate::math::rotation_from_quaternion;
 use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
@@ -28,7 +28,7 @@ fn ellipsoid(rng: &mut Rng, lo: Real) -> Shape {
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
     let (prox, dad, g) = geometric_answer(s, p)?;
     let mut j = [[0.0; 14]; 4];
-    ellipsoid_jacobian(&prox, &g, &dad, s, p, &mut j)?;
+    ellipsoid_jacobian(&prox, &g, &dad, s, p, &pair_axes(s, p), &mut j)?;
     Some(j)
 }
 

@@ -170,6 +170,35 @@ pub(crate) fn gradient(
     pose1: &Pose,
     pose2: &Pose,
 ) -> [Real; 14] {
+    let axes = pair_axes(shapes, [pose1, pose2]);
+    gradient_with(prox, dalpha_dd, shapes, pose1, pose2, &axes)
+}
+
+/// Each shape's four rotation axes ([`rotation_axes`]), zero for a sphere (its rotation
+/// columns are exactly zero and are not formed): computed once for the gradient and the
+/// Jacobian of one call.
+#[inline]
+pub(crate) fn pair_axes(shapes: [&Shape; 2], poses: [&Pose; 2]) -> [[Vec3; 4]; 2] {
+    let axes_of = |i: usize| {
+        if shapes[i].solver_kind() == ShapeKind::Sphere {
+            [Vec3::zeros(); 4]
+        } else {
+            rotation_axes(poses[i])
+        }
+    };
+    [axes_of(0), axes_of(1)]
+}
+
+/// [`gradient`] with the pair's rotation axes ([`pair_axes`]) given: the same numbers.
+#[inline]
+pub(crate) fn gradient_with(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    pose1: &Pose,
+    pose2: &Pose,
+    axes: &[[Vec3; 4]; 2],
+) -> [Real; 14] {
     let mut g = [0.0; 14];
     for j in 0..3 {
         g[j] = -dalpha_dd[j];
@@ -180,13 +209,13 @@ pub(crate) fn gradient(
     let alpha = prox.alpha;
     if shapes[0].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
-        for (k, w) in rotation_axes(pose1).iter().enumerate() {
+        for (k, w) in axes[0].iter().enumerate() {
             g[3 + k] = w.dot(&t);
         }
     }
     if shapes[1].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
-        for (k, w) in rotation_axes(pose2).iter().enumerate() {
+        for (k, w) in axes[1].iter().enumerate() {
             g[10 + k] = w.dot(&t);
         }
     }
@@ -308,7 +337,8 @@ pub(crate) fn jacobian(
     poses: [&Pose; 2],
 ) -> Option<[[Real; 14]; 4]> {
     let mut j = [[0.0; 14]; 4];
-    jacobian_into(prox, dalpha_dd, g, shapes, poses, &mut j)?;
+    let axes = pair_axes(shapes, poses);
+    jacobian_into(prox, dalpha_dd, g, shapes, poses, &axes, &mut j)?;
     Some(j)
 }
 
@@ -322,8 +352,8 @@ pub(crate) enum Formed {
     Solved,
 }
 
-/// [`jacobian`] written into `j` (every entry; garbage when `None` is returned), saying how
-/// it was formed: the sphere and capsule closed forms write their columns in place, without
+/// [`jacobian`] written into `j` (every entry; garbage when `None` is returned), with the
+/// pair's rotation axes given ([`pair_axes`]), saying how it was formed: the sphere and capsule closed forms write their columns in place, without
 /// the copies of the 4×14 result through `Option`s and returns.
 #[inline]
 pub(crate) fn jacobian_into(
@@ -332,6 +362,7 @@ pub(crate) fn jacobian_into(
     g: &[Real; 14],
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
+    axes: &[[Vec3; 4]; 2],
     out: &mut [[Real; 14]; 4],
 ) -> Option<Formed> {
     if !general_only() {
@@ -341,13 +372,13 @@ pub(crate) fn jacobian_into(
                 two_spheres_jacobian(prox, dalpha_dd, shapes, out)
             }
             [ShapeKind::Capsule, ShapeKind::Capsule] => {
-                capsule_jacobian(prox, g, dalpha_dd, shapes, poses, out)
+                capsule_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
             [ShapeKind::Ellipsoid, ShapeKind::Ellipsoid] => {
-                ellipsoid_jacobian(prox, g, dalpha_dd, shapes, poses, out)
+                ellipsoid_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
             [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
-                sphere_jacobian(prox, g, dalpha_dd, shapes, poses, out)
+                sphere_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
             _ => None,
         };
@@ -355,7 +386,7 @@ pub(crate) fn jacobian_into(
             return Some(Formed::Closed);
         }
     }
-    *out = general_jacobian(prox, dalpha_dd, shapes, poses)?;
+    *out = general_jacobian(prox, dalpha_dd, shapes, poses, axes)?;
     Some(Formed::Solved)
 }
 
@@ -365,6 +396,7 @@ fn general_jacobian(
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
+    axes: &[[Vec3; 4]; 2],
 ) -> Option<[[Real; 14]; 4]> {
     let (pair, sol, s) = normalised(prox, dalpha_dd, shapes, poses);
     if !general_only() {
@@ -375,15 +407,7 @@ fn general_jacobian(
     let (ell, inv) = (1.0 / pair.one.inv_scale, pair.one.inv_scale);
     let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
     // A sphere's rotation columns are exactly zero: neither its axes nor its columns are formed.
-    let axes_of = |i: usize| {
-        if round[i] {
-            [Vec3::zeros(); 4]
-        } else {
-            rotation_axes(poses[i])
-        }
-    };
-    let axes = [axes_of(0), axes_of(1)];
-    let sens = sensitivity(&pair, &sol, &axes, round)?;
+    let sens = sensitivity(&pair, &sol, axes, round)?;
     let alpha_n = 1.0 / sens.mu;
     let alpha = s * alpha_n;
     let a = sens.a;

@@ -645,7 +645,9 @@ pub(crate) fn plain_derivatives(
         return None;
     };
     let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-    *grad = geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2);
+    // The rotation axes once for the gradient and the Jacobian (the same numbers).
+    let axes = geometric::pair_axes(shapes, poses);
+    *grad = geometric::gradient_with(&prox, &dalpha_dd, shapes, pose1, pose2, &axes);
     let g = &*grad;
     // One sum instead of fourteen tests: any infinity or NaN makes it non-finite (a finite
     // gradient whose sum overflows only sends the call to the full query, the same answer).
@@ -656,7 +658,7 @@ pub(crate) fn plain_derivatives(
         Some(out) => {
             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
             // The closed forms hold the identities `consistent` checks by construction.
-            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, out) {
+            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, &axes, out) {
                 Some(geometric::Formed::Closed) => true,
                 Some(geometric::Formed::Solved) => derivatives::consistent(out, g, ell),
                 None => false,

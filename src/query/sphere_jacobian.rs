@@ -25,7 +25,6 @@
 //! `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::derivatives::rotation_axes;
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
@@ -169,6 +168,7 @@ pub(crate) fn sphere_jacobian(
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
+    axes: &[[Vec3; 4]; 2],
     j: &mut [[Real; 14]; 4],
 ) -> Option<()> {
     let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
@@ -203,7 +203,7 @@ pub(crate) fn sphere_jacobian(
             j[i][cb + c] = id - m[(i, c)] + v[i] * g[cb + c];
         }
     }
-    for (k, omega) in rotation_axes(poses[b]).iter().enumerate() {
+    for (k, omega) in axes[b].iter().enumerate() {
         let dx = (omega.cross(&w) - m * omega.cross(&y)) * alpha + v * g[cb + 3 + k];
         for i in 0..3 {
             j[i][cb + 3 + k] = dx[i];
