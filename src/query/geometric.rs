@@ -319,7 +319,7 @@ pub(crate) fn unique_contact(
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
 /// its gradient `g` ([`gradient`]): in closed form for two spheres, for a sphere against a
 /// box, a capsule, a cylinder, a cone or an ellipsoid (`super::sphere_jacobian`), for two capsules
-/// (`super::capsule_jacobian`), and for two polytopes
+/// (`super::capsule_jacobian`), for two ellipsoids (`super::ellipsoid_jacobian`), and for two polytopes
 /// touching on a facet of K (`super::polytope_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
 /// `None` where x* is not unique or the features' system is singular.
