@@ -73,6 +73,16 @@ struct PairHash {
   }
 };
 
+// The last ODE plane's parameters (a, b, c, d) and what collide_plane derives from them.
+struct PlaneFrame {
+  dReal params[4] = {0, 0, 0, 0};
+  bool set = false;
+  bool ok = false;
+  double n[3] = {0, 0, 0};
+  double d = 0;
+  double q[4] = {1, 0, 0, 0};
+};
+
 struct State {
   std::unordered_map<Key, dcol_shape *, KeyHash> shapes;  // nullptr: sizes dcol rejects
   // The two shapes found last (a scene's pairs mostly repeat a few sizes): looked at before the
@@ -86,6 +96,7 @@ struct State {
   std::unordered_map<dGeomID, ConvexRecord> convexes;
   dcol_shape *halfspace = nullptr;  // ODE's planes: a half-space of depth 1
   bool halfspace_tried = false;
+  PlaneFrame plane_frame;
   Stats stats = Stats();
   int geom_class = -1;
 
@@ -334,16 +345,35 @@ int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, 
                   int skip) {
   dVector4 p;
   dGeomPlaneGetParams(plane, p);
-  double n[3] = {p[0], p[1], p[2]};
-  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (!(len > 0) || !std::isfinite(len)) {
+  // The plane's unit normal, offset and attitude, computed again only when its parameters
+  // change (a scene has one floor or a few walls; the same numbers either way).
+  PlaneFrame &f = g.plane_frame;
+  if (!f.set || std::memcmp(f.params, p, sizeof f.params) != 0) {
+    std::memcpy(f.params, p, sizeof f.params);
+    f.set = true;
+    const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    f.ok = len > 0 && std::isfinite(len);
+    if (f.ok) {
+      for (int k = 0; k < 3; ++k) f.n[k] = p[k] / len;
+      f.d = p[3] / len;
+      // The attitude turning e_z to n: (1 + n_z, -n_y, n_x, 0) normalised (e_x's half turn if n = -e_z).
+      double q[4] = {1.0 + f.n[2], -f.n[1], f.n[0], 0.0};
+      if (q[0] < 1e-12) {
+        q[0] = 0;
+        q[1] = 1;
+        q[2] = 0;
+      }
+      const double ql = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+      for (int k = 0; k < 4; ++k) f.q[k] = q[k] / ql;
+    }
+  }
+  if (!f.ok) {
     ++g.stats.rejected;
     return 0;
   }
-  for (double &x : n) x /= len;
-  const double d = p[3] / len;
+  const double *n = f.n;
   const double *c = solid.pose.position;
-  const double h = n[0] * c[0] + n[1] * c[1] + n[2] * c[2] - d;
+  const double h = n[0] * c[0] + n[1] * c[1] + n[2] * c[2] - f.d;
   if (h > solid.radius) return 0;  // the solid's bounding ball is above the plane
   if (!g.halfspace_tried) {
     g.halfspace_tried = true;
@@ -355,15 +385,7 @@ int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, 
   }
   dcol_pose hp;
   for (int k = 0; k < 3; ++k) hp.position[k] = c[k] - (h + 1.0) * n[k];
-  // The attitude turning e_z to n: (1 + n_z, -n_y, n_x, 0) normalised (e_x's half turn if n = -e_z).
-  double q[4] = {1.0 + n[2], -n[1], n[0], 0.0};
-  if (q[0] < 1e-12) {
-    q[0] = 0;
-    q[1] = 1;
-    q[2] = 0;
-  }
-  const double ql = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-  for (int k = 0; k < 4; ++k) hp.quaternion[k] = q[k] / ql;
+  for (int k = 0; k < 4; ++k) hp.quaternion[k] = f.q[k];
   dcol_contact cs[DCOL_MAX_CONTACTS];
   std::size_t count = 0;
   const dcol_status st = dcol_contacts(g.halfspace, &hp, solid.shape, &solid.pose, 0.0, nullptr, cs, capacity(flags), &count);

@@ -16,6 +16,7 @@ use super::proximity::dcol_proximity_result;
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
 use crate::batch::{for_each_parallel, CHUNK};
+use crate::math::finite_array;
 use crate::query::{self, Options};
 
 /// The most threads one dcol_proximity_batch call uses, the calling thread included; a larger
@@ -59,7 +60,11 @@ impl Arrays {
                 )
             };
             let prox = query::proximity(s1, &p1, s2, &p2, &self.options).map_err(Failure::api)?;
-            representable(proximity_numbers(&prox), p1.position(), p2.position())?;
+            representable(
+                finite_array(&proximity_numbers(&prox)),
+                p1.position(),
+                p2.position(),
+            )?;
             // SAFETY: `i < count` and `results` holds `count` writable elements (contract);
             // no other thread writes index `i`.
             unsafe { self.results.add(i).write((&prox).into()) };

@@ -10,6 +10,7 @@ use super::proximity::{check_inputs, dcol_proximity_result, outcome, read_inputs
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
 use crate::error::{Error, ErrorDetail};
+use crate::math::{all_finite, finite_array};
 use crate::query::{self, Derivatives, Options};
 use crate::shapes::Shape;
 
@@ -35,11 +36,11 @@ pub struct dcol_derivatives_result {
 }
 
 /// Whether every derivative in `d` is finite.
-fn all_finite(d: &Derivatives) -> bool {
-    d.dalpha.iter().all(|v| v.is_finite())
-        && d.jacobian.iter().flatten().all(|v| v.is_finite())
-        && d.dcontact1.iter().flatten().all(|v| v.is_finite())
-        && d.dcontact2.iter().flatten().all(|v| v.is_finite())
+fn derivatives_finite(d: &Derivatives) -> bool {
+    finite_array(&d.dalpha)
+        && all_finite(&d.jacobian)
+        && all_finite(&d.dcontact1)
+        && all_finite(&d.dcontact2)
 }
 
 /// alpha*, x*, the contact points and all their derivatives with respect to (r1, q1, r2, q2)
@@ -141,15 +142,15 @@ unsafe fn derivatives_in(
             None => query::derivatives(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
         }
         .map_err(Failure::api)?;
-        q.representable(proximity_numbers(&d.proximity))?;
-        if d.proximity.status.is_converged() && !all_finite(&d) {
+        q.representable(finite_array(&proximity_numbers(&d.proximity)))?;
+        if d.proximity.status.is_converged() && !derivatives_finite(&d) {
             return Err(Failure::api(query::not_representable(
                 q.pose1.position(),
                 q.pose2.position(),
             )));
         }
         let proximity = dcol_proximity_result::from(&d.proximity);
-        if d.proximity.status.is_converged() || all_finite(&d) {
+        if d.proximity.status.is_converged() || derivatives_finite(&d) {
             let out = dcol_derivatives_result {
                 proximity,
                 gradient: d.dalpha,
@@ -315,11 +316,11 @@ pub unsafe extern "C" fn dcol_gradient_mrp(
         .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
         let (r1, r2) = (m.position1.into(), m.position2.into());
-        let grad = g.iter().copied().filter(|_| converged);
-        representable(proximity_numbers(&prox).chain(grad), &r1, &r2)?;
+        let finite = finite_array(&proximity_numbers(&prox));
+        representable(finite && (!converged || finite_array(&g)), &r1, &r2)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
-        if prox.status.is_converged() || g.iter().all(|v| v.is_finite()) {
+        if prox.status.is_converged() || finite_array(&g) {
             // SAFETY: non-NULL (checked); the caller guarantees 12 writable doubles, and
             // `[f64; 12]` has the alignment of `f64`.
             unsafe { gradient.cast::<[f64; 12]>().write(g) };
@@ -375,11 +376,11 @@ pub unsafe extern "C" fn dcol_jacobian_mrp(
         .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
         let (r1, r2) = (m.position1.into(), m.position2.into());
-        let jac = j.iter().flatten().copied().filter(|_| converged);
-        representable(proximity_numbers(&prox).chain(jac), &r1, &r2)?;
+        let finite = finite_array(&proximity_numbers(&prox));
+        representable(finite && (!converged || all_finite(&j)), &r1, &r2)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
-        if prox.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()) {
+        if prox.status.is_converged() || all_finite(&j) {
             // SAFETY: non-NULL (checked); the caller guarantees 48 writable doubles, and
             // `[[f64; 12]; 4]` is 48 contiguous doubles (row-major) with `f64` alignment.
             unsafe { jacobian.cast::<[[f64; 12]; 4]>().write(j) };

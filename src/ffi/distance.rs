@@ -7,7 +7,7 @@ use super::pose::dcol_pose;
 use super::proximity::{check_inputs, read_inputs};
 use super::shape::dcol_shape;
 use super::status::dcol_status;
-use crate::math::Vec3;
+use crate::math::{finite_array, Vec3};
 use crate::query::{self, Distance, SignedDistance};
 
 /// The exact Euclidean distance between two posed (unscaled) shapes, with witness points.
@@ -32,11 +32,10 @@ fn arr(v: &Vec3) -> [f64; 3] {
 }
 
 /// The numbers of a distance result.
-pub(crate) fn numbers(d: &Distance) -> impl Iterator<Item = f64> + '_ {
-    std::iter::once(d.distance)
-        .chain(d.closest1.iter().copied())
-        .chain(d.closest2.iter().copied())
-        .chain(d.normal.iter().copied())
+#[inline]
+pub(crate) fn numbers(d: &Distance) -> [f64; 10] {
+    let (a, b, n) = (&d.closest1, &d.closest2, &d.normal);
+    [d.distance, a.x, a.y, a.z, b.x, b.y, b.z, n.x, n.y, n.z]
 }
 
 impl From<&Distance> for dcol_distance_result {
@@ -144,7 +143,7 @@ unsafe fn distance_in(
             None => query::distance(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
         }
         .map_err(Failure::api)?;
-        q.representable(numbers(&d))?;
+        q.representable(finite_array(&numbers(&d)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
         q.outcome(d.status, d.iterations)
@@ -185,7 +184,7 @@ pub unsafe extern "C" fn dcol_signed_distance_gradient(
                 .map_err(Failure::api)?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
-        if d.status.is_converged() || g.iter().all(|v| v.is_finite()) {
+        if d.status.is_converged() || finite_array(&g) {
             // SAFETY: non-NULL (checked); the caller guarantees 14 writable doubles, and
             // `[f64; 14]` has the alignment of `f64`.
             unsafe { gradient.cast::<[f64; 14]>().write(g) };
@@ -298,10 +297,10 @@ unsafe fn distance_gradient_in(
         }
         .map_err(Failure::api)?;
         let converged = d.status.is_converged();
-        q.representable(numbers(&d).chain(g.iter().copied().filter(|_| converged)))?;
+        q.representable(finite_array(&numbers(&d)) && (!converged || finite_array(&g)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
-        if d.status.is_converged() || g.iter().all(|v| v.is_finite()) {
+        if d.status.is_converged() || finite_array(&g) {
             // SAFETY: non-NULL (checked); the caller guarantees 14 writable doubles, and
             // `[f64; 14]` has the alignment of `f64`.
             unsafe { gradient.cast::<[f64; 14]>().write(g) };

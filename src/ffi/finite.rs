@@ -7,20 +7,20 @@ use super::boundary::Failure;
 use crate::math::Vec3;
 use crate::query::Proximity;
 
-/// `Ok` when every number in `values` is finite, otherwise the `DCOL_ERROR_INVALID_POSE`
-/// failure naming the largest coordinate of the origins `r1`, `r2`.
-pub(crate) fn representable(
-    values: impl IntoIterator<Item = f64>,
-    r1: &Vec3,
-    r2: &Vec3,
-) -> Result<(), Failure> {
-    super::boundary::representable(values, r1, r2).map_err(Failure::api)
+/// `Ok` when `finite` (every number of the answer about to be written is finite), otherwise
+/// the `DCOL_ERROR_INVALID_POSE` failure naming the largest coordinate of the origins `r1`,
+/// `r2` (that of [`super::boundary::representable`]).
+#[inline]
+pub(crate) fn representable(finite: bool, r1: &Vec3, r2: &Vec3) -> Result<(), Failure> {
+    if finite {
+        return Ok(());
+    }
+    Err(Failure::api(crate::query::not_representable(r1, r2)))
 }
 
 /// The numbers of a proximity result: α*, x* and the contact points.
-pub(crate) fn proximity_numbers(p: &Proximity) -> impl Iterator<Item = f64> + '_ {
-    std::iter::once(p.alpha)
-        .chain(p.point.iter().copied())
-        .chain(p.contact1.iter().copied())
-        .chain(p.contact2.iter().copied())
+#[inline]
+pub(crate) fn proximity_numbers(p: &Proximity) -> [f64; 10] {
+    let (x, c1, c2) = (&p.point, &p.contact1, &p.contact2);
+    [p.alpha, x.x, x.y, x.z, c1.x, c1.y, c1.z, c2.x, c2.y, c2.z]
 }

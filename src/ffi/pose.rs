@@ -22,7 +22,7 @@ pub struct dcol_pose {
 ///
 /// # Safety
 /// `ptr` must be NULL or point to a valid `dcol_pose`.
-#[inline]
+#[inline(always)]
 pub(crate) unsafe fn read_pose(
     ptr: *const dcol_pose,
     name: &'static str,

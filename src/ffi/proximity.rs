@@ -7,7 +7,7 @@ use super::options::{dcol_options, read_options};
 use super::pose::{dcol_pose, read_pose};
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
-use crate::math::{Pose, Vec3};
+use crate::math::{all_finite, finite_array, Pose, Vec3};
 use crate::query::{self, Options, Proximity};
 use crate::shapes::Shape;
 use crate::solver::{DerivativeKind, SolveStatus, Solver};
@@ -108,13 +108,10 @@ impl Inputs<'_> {
         outcome(&self.options, status, iterations)
     }
 
-    /// `DCOL_ERROR_INVALID_POSE` unless every number in `values` (the answer about to be
+    /// `DCOL_ERROR_INVALID_POSE` unless every number in `parts` (the answer about to be
     /// written) is finite.
-    pub(crate) fn representable(
-        &self,
-        values: impl IntoIterator<Item = f64>,
-    ) -> Result<(), Failure> {
-        representable(values, self.pose1.position(), self.pose2.position())
+    pub(crate) fn representable(&self, finite: bool) -> Result<(), Failure> {
+        representable(finite, self.pose1.position(), self.pose2.position())
     }
 }
 
@@ -164,7 +161,7 @@ pub(crate) unsafe fn check_inputs<'a>(
 ///
 /// # Safety
 /// `pose1`, `pose2` must be valid; `options` NULL or valid.
-#[inline]
+#[inline(always)]
 pub(crate) unsafe fn read_inputs<'a>(
     shapes: (&'a Shape, &'a Shape),
     pose1: *const dcol_pose,
@@ -284,7 +281,7 @@ unsafe fn proximity_in(
             None => query::proximity(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
         }
         .map_err(Failure::api)?;
-        q.representable(proximity_numbers(&prox))?;
+        q.representable(finite_array(&proximity_numbers(&prox)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         q.outcome(prox.status, prox.iterations)
@@ -397,10 +394,12 @@ unsafe fn gradient_in(
         }
         .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
-        q.representable(proximity_numbers(&prox).chain(g.iter().copied().filter(|_| converged)))?;
+        q.representable(
+            finite_array(&proximity_numbers(&prox)) && (!converged || finite_array(&g)),
+        )?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
-        if prox.status.is_converged() || g.iter().all(|v| v.is_finite()) {
+        if prox.status.is_converged() || finite_array(&g) {
             // SAFETY: non-NULL (checked); the caller guarantees 14 writable doubles, and
             // `[f64; 14]` has the alignment of `f64`.
             unsafe { gradient.cast::<[f64; 14]>().write(g) };
@@ -516,11 +515,10 @@ unsafe fn jacobian_in(
         }
         .map_err(Failure::api)?;
         let converged = prox.status.is_converged();
-        let jac = j.iter().flatten().copied().filter(|_| converged);
-        q.representable(proximity_numbers(&prox).chain(jac))?;
+        q.representable(finite_array(&proximity_numbers(&prox)) && (!converged || all_finite(&j)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
-        if prox.status.is_converged() || j.iter().flatten().all(|v| v.is_finite()) {
+        if prox.status.is_converged() || all_finite(&j) {
             // SAFETY: non-NULL (checked); the caller guarantees 56 writable doubles, and
             // `[[f64; 14]; 4]` is 56 contiguous doubles (row-major) with `f64` alignment.
             unsafe { jacobian.cast::<[[f64; 14]; 4]>().write(j) };

@@ -13,6 +13,7 @@ use super::proximity::{check_inputs, dcol_proximity_result, read_inputs, Inputs}
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
 use crate::error::{Error, ErrorDetail};
+use crate::math::finite_array;
 use crate::query;
 use crate::shapes::Shape;
 
@@ -169,7 +170,7 @@ pub unsafe extern "C" fn dcol_shape_gradient(
             query::shape_gradient(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, g1, g2)
                 .map_err(Failure::api)?;
         // Not representable: the buffers were left untouched (query::shape_gradient).
-        q.representable(proximity_numbers(&prox))?;
+        q.representable(finite_array(&proximity_numbers(&prox)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&prox).into()) };
         q.outcome(prox.status, prox.iterations)
@@ -207,7 +208,7 @@ pub unsafe extern "C" fn dcol_distance_shape_gradient(
         )
         .map_err(Failure::api)?;
         // Not representable: the buffers were left untouched (query::distance_shape_gradient).
-        q.representable(distance_numbers(&d))?;
+        q.representable(finite_array(&distance_numbers(&d)))?;
         // SAFETY: `result` is non-NULL (checked) and valid for writes (contract).
         unsafe { result.write((&d).into()) };
         q.outcome(d.status, d.iterations)

@@ -72,6 +72,7 @@ pub(crate) enum Outcome {
 /// answer to the requested tolerance. `dist = ‖r₂ − r₁‖ > 0`. With `warm`, the pair's cache
 /// (`super::warm`) is tried first and keeps the answer.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub(crate) fn proximity(
     shape1: &Shape,
     pose1: &Pose,

@@ -238,11 +238,17 @@ pub(crate) fn witness_gradient(
 /// the solid's closest point) and a capsule whose segment is nearer a solid than its radius (`w`
 /// the solid's closest point), `w` relative to shape 1's origin.
 fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Result<Option<Separation>, Vec3> {
-    if let Some(s) = sphere_and_solid(pair, d, tol)? {
-        return Ok(Some(s));
-    }
-    if let Some(hit) = segment_solid(pair, d) {
-        return capsule_and_solid(pair, d, tol, &hit);
+    // Sphere and capsule pairs first: neither `sphere_solid` nor `segment_solid` takes a
+    // sphere or capsule as the solid, and asking them cost a sphere pair ~140 instructions.
+    let rounded = |p: &Posed<'_, Shape>| p.shape.rounded_segment().is_some();
+    if !(rounded(&pair.one) && rounded(&pair.two)) {
+        if let Some(s) = sphere_and_solid(pair, d, tol)? {
+            return Ok(Some(s));
+        }
+        if let Some(hit) = segment_solid(pair, d) {
+            return capsule_and_solid(pair, d, tol, &hit);
+        }
+        return Ok(None);
     }
     let seg = RoundedSegment::of;
     let (Some(one), Some(two)) = (seg(&pair.one), seg(&pair.two)) else {
