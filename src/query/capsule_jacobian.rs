@@ -30,22 +30,36 @@
 //! sine, the answer is `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::derivatives::rotation_axes;
 use super::sphere_jacobian::{decide, MARGIN, TIE};
-use crate::math::{Pose, Real, Vec3};
+use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::sensitivity::PARALLEL_SIN;
 
-/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for two capsules, from the geometric answer, its gradient `g`
-/// (the α row) and `∂α*/∂d`; `None` for other pairs, undecided features, parallel sides or a
-/// non-finite answer.
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for two capsules into `j` (every entry written), from the
+/// geometric answer, its gradient `g` (the α row) and `∂α*/∂d`; `None` (with `j` holding
+/// garbage) for other pairs, undecided features, parallel sides or a non-finite answer.
+///
+/// The formulas of the module's documentation are linear in the change: with
+/// `σ₁ = K₀₀a₁ + K₀₁a₂`, `σ₂ = K₁₀a₁ + K₁₁a₂` (so `ds = σ₁·b + K₀₀ w·da₁ + K₀₁ w·da₂`, and `dt`
+/// likewise), `L = κP + u₁σ₁ᵀ + u₂σ₂ᵀ` and `c₀ = lever + L·span`, every column is
+///
+/// ```text
+///     r₂ along e:   L e + c₀ dα            r₁ along e:   e − L e + c₀ dα
+///     q₁ along ω:   c₀ dα + αs(z − Lz) + (K₀₀u₁ + K₁₀u₂)(w·z),   z = ω × a₁
+///     q₂ along ω:   c₀ dα + αt Lz + (K₀₁u₁ + K₁₁u₂)(w·z),        z = ω × a₂
+/// ```
+///
+/// so `L` and `c₀` are formed once and each column costs a few products (the columns of r₁ and
+/// r₂ sum to the identity by construction, and the α row is `g`).
 pub(crate) fn capsule_jacobian(
     prox: &Proximity,
     g: &[Real; 14],
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
-) -> Option<[[Real; 14]; 4]> {
+    axes: &[[Vec3; 4]; 2],
+    j: &mut [[Real; 14]; 4],
+) -> Option<()> {
     if shapes.iter().any(|s| s.solver_kind() != ShapeKind::Capsule) {
         return None;
     }
@@ -99,42 +113,39 @@ pub(crate) fn capsule_jacobian(
         (false, true) => [0.0, 0.0, 0.0, -1.0 / alpha],
         (false, false) => [0.0; 4],
     };
-    // dx* = dr₁ + dα·lever + α s da₁ + κPb + ds·u₁ + dt·u₂ with κ = ρ₁/ρ, P = I − ννᵀ: the
-    // formulas above with dw and dν substituted.
+    // κP with κ = ρ₁/ρ, P = I − ννᵀ; u₁ = α(a₁ − κPa₁), u₂ = ακPa₂.
     let kappa = rho1 / rho;
-    let project = |v: Vec3| (v - nu * nu.dot(&v)) * kappa;
-    let u1 = (a1 - project(a1)) * alpha;
-    let u2 = project(a2) * alpha;
-    // One column: the changes of d, r₁ and the axes, and α's.
-    let column = |dd: Vec3, dr1: Vec3, da1: Vec3, da2: Vec3, dalpha: Real| -> Vec3 {
-        let b = dd + span * dalpha + (da2 * t - da1 * s) * alpha;
-        let e1 = b.dot(&a1) + w.dot(&da1);
-        let e2 = b.dot(&a2) + w.dot(&da2);
-        let (ds, dt) = (k[0] * e1 + k[1] * e2, k[2] * e1 + k[3] * e2);
-        dr1 + lever * dalpha + da1 * (alpha * s) + project(b) + u1 * ds + u2 * dt
-    };
-    let mut j = [[0.0; 14]; 4];
-    let zero = Vec3::zeros();
-    let mut put = |col: usize, dx: Vec3| {
+    let kp = (Mat3::identity() - nu * nu.transpose()) * kappa;
+    let u1 = (a1 - kp * a1) * alpha;
+    let u2 = (kp * a2) * alpha;
+    let (sigma1, sigma2) = (a1 * k[0] + a2 * k[1], a1 * k[2] + a2 * k[3]);
+    let l = kp + u1 * sigma1.transpose() + u2 * sigma2.transpose();
+    let c0 = lever + l * span;
+    let (v1, v2) = (u1 * k[0] + u2 * k[2], u1 * k[1] + u2 * k[3]);
+    for col in 0..3 {
+        let (ga, gb) = (g[col], g[7 + col]);
         for i in 0..3 {
-            j[i][col] = dx[i];
+            let id = if i == col { 1.0 } else { 0.0 };
+            let lic = l[(i, col)];
+            j[i][col] = id - lic + c0[i] * ga;
+            j[i][7 + col] = lic + c0[i] * gb;
         }
-    };
-    for k in 0..3 {
-        let mut e = Vec3::zeros();
-        e[k] = 1.0;
-        put(k, column(-e, e, zero, zero, g[k]));
-        put(7 + k, column(e, zero, zero, zero, g[7 + k]));
     }
-    for (k, omega) in rotation_axes(poses[0]).iter().enumerate() {
-        put(3 + k, column(zero, zero, omega.cross(&a1), zero, g[3 + k]));
+    let (as1, at2) = (alpha * s, alpha * t);
+    for (kk, omega) in axes[0].iter().enumerate() {
+        let z = omega.cross(&a1);
+        let dx = (z - l * z) * as1 + v1 * w.dot(&z) + c0 * g[3 + kk];
+        for i in 0..3 {
+            j[i][3 + kk] = dx[i];
+        }
     }
-    for (k, omega) in rotation_axes(poses[1]).iter().enumerate() {
-        put(
-            10 + k,
-            column(zero, zero, zero, omega.cross(&a2), g[10 + k]),
-        );
+    for (kk, omega) in axes[1].iter().enumerate() {
+        let z = omega.cross(&a2);
+        let dx = (l * z) * at2 + v2 * w.dot(&z) + c0 * g[10 + kk];
+        for i in 0..3 {
+            j[i][10 + kk] = dx[i];
+        }
     }
     j[3] = *g;
-    crate::math::all_finite(&j).then_some(j)
+    crate::math::all_finite(j).then_some(())
 }

@@ -15,6 +15,7 @@ use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
 use super::derivatives::rotation_axes;
 use super::dispatch::{route, Stage, Stages};
+use super::ellipsoid_jacobian::ellipsoid_jacobian;
 use super::polytope_jacobian::polytope_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
@@ -170,6 +171,8 @@ pub(crate) fn gradient(
     pose1: &Pose,
     pose2: &Pose,
 ) -> [Real; 14] {
+    // The axes formed in the loops (keeping them, as `gradient_with`'s caller does for the
+    // Jacobian, cost a gradient alone ~50 instructions more).
     let mut g = [0.0; 14];
     for j in 0..3 {
         g[j] = -dalpha_dd[j];
@@ -187,6 +190,54 @@ pub(crate) fn gradient(
     if shapes[1].solver_kind() != ShapeKind::Sphere {
         let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
         for (k, w) in rotation_axes(pose2).iter().enumerate() {
+            g[10 + k] = w.dot(&t);
+        }
+    }
+    g
+}
+
+/// Each shape's four rotation axes ([`rotation_axes`]), zero for a sphere (its rotation
+/// columns are exactly zero and are not formed): computed once for the gradient and the
+/// Jacobian of one call.
+#[inline]
+pub(crate) fn pair_axes(shapes: [&Shape; 2], poses: [&Pose; 2]) -> [[Vec3; 4]; 2] {
+    let axes_of = |i: usize| {
+        if shapes[i].solver_kind() == ShapeKind::Sphere {
+            [Vec3::zeros(); 4]
+        } else {
+            rotation_axes(poses[i])
+        }
+    };
+    [axes_of(0), axes_of(1)]
+}
+
+/// [`gradient`] with the pair's rotation axes ([`pair_axes`]) given: the same numbers.
+#[inline]
+pub(crate) fn gradient_with(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    pose1: &Pose,
+    pose2: &Pose,
+    axes: &[[Vec3; 4]; 2],
+) -> [Real; 14] {
+    let mut g = [0.0; 14];
+    for j in 0..3 {
+        g[j] = -dalpha_dd[j];
+        g[7 + j] = dalpha_dd[j];
+    }
+    // ∂Qᵢ/∂qᵢₖ bᵢ = ωᵢₖ × wᵢ with wᵢ = Qᵢbᵢ the support point relative to rᵢ (world), so
+    // n·(∂Qᵢ/∂qᵢₖ)bᵢ = ωᵢₖ·(wᵢ × n).
+    let alpha = prox.alpha;
+    if shapes[0].solver_kind() != ShapeKind::Sphere {
+        let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
+        for (k, w) in axes[0].iter().enumerate() {
+            g[3 + k] = w.dot(&t);
+        }
+    }
+    if shapes[1].solver_kind() != ShapeKind::Sphere {
+        let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
+        for (k, w) in axes[1].iter().enumerate() {
             g[10 + k] = w.dot(&t);
         }
     }
@@ -290,7 +341,7 @@ pub(crate) fn unique_contact(
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and
 /// its gradient `g` ([`gradient`]): in closed form for two spheres, for a sphere against a
 /// box, a capsule, a cylinder, a cone or an ellipsoid (`super::sphere_jacobian`), for two capsules
-/// (`super::capsule_jacobian`), and for two polytopes
+/// (`super::capsule_jacobian`), for two ellipsoids (`super::ellipsoid_jacobian`), and for two polytopes
 /// touching on a facet of K (`super::polytope_jacobian`), else by
 /// the implicit function theorem on its contact features (`crate::solver::sensitivity`);
 /// `None` where x* is not unique or the features' system is singular.
@@ -307,17 +358,68 @@ pub(crate) fn jacobian(
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
 ) -> Option<[[Real; 14]; 4]> {
+    let mut j = [[0.0; 14]; 4];
+    let axes = pair_axes(shapes, poses);
+    jacobian_into(prox, dalpha_dd, g, shapes, poses, &axes, &mut j)?;
+    Some(j)
+}
+
+/// How [`jacobian_into`] formed the Jacobian.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Formed {
+    /// A closed form for spheres, capsules and ellipsoids: its α row is the gradient `g` and its columns
+    /// of `r₁` and `r₂` sum to the identity by construction (up to rounding).
+    Closed,
+    /// The polytopes' closed form or the general feature solve.
+    Solved,
+}
+
+/// [`jacobian`] written into `j` (every entry; garbage when `None` is returned), with the
+/// pair's rotation axes given ([`pair_axes`]), saying how it was formed: the sphere and capsule closed forms write their columns in place, without
+/// the copies of the 4×14 result through `Option`s and returns.
+#[inline]
+pub(crate) fn jacobian_into(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    g: &[Real; 14],
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+    axes: &[[Vec3; 4]; 2],
+    out: &mut [[Real; 14]; 4],
+) -> Option<Formed> {
     if !general_only() {
-        if let Some(j) = two_spheres_jacobian(prox, dalpha_dd, shapes) {
-            return Some(j);
-        }
-        if let Some(j) = sphere_jacobian(prox, g, dalpha_dd, shapes, poses) {
-            return Some(j);
-        }
-        if let Some(j) = capsule_jacobian(prox, g, dalpha_dd, shapes, poses) {
-            return Some(j);
+        let kinds = shapes.map(|s| s.solver_kind());
+        let closed = match kinds {
+            [ShapeKind::Sphere, ShapeKind::Sphere] => {
+                two_spheres_jacobian(prox, dalpha_dd, shapes, out)
+            }
+            [ShapeKind::Capsule, ShapeKind::Capsule] => {
+                capsule_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
+            }
+            [ShapeKind::Ellipsoid, ShapeKind::Ellipsoid] => {
+                ellipsoid_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
+            }
+            [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
+                sphere_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
+            }
+            _ => None,
+        };
+        if closed.is_some() {
+            return Some(Formed::Closed);
         }
     }
+    *out = general_jacobian(prox, dalpha_dd, shapes, poses, axes)?;
+    Some(Formed::Solved)
+}
+
+/// The polytopes' closed form or the general feature solve (see [`jacobian`]).
+fn general_jacobian(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+    axes: &[[Vec3; 4]; 2],
+) -> Option<[[Real; 14]; 4]> {
     let (pair, sol, s) = normalised(prox, dalpha_dd, shapes, poses);
     if !general_only() {
         if let Some(j) = polytope_jacobian(&pair, &sol, prox.alpha, shapes, poses) {
@@ -327,15 +429,7 @@ pub(crate) fn jacobian(
     let (ell, inv) = (1.0 / pair.one.inv_scale, pair.one.inv_scale);
     let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
     // A sphere's rotation columns are exactly zero: neither its axes nor its columns are formed.
-    let axes_of = |i: usize| {
-        if round[i] {
-            [Vec3::zeros(); 4]
-        } else {
-            rotation_axes(poses[i])
-        }
-    };
-    let axes = [axes_of(0), axes_of(1)];
-    let sens = sensitivity(&pair, &sol, &axes, round)?;
+    let sens = sensitivity(&pair, &sol, axes, round)?;
     let alpha_n = 1.0 / sens.mu;
     let alpha = s * alpha_n;
     let a = sens.a;
@@ -405,21 +499,22 @@ fn two_spheres_jacobian(
     prox: &Proximity,
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
-) -> Option<[[Real; 14]; 4]> {
+    j: &mut [[Real; 14]; 4],
+) -> Option<()> {
     if shapes.iter().any(|s| s.solver_kind() != ShapeKind::Sphere) {
         return None;
     }
     let (_, r1) = shapes[0].rounded_segment()?;
     let (_, r2) = shapes[1].rounded_segment()?;
     let (k1, k2) = (r1 / (r1 + r2), r2 / (r1 + r2));
-    let mut j = [[0.0; 14]; 4];
+    *j = [[0.0; 14]; 4];
     for c in 0..3 {
         j[c][c] = k2;
         j[c][7 + c] = k1;
         j[3][c] = -dalpha_dd[c];
         j[3][7 + c] = dalpha_dd[c];
     }
-    (prox.alpha.is_finite() && crate::math::all_finite(&j)).then_some(j)
+    (prox.alpha.is_finite() && crate::math::all_finite(j)).then_some(())
 }
 
 /// `Err((below, bound, normal))` when the cast's bracket decided the threshold: the bracket's

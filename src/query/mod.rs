@@ -17,6 +17,9 @@ mod differentiate;
 mod dispatch;
 mod distance;
 mod early_exit;
+mod ellipsoid_jacobian;
+#[cfg(test)]
+mod ellipsoid_jacobian_tests;
 #[cfg(test)]
 mod fast_derivatives_tests;
 mod geometric;

@@ -645,25 +645,33 @@ pub(crate) fn plain_derivatives(
         return None;
     };
     let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-    *grad = geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2);
+    // With a Jacobian, the rotation axes once for it and the gradient (the same numbers); the
+    // gradient alone forms them in its own loops, as it always did.
+    let axes = jacobian
+        .as_ref()
+        .map(|_| geometric::pair_axes(shapes, poses));
+    *grad = match &axes {
+        Some(axes) => geometric::gradient_with(&prox, &dalpha_dd, shapes, pose1, pose2, axes),
+        None => geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2),
+    };
     let g = &*grad;
     // One sum instead of fourteen tests: any infinity or NaN makes it non-finite (a finite
     // gradient whose sum overflows only sends the call to the full query, the same answer).
     if !g.iter().sum::<Real>().is_finite() {
         return None;
     }
-    let exact = match jacobian {
-        Some(out) => {
+    let exact = match (jacobian, &axes) {
+        (Some(out), Some(axes)) => {
             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-            match geometric::jacobian(&prox, &dalpha_dd, g, shapes, poses) {
-                Some(j) if derivatives::consistent(&j, g, ell) => {
-                    *out = j;
-                    true
-                }
-                _ => false,
+            // The closed forms hold the identities `consistent` checks by construction.
+            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, axes, out) {
+                Some(geometric::Formed::Closed) => true,
+                Some(geometric::Formed::Solved) => derivatives::consistent(out, g, ell),
+                None => false,
             }
         }
-        None => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
+        // No Jacobian asked for (the axes are formed exactly when it is).
+        _ => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
     };
     if !exact {
         return None;

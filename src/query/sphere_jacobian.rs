@@ -25,7 +25,6 @@
 //! `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::derivatives::rotation_axes;
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
@@ -160,15 +159,18 @@ fn projection_jacobian(
 }
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone or
-/// an ellipsoid (either order), from the geometric answer and its gradient `g` (the α row); `None` for
-/// other pairs, undecided features or a non-finite answer.
+/// an ellipsoid (either order) into `j` (every entry written), from the geometric answer and
+/// its gradient `g` (the α row); `None` (with `j` holding garbage) for other pairs, undecided
+/// features or a non-finite answer.
 pub(crate) fn sphere_jacobian(
     prox: &Proximity,
     g: &[Real; 14],
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
-) -> Option<[[Real; 14]; 4]> {
+    axes: &[[Vec3; 4]; 2],
+    j: &mut [[Real; 14]; 4],
+) -> Option<()> {
     let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
     let (s, b) = match round {
         [true, false] => (0, 1),
@@ -190,7 +192,10 @@ pub(crate) fn sphere_jacobian(
     let m = projection_jacobian(shapes[b], poses[b], &n, &w, radius, ell)?;
     let v = w - m * y;
     let (cs, cb) = (7 * s, 7 * b);
-    let mut j = [[0.0; 14]; 4];
+    // The sphere's rotation columns are zero.
+    for row in j.iter_mut().take(3) {
+        row[cs + 3..cs + 7].fill(0.0);
+    }
     for c in 0..3 {
         for i in 0..3 {
             let id = if i == c { 1.0 } else { 0.0 };
@@ -198,12 +203,12 @@ pub(crate) fn sphere_jacobian(
             j[i][cb + c] = id - m[(i, c)] + v[i] * g[cb + c];
         }
     }
-    for (k, omega) in rotation_axes(poses[b]).iter().enumerate() {
+    for (k, omega) in axes[b].iter().enumerate() {
         let dx = (omega.cross(&w) - m * omega.cross(&y)) * alpha + v * g[cb + 3 + k];
         for i in 0..3 {
             j[i][cb + 3 + k] = dx[i];
         }
     }
     j[3] = *g;
-    crate::math::all_finite(&j).then_some(j)
+    crate::math::all_finite(j).then_some(())
 }

@@ -2,7 +2,7 @@
 //! general feature solve, on thousands of random poses and radii per pair, both orders.
 
 use super::context::Options;
-use super::geometric::GENERAL_ONLY;
+use super::geometric::{pair_axes, GENERAL_ONLY};
 use super::sphere_jacobian::sphere_jacobian;
 use super::test_support::{gap, geometric_answer, Rng};
 use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
@@ -45,7 +45,8 @@ fn feature(shape: &Shape, pose: &Pose, c: &crate::Vec3) -> usize {
 /// The closed form where it answers, with the feature of the contact on the other shape.
 fn closed_at(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], usize)> {
     let (prox, dad, g) = geometric_answer(s, p)?;
-    let j = sphere_jacobian(&prox, &g, &dad, s, p)?;
+    let mut j = [[0.0; 14]; 4];
+    sphere_jacobian(&prox, &g, &dad, s, p, &pair_axes(s, p), &mut j)?;
     let b = usize::from(s[0].kind() == crate::ShapeKind::Sphere);
     Some((j, feature(s[b], p[b], &[prox.contact1, prox.contact2][b])))
 }
@@ -53,7 +54,9 @@ fn closed_at(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], usize)> 
 /// The closed form where it answers, else `None`.
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
     let (prox, dad, g) = geometric_answer(s, p)?;
-    sphere_jacobian(&prox, &g, &dad, s, p)
+    let mut j = [[0.0; 14]; 4];
+    sphere_jacobian(&prox, &g, &dad, s, p, &pair_axes(s, p), &mut j)?;
+    Some(j)
 }
 
 /// Against each of a box, a capsule, a cylinder and a cone, in both orders, 3 000 random poses

@@ -28,7 +28,7 @@
 use super::dense::{lu_factor_in_place, lu_solve_one, lu_solve_transposed4};
 use super::features::{identify, Feature, MAX_SIDE};
 pub(crate) use super::features::{Solution, PARALLEL_SIN};
-use super::polish::{eval, Active, WorldPiece};
+use super::polish::{Active, WorldPiece};
 use super::raycast::Pair;
 use crate::math::{Mat3, Real, Vec3};
 use crate::shapes::SupportMap;
@@ -105,7 +105,7 @@ fn evaluate<S: SupportMap>(
     match feature {
         Feature::Pieces { ids, count, .. } => {
             for k in 0..count {
-                side.pieces[k] = eval(pair, Active { shape, id: ids[k] }, n)?;
+                side.pieces[k] = eval_piece(pair, Active { shape, id: ids[k] }, n)?;
             }
         }
         Feature::Disc { centre, s, .. } => {
@@ -123,6 +123,28 @@ fn evaluate<S: SupportMap>(
         }
     }
     Some(())
+}
+
+/// `polish::eval` for the feature solve: a piece whose Hessian is exactly zero (a polytope's vertex, a
+/// segment's end) skips its rotation into the world frame (two 3×3 products, ~100 instructions a
+/// piece): zeros, as the rotated zero matrix is (up to the sign of a zero).
+#[inline]
+fn eval_piece<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<WorldPiece> {
+    let (posed, sign) = pair.side(act.shape);
+    let m = posed.rot.tr_mul(n) * sign;
+    let e = posed.shape.piece(act.id, &m)?;
+    let s = posed.inv_scale;
+    // The same expression as `eval`'s where the Hessian is not zero: the same numbers.
+    let hess = if e.hess == Mat3::zeros() {
+        Mat3::zeros()
+    } else {
+        posed.rot * e.hess * posed.rot.transpose() * s
+    };
+    Some(WorldPiece {
+        value: e.value * s,
+        grad: posed.rot * e.grad * (s * sign),
+        hess,
+    })
 }
 
 /// The residual `F` at the unknowns `z` into `res`; its largest entry.
@@ -485,7 +507,13 @@ impl Reduced {
                 lu[4 + x][i] = self.rows[x][i];
             }
         }
-        self.ipiv = lu_factor_in_place(lu, order)?;
+        // The order as a constant in each arm: the inlined factorisation's loops are unrolled
+        // for it (the same operations in the same order as with a variable order).
+        self.ipiv = match order {
+            4 => lu_factor_in_place(lu, 4),
+            5 => lu_factor_in_place(lu, 5),
+            _ => lu_factor_in_place(lu, RED),
+        }?;
         self.order = order;
         self.n = Vec3::new(z[0], z[1], z[2]);
         self.mu = z[3];
@@ -494,7 +522,24 @@ impl Reduced {
 
     /// The outputs' sensitivities (see [`Reduced`]).
     fn adjoint(&self, axes: &[[Vec3; 4]; 2], round: [bool; 2]) -> Sensitivity {
-        let (n, mu, order) = (self.n, self.mu, self.order);
+        // The order as a constant in each arm: the inlined loops over the directions and the
+        // solve are unrolled for it (the same operations in the same order).
+        match self.order {
+            4 => self.adjoint_of_order(axes, round, 4),
+            5 => self.adjoint_of_order(axes, round, 5),
+            _ => self.adjoint_of_order(axes, round, RED),
+        }
+    }
+
+    /// [`Reduced::adjoint`] for the system's order `order`.
+    #[inline(always)]
+    fn adjoint_of_order(
+        &self,
+        axes: &[[Vec3; 4]; 2],
+        round: [bool; 2],
+        order: usize,
+    ) -> Sensitivity {
+        let (n, mu) = (self.n, self.mu);
         let extra = order - 4;
         // Right-hand sides: e_μ and the rows of δa = H₁δn + C₁t.
         let mut y = [[0.0; 4]; RED];
