@@ -254,6 +254,20 @@ pub(crate) fn finite_array<const N: usize>(a: &[Real; N]) -> bool {
     a.iter().map(|v| v * 0.0).sum::<Real>() == 0.0
 }
 
+/// Uniform in [−1, 1) from a 64-bit linear congruential generator seeded with `seed` (the
+/// contact and separating-axis tests' source: the same numbers on every machine). Here, below
+/// both `solver` and `query`, so that either's tests take it without the two modules using
+/// each other.
+#[cfg(test)]
+pub(crate) fn lcg(mut seed: u64) -> impl FnMut() -> Real {
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
+    }
+}
+
 /// Robust Euclidean norm (no underflow or overflow for finite input).
 pub(crate) fn robust_norm(v: &Vec3) -> Real {
     let m = v.x.abs().max(v.y.abs()).max(v.z.abs());

@@ -38,7 +38,7 @@ mod sphere_jacobian_tests;
 #[cfg(test)]
 mod structured_solve_tests;
 #[cfg(test)]
-pub(crate) mod test_support;
+mod test_support;
 mod warm;
 mod warm_contacts;
 mod warm_distance;

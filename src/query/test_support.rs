@@ -44,16 +44,7 @@ impl Rng {
     }
 }
 
-/// Uniform in [−1, 1) from a 64-bit linear congruential generator seeded with `seed` (the
-/// contact tests' source: the same numbers on every machine).
-pub(crate) fn lcg(mut seed: u64) -> impl FnMut() -> Real {
-    move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
-    }
-}
+pub(crate) use crate::math::lcg;
 
 /// A polytope of 14 random facets at distances 0.4–0.6 (normals drawn first, then offsets).
 pub(crate) fn random_polytope(rng: &mut Rng) -> Shape {

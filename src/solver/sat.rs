@@ -458,8 +458,8 @@ fn edge_witness(a: &Placed<'_>, b: &Placed<'_>, n: &Vec3, tol: Real) -> Option<V
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::lcg;
     use crate::math::Pose;
-    use crate::query::test_support::lcg;
     use crate::shapes::Shape;
 
     /// The support feature of an eight-vertex polytope (`support_eight`) is the listed path's,
