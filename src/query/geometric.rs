@@ -171,29 +171,11 @@ pub(crate) fn gradient(
     pose1: &Pose,
     pose2: &Pose,
 ) -> [Real; 14] {
-    // The axes formed in the loops (keeping them, as `gradient_with`'s caller does for the
-    // Jacobian, cost a gradient alone ~50 instructions more).
-    let mut g = [0.0; 14];
-    for j in 0..3 {
-        g[j] = -dalpha_dd[j];
-        g[7 + j] = dalpha_dd[j];
-    }
-    // ∂Qᵢ/∂qᵢₖ bᵢ = ωᵢₖ × wᵢ with wᵢ = Qᵢbᵢ the support point relative to rᵢ (world), so
-    // n·(∂Qᵢ/∂qᵢₖ)bᵢ = ωᵢₖ·(wᵢ × n).
-    let alpha = prox.alpha;
-    if shapes[0].solver_kind() != ShapeKind::Sphere {
-        let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
-        for (k, w) in rotation_axes(pose1).iter().enumerate() {
-            g[3 + k] = w.dot(&t);
-        }
-    }
-    if shapes[1].solver_kind() != ShapeKind::Sphere {
-        let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
-        for (k, w) in rotation_axes(pose2).iter().enumerate() {
-            g[10 + k] = w.dot(&t);
-        }
-    }
-    g
+    // The axes formed where they are used (keeping them, as `gradient_with`'s caller does for
+    // the Jacobian, cost a gradient alone ~50 instructions more).
+    gradient_by(prox, dalpha_dd, shapes, [pose1, pose2], |i| {
+        rotation_axes([pose1, pose2][i])
+    })
 }
 
 /// Each shape's four rotation axes ([`rotation_axes`]), zero for a sphere (its rotation
@@ -221,6 +203,19 @@ pub(crate) fn gradient_with(
     pose2: &Pose,
     axes: &[[Vec3; 4]; 2],
 ) -> [Real; 14] {
+    gradient_by(prox, dalpha_dd, shapes, [pose1, pose2], |i| axes[i])
+}
+
+/// The body of [`gradient`] and [`gradient_with`]: `axes(i)` gives shape i's rotation axes
+/// (asked only for a shape that is not a sphere).
+#[inline(always)]
+fn gradient_by(
+    prox: &Proximity,
+    dalpha_dd: &Vec3,
+    shapes: [&Shape; 2],
+    poses: [&Pose; 2],
+    axes: impl Fn(usize) -> [Vec3; 4],
+) -> [Real; 14] {
     let mut g = [0.0; 14];
     for j in 0..3 {
         g[j] = -dalpha_dd[j];
@@ -230,14 +225,14 @@ pub(crate) fn gradient_with(
     // n·(∂Qᵢ/∂qᵢₖ)bᵢ = ωᵢₖ·(wᵢ × n).
     let alpha = prox.alpha;
     if shapes[0].solver_kind() != ShapeKind::Sphere {
-        let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
-        for (k, w) in axes[0].iter().enumerate() {
+        let t = (prox.contact1 - poses[0].position()).cross(dalpha_dd) * -alpha;
+        for (k, w) in axes(0).iter().enumerate() {
             g[3 + k] = w.dot(&t);
         }
     }
     if shapes[1].solver_kind() != ShapeKind::Sphere {
-        let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
-        for (k, w) in axes[1].iter().enumerate() {
+        let t = (prox.contact2 - poses[1].position()).cross(dalpha_dd) * alpha;
+        for (k, w) in axes(1).iter().enumerate() {
             g[10 + k] = w.dot(&t);
         }
     }
