@@ -5,8 +5,8 @@
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::Options;
 use super::geometric::{pair_axes, GENERAL_ONLY};
-use super::test_support::{gap, geometric_answer, Rng};
-use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
+use super::test_support::{central_jacobian, gap, geometric_answer, Rng};
+use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
 
 /// Which part of each capsule its contact point (world) lies on: its side (true) or a cap.
 fn sides(s: [&Shape; 2], p: [&Pose; 2], c: [&crate::Vec3; 2]) -> [bool; 2] {
@@ -99,7 +99,6 @@ fn capsule_closed_form_matches_the_feature_solve() {
 /// (non-dimensional), the differences' own truncation error.
 #[test]
 fn capsule_closed_form_matches_central_differences() {
-    let o = Options::default();
     let mut rng = Rng(0x9d2c_5680_1b87_3f11);
     let mut checked = 0;
     for _ in 0..400 {
@@ -111,34 +110,7 @@ fn capsule_closed_form_matches_central_differences() {
         };
         checked += 1;
         let ell = c1.bounding_radius().max(c2.bounding_radius());
-        let h = 1e-6;
-        let row = |p1: &Pose, p2: &Pose| {
-            let r = proximity(&c1, p1, &c2, p2, &o).unwrap();
-            [r.point.x, r.point.y, r.point.z, r.alpha]
-        };
-        let mut fd = [[0.0; 14]; 4];
-        for col in 0..14 {
-            let (i, k) = (col / 7, col % 7);
-            let moved = |sign: Real| {
-                let poses = [&p1, &p2].map(|p| (*p.position(), p.quaternion()));
-                let (mut r, mut q) = poses[i];
-                if k < 3 {
-                    r[k] += sign * h;
-                } else {
-                    q[k - 3] += sign * h;
-                }
-                let p = Pose::new(r.into(), q).unwrap();
-                if i == 0 {
-                    row(&p, &p2)
-                } else {
-                    row(&p1, &p)
-                }
-            };
-            let (up, down) = (moved(1.0), moved(-1.0));
-            for r in 0..4 {
-                fd[r][col] = (up[r] - down[r]) / (2.0 * h);
-            }
-        }
+        let fd = central_jacobian([&c1, &c2], [&p1, &p2], 1e-6);
         let e = gap(&jc, &fd, ell);
         assert!(e < 1e-6, "{e:e}");
     }

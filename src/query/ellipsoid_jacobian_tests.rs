@@ -4,9 +4,9 @@
 use super::context::Options;
 use super::ellipsoid_jacobian::ellipsoid_jacobian;
 use super::geometric::{pair_axes, GENERAL_ONLY};
-use super::test_support::{gap, geometric_answer, Rng};
+use super::test_support::{central_jacobian, gap, geometric_answer, Rng};
 use crate::math::rotation_from_quaternion;
-use crate::{jacobian, proximity, DerivativeKind, Pose, Real, Shape};
+use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
 
 /// A random ellipsoid: semi-axes log-uniform in [`lo`, 1], a random attitude.
 fn ellipsoid(rng: &mut Rng, lo: Real) -> Shape {
@@ -82,7 +82,6 @@ fn ellipsoid_closed_form_matches_the_feature_solve() {
 /// differences' own truncation error.
 #[test]
 fn ellipsoid_closed_form_matches_central_differences() {
-    let o = Options::default();
     let mut rng = Rng(0xbb67_ae85_84ca_a73b);
     let mut checked = 0;
     for _ in 0..300 {
@@ -94,34 +93,7 @@ fn ellipsoid_closed_form_matches_central_differences() {
         };
         checked += 1;
         let ell = e1.bounding_radius().max(e2.bounding_radius());
-        let h = 1e-6;
-        let row = |p1: &Pose, p2: &Pose| {
-            let r = proximity(&e1, p1, &e2, p2, &o).unwrap();
-            [r.point.x, r.point.y, r.point.z, r.alpha]
-        };
-        let mut fd = [[0.0; 14]; 4];
-        for col in 0..14 {
-            let (i, k) = (col / 7, col % 7);
-            let moved = |sign: Real| {
-                let poses = [&p1, &p2].map(|p| (*p.position(), p.quaternion()));
-                let (mut r, mut q) = poses[i];
-                if k < 3 {
-                    r[k] += sign * h;
-                } else {
-                    q[k - 3] += sign * h;
-                }
-                let p = Pose::new(r.into(), q).unwrap();
-                if i == 0 {
-                    row(&p, &p2)
-                } else {
-                    row(&p1, &p)
-                }
-            };
-            let (up, down) = (moved(1.0), moved(-1.0));
-            for r in 0..4 {
-                fd[r][col] = (up[r] - down[r]) / (2.0 * h);
-            }
-        }
+        let fd = central_jacobian([&e1, &e2], [&p1, &p2], 1e-6);
         let e = gap(&jc, &fd, ell);
         assert!(e < 1e-6, "{e:e}");
     }

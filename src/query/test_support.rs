@@ -86,6 +86,39 @@ pub(crate) fn gap(a: &[[Real; 14]; 4], b: &[[Real; 14]; 4], ell: Real) -> Real {
     worst
 }
 
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` by central differences of step `h` on the public proximity
+/// query (default options): the closed-form Jacobians' independent reference.
+pub(crate) fn central_jacobian(s: [&Shape; 2], p: [&Pose; 2], h: Real) -> [[Real; 14]; 4] {
+    let o = Options::default();
+    let row = |p1: &Pose, p2: &Pose| {
+        let r = crate::proximity(s[0], p1, s[1], p2, &o).unwrap();
+        [r.point.x, r.point.y, r.point.z, r.alpha]
+    };
+    let mut fd = [[0.0; 14]; 4];
+    for col in 0..14 {
+        let (i, k) = (col / 7, col % 7);
+        let moved = |sign: Real| {
+            let (mut r, mut q) = (*p[i].position(), p[i].quaternion());
+            if k < 3 {
+                r[k] += sign * h;
+            } else {
+                q[k - 3] += sign * h;
+            }
+            let moved = Pose::new(r.into(), q).unwrap();
+            if i == 0 {
+                row(&moved, p[1])
+            } else {
+                row(p[0], &moved)
+            }
+        };
+        let (up, down) = (moved(1.0), moved(-1.0));
+        for r in 0..4 {
+            fd[r][col] = (up[r] - down[r]) / (2.0 * h);
+        }
+    }
+    fd
+}
+
 /// The geometric answer of a pair (default options), `∂α*/∂d` and the gradient: what the
 /// closed-form Jacobians start from; `None` where the geometric path does not answer.
 pub(crate) fn geometric_answer(
