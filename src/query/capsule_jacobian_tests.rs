@@ -3,10 +3,9 @@
 //! lengths.
 
 use super::capsule_jacobian::capsule_jacobian;
-use super::context::Options;
-use super::geometric::{pair_axes, GENERAL_ONLY};
-use super::test_support::{central_jacobian, gap, geometric_answer, Rng};
-use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
+use super::geometric::pair_axes;
+use super::test_support::{central_jacobian, gap, general_beside, geometric_answer, Rng};
+use crate::{Pose, Real, Shape};
 
 /// Which part of each capsule its contact point (world) lies on: its side (true) or a cap.
 fn sides(s: [&Shape; 2], p: [&Pose; 2], c: [&crate::Vec3; 2]) -> [bool; 2] {
@@ -41,7 +40,6 @@ fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<([[Real; 14]; 4], [bool; 2])>
 /// the feature solve, which refines the point by Newton first, 1.9e-12.
 #[test]
 fn capsule_closed_form_matches_the_feature_solve() {
-    let o = Options::default();
     let mut rng = Rng(0x41c6_4e6d_a3bc_0074);
     let (mut worst, mut hits, total): (Real, usize, usize) = (0.0, 0, 10_000);
     let mut seen = [[0usize; 2]; 2];
@@ -70,18 +68,11 @@ fn capsule_closed_form_matches_the_feature_solve() {
         };
         hits += 1;
         seen[usize::from(part[0])][usize::from(part[1])] += 1;
-        GENERAL_ONLY.with(|g| g.set(true));
-        let general = jacobian(&c1, &p1, &c2, &p2, &o).unwrap();
-        GENERAL_ONLY.with(|g| g.set(false));
-        let fast = jacobian(&c1, &p1, &c2, &p2, &o).unwrap();
-        assert_eq!(general.0, fast.0);
-        assert_eq!(fast.0.derivatives, DerivativeKind::Exact);
-        assert_eq!(general.0.derivatives, DerivativeKind::Exact);
-        assert_eq!(fast.1, jc);
+        let general = general_beside([&c1, &c2], [&p1, &p2], &jc);
         let ell = c1.bounding_radius().max(c2.bounding_radius());
         // Relative to the Jacobian's size: nearly parallel sides have entries ~1/(α sin²θ).
         let size = jc.iter().flatten().fold(1.0, |m: Real, v| m.max(v.abs()));
-        let e = gap(&jc, &general.1, ell) / size;
+        let e = gap(&jc, &general, ell) / size;
         worst = worst.max(e);
     }
     assert!(hits * 100 >= total * 97, "{hits}");

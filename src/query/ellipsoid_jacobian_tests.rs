@@ -1,12 +1,11 @@
 //! The two ellipsoids' closed-form Jacobian (`super::ellipsoid_jacobian`) against the general
 //! feature solve and against central differences, on thousands of random ellipsoids and poses.
 
-use super::context::Options;
 use super::ellipsoid_jacobian::ellipsoid_jacobian;
-use super::geometric::{pair_axes, GENERAL_ONLY};
-use super::test_support::{central_jacobian, gap, geometric_answer, Rng};
+use super::geometric::pair_axes;
+use super::test_support::{central_jacobian, gap, general_beside, geometric_answer, Rng};
 use crate::math::rotation_from_quaternion;
-use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
+use crate::{Pose, Real, Shape};
 
 /// A random ellipsoid: semi-axes log-uniform in [`lo`, 1], a random attitude.
 fn ellipsoid(rng: &mut Rng, lo: Real) -> Shape {
@@ -41,7 +40,6 @@ fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
 /// ~1e3: 1e-12 is that times a few ulps.
 #[test]
 fn ellipsoid_closed_form_matches_the_feature_solve() {
-    let o = Options::default();
     let mut rng = Rng(0x6a09_e667_f3bc_c908);
     let (mut worst, mut hits, mut answered): (Real, usize, usize) = (0.0, 0, 0);
     let total = 10_000;
@@ -58,16 +56,9 @@ fn ellipsoid_closed_form_matches_the_feature_solve() {
             continue;
         };
         hits += 1;
-        GENERAL_ONLY.with(|g| g.set(true));
-        let general = jacobian(&e1, &p1, &e2, &p2, &o).unwrap();
-        GENERAL_ONLY.with(|g| g.set(false));
-        let fast = jacobian(&e1, &p1, &e2, &p2, &o).unwrap();
-        assert_eq!(general.0, fast.0);
-        assert_eq!(fast.0.derivatives, DerivativeKind::Exact);
-        assert_eq!(general.0.derivatives, DerivativeKind::Exact);
-        assert_eq!(fast.1, jc);
+        let general = general_beside([&e1, &e2], [&p1, &p2], &jc);
         let ell = e1.bounding_radius().max(e2.bounding_radius());
-        worst = worst.max(gap(&jc, &general.1, ell));
+        worst = worst.max(gap(&jc, &general, ell));
     }
     eprintln!("ellipsoid pair: {hits} of {answered} answered, worst {worst:e}");
     assert!(

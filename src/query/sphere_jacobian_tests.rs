@@ -2,10 +2,10 @@
 //! general feature solve, on thousands of random poses and radii per pair, both orders.
 
 use super::context::Options;
-use super::geometric::{pair_axes, GENERAL_ONLY};
+use super::geometric::pair_axes;
 use super::sphere_jacobian::sphere_jacobian;
-use super::test_support::{gap, geometric_answer, Rng};
-use crate::{jacobian, DerivativeKind, Pose, Real, Shape};
+use super::test_support::{gap, general_beside, geometric_answer, Rng};
+use crate::{jacobian, Pose, Real, Shape};
 
 /// The feature of `shape` (box, capsule, cylinder or cone) its contact point `c` (world) lies
 /// on, from its body coordinates: 0 a vertex or the apex, 1 an edge or a rim, 2 a face or a
@@ -74,7 +74,6 @@ fn sphere_closed_form_matches_the_feature_solve() {
         Shape::cylinder(0.3, 0.9).unwrap(),
         Shape::cone(1.0, 0.5).unwrap(),
     ];
-    let o = Options::default();
     let mut rng = Rng(0x5f3e_a1c9_77d2_0b41);
     for other in &others {
         for order in 0..2 {
@@ -93,15 +92,9 @@ fn sphere_closed_form_matches_the_feature_solve() {
                 };
                 hits += 1;
                 seen[f] += 1;
-                GENERAL_ONLY.with(|g| g.set(true));
-                let general = jacobian(s[0], &p1, s[1], &p2, &o).unwrap();
-                GENERAL_ONLY.with(|g| g.set(false));
-                let fast = jacobian(s[0], &p1, s[1], &p2, &o).unwrap();
-                assert_eq!(general.0, fast.0);
-                assert_eq!(fast.0.derivatives, DerivativeKind::Exact);
-                assert_eq!(fast.1, jc);
+                let general = general_beside([s[0], s[1]], [&p1, &p2], &jc);
                 let ell = s[0].bounding_radius().max(s[1].bounding_radius());
-                let e = gap(&jc, &general.1, ell);
+                let e = gap(&jc, &general, ell);
                 worst = worst.max(e);
             }
             let kind = other.kind();
@@ -201,7 +194,6 @@ fn sphere_ellipsoid_closed_form_matches_the_feature_solve() {
         Shape::ellipsoid([[1.5, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap(),
         Shape::ellipsoid([[1.0, 0.0, 0.0], [0.0, 25.0, 3.0], [0.0, 3.0, 400.0]]).unwrap(),
     ];
-    let o = Options::default();
     let mut rng = Rng(0x3c6e_f372_fe94_f82b);
     for (which, other) in others.iter().enumerate() {
         for order in 0..2 {
@@ -222,15 +214,9 @@ fn sphere_ellipsoid_closed_form_matches_the_feature_solve() {
                     continue;
                 };
                 hits += 1;
-                GENERAL_ONLY.with(|g| g.set(true));
-                let general = jacobian(s[0], &p1, s[1], &p2, &o).unwrap();
-                GENERAL_ONLY.with(|g| g.set(false));
-                let fast = jacobian(s[0], &p1, s[1], &p2, &o).unwrap();
-                assert_eq!(general.0, fast.0);
-                assert_eq!(fast.0.derivatives, DerivativeKind::Exact);
-                assert_eq!(fast.1, jc);
+                let general = general_beside([s[0], s[1]], [&p1, &p2], &jc);
                 let ell = s[0].bounding_radius().max(s[1].bounding_radius());
-                worst = worst.max(gap(&jc, &general.1, ell));
+                worst = worst.max(gap(&jc, &general, ell));
             }
             eprintln!("ellipsoid {order}: {hits} of {answered}, worst {worst:.1e}");
             assert!(

@@ -119,6 +119,25 @@ pub(crate) fn central_jacobian(s: [&Shape; 2], p: [&Pose; 2], h: Real) -> [[Real
     fd
 }
 
+/// The public Jacobian with the closed forms switched off (the general feature solve) and on,
+/// against a closed form's `jc`: both give the same proximity answer with exact derivatives,
+/// and the public one is `jc` to the last bit. Returns the general solve's Jacobian.
+pub(crate) fn general_beside(
+    s: [&Shape; 2],
+    p: [&Pose; 2],
+    jc: &[[Real; 14]; 4],
+) -> [[Real; 14]; 4] {
+    let o = Options::default();
+    geometric::GENERAL_ONLY.with(|g| g.set(true));
+    let general = crate::jacobian(s[0], p[0], s[1], p[1], &o).unwrap();
+    geometric::GENERAL_ONLY.with(|g| g.set(false));
+    let fast = crate::jacobian(s[0], p[0], s[1], p[1], &o).unwrap();
+    assert_eq!(general.0, fast.0);
+    assert_eq!(fast.0.derivatives, crate::DerivativeKind::Exact);
+    assert_eq!(&fast.1, jc);
+    general.1
+}
+
 /// The geometric answer of a pair (default options), `∂α*/∂d` and the gradient: what the
 /// closed-form Jacobians start from; `None` where the geometric path does not answer.
 pub(crate) fn geometric_answer(
