@@ -2,10 +2,10 @@
 // installed): the contacts straight from the solid's support map, without a dcol query. The
 // engine's plane is the half-space n.x <= d (n its unit normal, pointing out of it, towards the
 // solid); a point q of the solid is `depth = d - n.q` below the plane, and its contact is written midway
-// between q and its projection onto the plane, q + n depth/2 (dcol's convention). A pair touches
-// when its deepest point is at depth >= 0; the points of the feature facing the plane that lie
-// within 1e-9 max(bounding radius, 1) of it are its contacts (dcol's tolerance), and the deepest
-// point is always one of them:
+// between q and its projection onto the plane, q + n depth/2 (dcol's convention). With a margin
+// m >= 0 (0: touching only), a pair has contacts when its deepest point is at depth >= -m; the
+// points of the feature facing the plane that lie within m + 1e-9 max(bounding radius, 1) of it
+// are its contacts (dcol's tolerance), and the deepest point is always one of them:
 //   - sphere: its lowest point;
 //   - box: the corners of the face whose normal is best aligned with -n (it holds the lowest
 //     corner);
@@ -14,7 +14,7 @@
 //   - cylinder: a cap within about 25 degrees of facing the plane (|axis.n| >= 0.9, dcol's
 //     threshold): the regular 12-gon on its rim with a vertex at the rim's lowest point; else each
 //     rim's lowest point;
-//   - cone (apex at -3H/4 along the axis, base of radius H tan(beta) at +H/4): its base as the
+//   - cone (apex at -3H/4 along the axis, base of radius r at +H/4): its base as the
 //     cylinder's cap when within about 25 degrees; else the base rim's lowest point and the apex.
 // More points than asked: the deepest, the one farthest from it, the one spanning the largest
 // triangle with those two, then each time the one farthest from those chosen (dcol's choice).
@@ -65,12 +65,13 @@ inline void push(const Plane &p, const double q[3], double tol, Points &out) {
   }
 }
 
-inline double tolerance(double bounding_radius) { return 1e-9 * std::max(bounding_radius, 1.0); }
+/// How far above the plane a point may be and count: the margin and 1e-9 max(bounding radius, 1).
+inline double tolerance(double bounding_radius, double margin) { return margin + 1e-9 * std::max(bounding_radius, 1.0); }
 
-/// The lowest point's depth >= 0 (touching), and finite; -1: not finite; 0: apart.
-inline int touching(double deepest) {
+/// 1: the lowest point's depth is >= -margin (touching, or within the margin); 0: apart; -1: not finite.
+inline int touching(double deepest, double margin) {
   if (!std::isfinite(deepest)) return -1;
-  return deepest >= 0 ? 1 : 0;
+  return deepest >= -margin ? 1 : 0;
 }
 
 /// The unit direction along which a disc (unit normal `axis`) goes lowest: -(n - (n.axis) axis),
@@ -119,19 +120,19 @@ inline void rim_low(const Plane &p, const double c[3], const double axis[3], dou
 }  // namespace detail
 
 /// A sphere of `radius`: 1 when it touches, 0 when apart, -1 when a number is not finite.
-inline int sphere(const Plane &p, const double c[3], double radius, Points &out) {
+inline int sphere(const Plane &p, const double c[3], double radius, Points &out, double margin = 0) {
   out.count = 0;
   const double h = detail::dot(p.n, c) - p.d;
-  const int t = detail::touching(radius - h);
+  const int t = detail::touching(radius - h, margin);
   if (t <= 0) return t;
   double q[3];
   for (int k = 0; k < 3; ++k) q[k] = c[k] - radius * p.n[k];
-  detail::push(p, q, detail::tolerance(radius), out);
+  detail::push(p, q, detail::tolerance(radius, margin), out);
   return out.count > 0 ? 1 : 0;
 }
 
 /// A box of half extents `half` (along the frame's axes).
-inline int box(const Plane &p, const Frame &f, const double half[3], Points &out) {
+inline int box(const Plane &p, const Frame &f, const double half[3], Points &out, double margin = 0) {
   out.count = 0;
   double a[3], s[3];
   double deepest = p.d - detail::dot(p.n, f.c);
@@ -142,9 +143,9 @@ inline int box(const Plane &p, const Frame &f, const double half[3], Points &out
     deepest += half[k] * std::fabs(a[k]);
     if (std::fabs(a[k]) >= std::fabs(a[best])) best = k;  // the last on a tie
   }
-  const int t = detail::touching(deepest);
+  const int t = detail::touching(deepest, margin);
   if (t <= 0) return t;
-  const double tol = detail::tolerance(std::sqrt(half[0] * half[0] + half[1] * half[1] + half[2] * half[2]));
+  const double tol = detail::tolerance(std::sqrt(half[0] * half[0] + half[1] * half[1] + half[2] * half[2]), margin);
   // The face best aligned with -n: its corners in a loop (the lowest corner first).
   const int i = (best + 1) % 3, j = (best + 2) % 3;
   const double signs[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
@@ -159,13 +160,14 @@ inline int box(const Plane &p, const Frame &f, const double half[3], Points &out
 }
 
 /// A capsule of `radius` around the segment of `length` along the frame's axis `along`.
-inline int capsule(const Plane &p, const Frame &f, int along, double radius, double length, Points &out) {
+inline int capsule(const Plane &p, const Frame &f, int along, double radius, double length, Points &out,
+                   double margin = 0) {
   out.count = 0;
   const double *e = f.axis[along];
   const double a = detail::dot(p.n, e);
-  const int t = detail::touching(p.d - detail::dot(p.n, f.c) + 0.5 * length * std::fabs(a) + radius);
+  const int t = detail::touching(p.d - detail::dot(p.n, f.c) + 0.5 * length * std::fabs(a) + radius, margin);
   if (t <= 0) return t;
-  const double tol = detail::tolerance(radius + 0.5 * length);
+  const double tol = detail::tolerance(radius + 0.5 * length, margin);
   // The lower end ball's lowest point (the deepest), and the other end of the surface line
   // below the axis (the same point when level; none when upright).
   const double low = a > 0 ? -1.0 : 1.0;
@@ -182,14 +184,15 @@ inline int capsule(const Plane &p, const Frame &f, int along, double radius, dou
 }
 
 /// A cylinder of `radius` and `length` along the frame's axis `along` (caps at +-length/2).
-inline int cylinder(const Plane &p, const Frame &f, int along, double radius, double length, Points &out) {
+inline int cylinder(const Plane &p, const Frame &f, int along, double radius, double length, Points &out,
+                    double margin = 0) {
   out.count = 0;
   const double *e = f.axis[along];
   const double a = detail::dot(p.n, e);
   const double lateral = std::sqrt(std::max(0.0, 1.0 - a * a));
-  const int t = detail::touching(p.d - detail::dot(p.n, f.c) + 0.5 * length * std::fabs(a) + radius * lateral);
+  const int t = detail::touching(p.d - detail::dot(p.n, f.c) + 0.5 * length * std::fabs(a) + radius * lateral, margin);
   if (t <= 0) return t;
-  const double tol = detail::tolerance(std::sqrt(radius * radius + 0.25 * length * length));
+  const double tol = detail::tolerance(std::sqrt(radius * radius + 0.25 * length * length), margin);
   const double low = a > 0 ? -1.0 : 1.0;  // the lower cap's side
   double c0[3], c1[3];
   for (int k = 0; k < 3; ++k) {
@@ -208,13 +211,13 @@ inline int cylinder(const Plane &p, const Frame &f, int along, double radius, do
   return out.count > 0 ? 1 : 0;
 }
 
-/// A cone of `height` and half angle `beta` along the frame's axis `along` (apex at
-/// -3H/4, base at +H/4, dcol's cone).
-inline int cone(const Plane &p, const Frame &f, int along, double height, double beta, Points &out) {
+/// A cone of `height` and base `radius` along the frame's axis `along` (apex at -3H/4, base at
+/// +H/4: dcol's cone of half angle atan(radius/height)).
+inline int cone(const Plane &p, const Frame &f, int along, double height, double radius, Points &out,
+                double margin = 0) {
   out.count = 0;
   const double *e = f.axis[along];
   const double a = detail::dot(p.n, e);
-  const double radius = height * std::tan(beta);
   const double h = detail::dot(p.n, f.c) - p.d;
   double apex[3], base[3];
   for (int k = 0; k < 3; ++k) {
@@ -225,9 +228,9 @@ inline int cone(const Plane &p, const Frame &f, int along, double height, double
   detail::rim_low(p, base, e, radius, rim);
   const double apex_depth = -h + 0.75 * height * a;
   const double rim_depth = p.d - detail::dot(p.n, rim);
-  const int t = detail::touching(std::max(apex_depth, rim_depth));
+  const int t = detail::touching(std::max(apex_depth, rim_depth), margin);
   if (t <= 0) return t;
-  const double tol = detail::tolerance(std::max(0.75 * height, std::sqrt(radius * radius + height * height / 16)));
+  const double tol = detail::tolerance(std::max(0.75 * height, std::sqrt(radius * radius + height * height / 16)), margin);
   if (a <= -0.9) {
     detail::disc(p, base, e, f.axis[(along + 1) % 3], radius, tol, out);  // the base faces the plane
   } else {
@@ -245,10 +248,10 @@ inline int reduce(const Points &pts, int cap, int order[kMaxPoints]) {
     return n;
   }
   bool used[kMaxPoints] = {};
-  double near[kMaxPoints];
+  double near[kMaxPoints];  // squared distances to the nearest chosen point (sqrt is monotone)
   auto dist = [&](int i, int j) {
     const double dx = pts.pos[i][0] - pts.pos[j][0], dy = pts.pos[i][1] - pts.pos[j][1], dz = pts.pos[i][2] - pts.pos[j][2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
+    return dx * dx + dy * dy + dz * dz;
   };
   int first = 0;
   for (int i = 1; i < n; ++i)

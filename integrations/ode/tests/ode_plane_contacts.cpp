@@ -1,9 +1,9 @@
 // The closed-form contacts of a primitive against an engine's plane (integrations/common/
 // plane_contacts.hpp, used by the ODE and Bullet adapters instead of a dcol query). Checks:
 //   - closed forms (sphere, box, capsule, cylinder, cone) at random attitudes against random
-//     tilted planes, deepest points from 0.05 above to 0.05 below: touching exactly when the
-//     brute-force deepest point (the shape's surface sampled: a box's corners, the rims at 7 200
-//     angles, the cone's apex) is at depth >= 0; the reported largest depth within the sampling's
+//     tilted planes, deepest points from 0.05 above to 0.05 below, margins 0 and 0.03: contacts
+//     exactly when the brute-force deepest point (the shape's surface sampled: a box's corners, the rims at 7 200
+//     angles, the cone's apex) is at depth >= -margin; the reported largest depth within the sampling's
 //     error above the brute-force one and never below it; every point's solid point
 //     (pos - depth/2 n) on the shape's surface and its plane point (pos + depth/2 n) on the plane
 //     (1e-12); the largest depth dcol's own contacts (dcol_contacts with a dcol half-space) give,
@@ -158,7 +158,7 @@ dcol_shape *dcol_of(const Solid &s) {
 // dcol's contacts of a dcol shape at `pose` against the plane (a half-space of depth 1 whose
 // boundary is the plane; its normal points out of the plane into the solid).
 int dcol_plane_contacts(const dcol_shape *shape, const dcol_pose &pose, const dcol_plane::Plane &p, dcol_contact *cs,
-                        std::size_t cap) {
+                        std::size_t cap, double margin = 0) {
   static dcol_shape *hs = nullptr;
   if (!hs) dcol_shape_new_halfspace(1.0, &hs);
   dcol_pose hp;
@@ -168,20 +168,20 @@ int dcol_plane_contacts(const dcol_shape *shape, const dcol_pose &pose, const dc
   for (int k = 0; k < 4; ++k) hp.quaternion[k] = q[k] / ql;
   for (int k = 0; k < 3; ++k) hp.position[k] = (p.d - 1.0) * p.n[k];
   std::size_t n = 0;
-  const dcol_status st = dcol_contacts(hs, &hp, shape, &pose, 0.0, nullptr, cs, cap, &n);
+  const dcol_status st = dcol_contacts(hs, &hp, shape, &pose, margin, nullptr, cs, cap, &n);
   return st == DCOL_OK ? static_cast<int>(n) : -1;
 }
 
-int closed_form(const Solid &s, const dcol_plane::Plane &p, const dcol_plane::Frame &f, dcol_plane::Points &pts) {
+int closed_form(const Solid &s, const dcol_plane::Plane &p, const dcol_plane::Frame &f, double m, dcol_plane::Points &pts) {
   switch (s.kind) {
-    case kSphere: return dcol_plane::sphere(p, f.c, s.a, pts);
+    case kSphere: return dcol_plane::sphere(p, f.c, s.a, pts, m);
     case kBox: {
       const double h[3] = {s.a, s.b, s.c};
-      return dcol_plane::box(p, f, h, pts);
+      return dcol_plane::box(p, f, h, pts, m);
     }
-    case kCapsule: return dcol_plane::capsule(p, f, 0, s.a, s.b, pts);
-    case kCylinder: return dcol_plane::cylinder(p, f, 0, s.a, s.b, pts);
-    case kCone: return dcol_plane::cone(p, f, 0, s.a, s.b, pts);
+    case kCapsule: return dcol_plane::capsule(p, f, 0, s.a, s.b, pts, m);
+    case kCylinder: return dcol_plane::cylinder(p, f, 0, s.a, s.b, pts, m);
+    case kCone: return dcol_plane::cone(p, f, 0, s.a, s.a * std::tan(s.b), pts, m);
   }
   return -1;
 }
@@ -224,10 +224,13 @@ void closed_forms() {
       for (int i = 0; i < 3; ++i) f.c[i] += (now - want) * p.n[i];
       const double deepest_bf = brute_deepest(s, f, p, &bound);
       dcol_plane::Points pts;
-      const int t = closed_form(s, p, f, pts);
+      // A margin of 0.03 in a quarter of the cases (deepest points from 0.05 above: some within it).
+      const double margin = trial % 4 == 3 ? 0.03 : 0.0;
+      if (margin > 0 && std::fabs(deepest_bf + margin) < 1e-4) continue;
+      const int t = closed_form(s, p, f, margin, pts);
       ++cases;
       const std::string what = std::string(kNames[s.kind]) + " case " + std::to_string(trial);
-      expect(t == (deepest_bf >= 0 ? 1 : 0), what + ": touching as the brute force");
+      expect(t == (deepest_bf >= -margin ? 1 : 0), what + ": touching (or within the margin) as the brute force");
       if (t != 1) {
         expect(pts.count == 0, what + ": no points when apart");
         continue;
@@ -244,7 +247,7 @@ void closed_forms() {
         const double on_surface = surface_distance(s, f, solid), on_plane = std::fabs(dot(p.n, plane) - p.d);
         worst_surface = std::max(worst_surface, std::max(on_surface, on_plane));
         expect(on_surface <= 1e-12 && on_plane <= 1e-12, what + ": point on the surface and on the plane");
-        expect(pts.depth[i] >= -1e-9, what + ": point within the tolerance of the plane");
+        expect(pts.depth[i] >= -margin - 1e-9, what + ": point within the margin and tolerance of the plane");
       }
       expect(top >= deepest_bf - 1e-12 && top <= deepest_bf + bound + 1e-12,
              what + ": largest depth the brute-force deepest");
@@ -253,7 +256,7 @@ void closed_forms() {
       for (int i = 0; i < 3; ++i) pose.position[i] = f.c[i];
       for (int k = 0; k < 4; ++k) pose.quaternion[k] = q[k];
       dcol_contact cs[16];
-      const int m = dcol_plane_contacts(shape, pose, p, cs, 16);
+      const int m = dcol_plane_contacts(shape, pose, p, cs, 16, margin);
       expect(m >= 1, what + ": dcol finds contacts too");
       double dtop = -INFINITY;
       for (int i = 0; i < m; ++i) dtop = std::max(dtop, cs[i].depth);
