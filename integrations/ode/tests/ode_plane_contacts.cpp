@@ -2,12 +2,13 @@
 // plane_contacts.hpp, used by the ODE and Bullet adapters instead of a dcol query). Checks:
 //   - closed forms (sphere, box, capsule, cylinder, cone) at random attitudes against random
 //     tilted planes, deepest points from 0.05 above to 0.05 below, margins 0 and 0.03: contacts
-//     exactly when the brute-force deepest point (the shape's surface sampled: a box's corners, the rims at 7 200
-//     angles, the cone's apex) is at depth >= -margin; the reported largest depth within the sampling's
-//     error above the brute-force one and never below it; every point's solid point
-//     (pos - depth/2 n) on the shape's surface and its plane point (pos + depth/2 n) on the plane
-//     (1e-12); the largest depth dcol's own contacts (dcol_contacts with a dcol half-space) give,
-//     to 1e-12; for boxes, cylinders and cones on their discs the same points as dcol's (1e-12);
+//     exactly when the brute-force deepest point (the surface sampled: a box's corners, the rims
+//     at 7 200 angles, the cone's apex) is at depth >= -margin; the reported largest depth within
+//     the sampling's error above the brute-force one and never below it; every point's solid
+//     point (pos - depth/2 n) on the shape's surface and its plane point (pos + depth/2 n) on the
+//     plane (1e-12); the largest depth of dcol's own contacts (dcol_contacts with a dcol
+//     half-space), to 1e-12; for boxes, and cylinders and cones on their discs, the same points
+//     as dcol's (1e-12);
 //   - the reduction (capacities 1 to 4): at most the capacity, the deepest kept;
 //   - through dCollide with use_dcol(): ODE's sphere, box, capsule and cylinder against ODE's
 //     plane (both orders, capacities 1 to 16) give the closed form's largest depth against
