@@ -28,6 +28,7 @@ pub(crate) mod raycast;
 pub(crate) mod sat;
 pub(crate) mod segment_solid;
 pub(crate) mod sensitivity;
+pub(crate) mod sphere_decision;
 mod status;
 
 pub use ipm::{cones, kkt};
