@@ -210,3 +210,59 @@ fn sphere_decisions_match_proximity() {
         "{checked} {below}"
     );
 }
+
+/// Two boxes (decided by their 15 separating axes without α*), on random poses about the
+/// touching scale, a third of them with equal or axis-swapped attitudes (parallel edges, left
+/// to the general path): the threshold answer equals `proximity(..).alpha < t` outside a 1e-9
+/// relative band.
+#[test]
+fn box_decisions_match_proximity() {
+    use common::random::Rng;
+    use dcol::Pose;
+    let mut rng = Rng::new(0xB0B0);
+    let (a, b) = (
+        dcol::Shape::cuboid(0.6, 0.4, 0.3).unwrap(),
+        dcol::Shape::cuboid(0.25, 0.5, 0.2).unwrap(),
+    );
+    let opts = Options::default();
+    let (mut checked, mut below) = (0usize, 0usize);
+    for k in 0..20_000 {
+        let q1 = rng.quat();
+        let q2 = match k % 3 {
+            0 => q1,
+            1 => {
+                // q1 times a quarter turn about body x: every edge parallel to one of box 1's.
+                let (c, s) = (0.5f64.sqrt(), 0.5f64.sqrt());
+                let [w, x, y, z] = q1;
+                [w * c - x * s, w * s + x * c, y * c + z * s, z * c - y * s]
+            }
+            _ => rng.quat(),
+        };
+        let dir = rng.unit::<3>();
+        let reach = rng.range(0.3, 2.0);
+        let p1 = Pose::new([0.1, -0.2, 0.3], q1).unwrap();
+        let p2 = Pose::new(
+            [
+                0.1 + dir[0] * reach,
+                -0.2 + dir[1] * reach,
+                0.3 + dir[2] * reach,
+            ],
+            q2,
+        )
+        .unwrap();
+        let alpha = proximity(&a, &p1, &b, &p2, &opts).unwrap().alpha;
+        for t in [1.0, rng.range(0.3, 2.5)] {
+            if ((alpha - t) / t).abs() < 1e-9 {
+                continue;
+            }
+            let d = alpha_below(&a, &p1, &b, &p2, t, &opts).unwrap();
+            assert_eq!(d.below, alpha < t, "{k}: alpha {alpha}, t {t}");
+            checked += 1;
+            below += usize::from(d.below);
+        }
+    }
+    assert!(
+        checked > 35_000 && below > 8_000 && checked - below > 8_000,
+        "{checked} {below}"
+    );
+}

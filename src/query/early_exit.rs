@@ -14,7 +14,7 @@ use super::warm::Cache;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
-use crate::solver::sphere_decision::{sphere_below, Solid};
+use crate::solver::decision::{boxes_below, sphere_below, Solid};
 use crate::solver::{Method, SolveStatus};
 
 /// What decided a threshold question.
@@ -104,7 +104,7 @@ pub fn alpha_below(
     let bounded = shape1.solver_kind() != ShapeKind::Halfspace
         && shape2.solver_kind() != ShapeKind::Halfspace;
     if options.method == Method::Auto && bounded {
-        if let Some(below) = sphere_decision(shape1, pose1, shape2, pose2, threshold) {
+        if let Some(below) = closed_decision(shape1, pose1, shape2, pose2, threshold) {
             return Ok(Decision {
                 below,
                 decided_by: DecidedBy::EarlyExit,
@@ -161,11 +161,11 @@ pub fn alpha_below(
     })
 }
 
-/// The decision of a sphere against a box, a capsule or a cylinder (either order) without α*
-/// (`crate::solver::sphere_decision`); `None` for other pairs or where a number on the way is
-/// not finite.
+/// The decision of a sphere against a box, a capsule or a cylinder (either order), or of two
+/// boxes, without α* (`crate::solver::decision`); `None` for other pairs or where the
+/// decision is left open (a number on the way not finite, nearly parallel box edges).
 #[inline]
-fn sphere_decision(
+fn closed_decision(
     shape1: &Shape,
     pose1: &Pose,
     shape2: &Shape,
@@ -176,7 +176,14 @@ fn sphere_decision(
         (ShapeKind::Sphere, ShapeKind::Sphere) => return None,
         (ShapeKind::Sphere, _) => (shape1, pose1, shape2, pose2),
         (_, ShapeKind::Sphere) => (shape2, pose2, shape1, pose1),
-        _ => return None,
+        _ => {
+            let (ea, eb) = (shape1.centred_box()?, shape2.centred_box()?);
+            let c = pose1.rotation().tr_mul(pose2.rotation());
+            let d = pose1
+                .rotation()
+                .tr_mul(&(pose2.position() - pose1.position()));
+            return boxes_below(&ea, &eb, &c, &d, threshold);
+        }
     };
     let rho = ball.rounded_segment()?.1;
     let kind = if let Some(half) = solid.centred_box() {

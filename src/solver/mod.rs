@@ -16,6 +16,7 @@
 //! ([`Settings`]).
 
 pub(crate) mod closed_form;
+pub(crate) mod decision;
 pub(crate) mod dense;
 pub(crate) mod direct;
 pub(crate) mod ellipsoid_pair;
@@ -28,7 +29,6 @@ pub(crate) mod raycast;
 pub(crate) mod sat;
 pub(crate) mod segment_solid;
 pub(crate) mod sensitivity;
-pub(crate) mod sphere_decision;
 mod status;
 
 pub use ipm::{cones, kkt};
