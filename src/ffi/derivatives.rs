@@ -10,7 +10,7 @@ use super::proximity::{check_inputs, dcol_proximity_result, outcome, read_inputs
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
 use crate::error::{Error, ErrorDetail};
-use crate::math::{all_finite, finite_array};
+use crate::math::{all_finite, finite_array, finite_lanes};
 use crate::query::{self, Derivatives, Options};
 use crate::shapes::Shape;
 
@@ -37,10 +37,10 @@ pub struct dcol_derivatives_result {
 
 /// Whether every derivative in `d` is finite.
 fn derivatives_finite(d: &Derivatives) -> bool {
-    finite_array(&d.dalpha)
-        && all_finite(&d.jacobian)
-        && all_finite(&d.dcontact1)
-        && all_finite(&d.dcontact2)
+    finite_lanes(&d.dalpha)
+        && finite_lanes(d.jacobian.as_flattened())
+        && finite_lanes(d.dcontact1.as_flattened())
+        && finite_lanes(d.dcontact2.as_flattened())
 }
 
 /// alpha*, x*, the contact points and all their derivatives with respect to (r1, q1, r2, q2)
@@ -135,13 +135,11 @@ unsafe fn derivatives_in(
         let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
-        let d = match warm {
-            Some(c) => {
-                query::derivatives_cached(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options, c)
-            }
-            None => query::derivatives(q.shape1, &q.pose1, q.shape2, &q.pose2, &q.options),
-        }
-        .map_err(Failure::api)?;
+        // Written in place (not returned: the answer is ~1.3 kB).
+        let mut d = Derivatives::default();
+        let (s1, s2) = (q.shape1, q.shape2);
+        query::derivatives_into(s1, &q.pose1, s2, &q.pose2, &q.options, warm, &mut d)
+            .map_err(Failure::api)?;
         q.representable(finite_array(&proximity_numbers(&d.proximity)))?;
         if d.proximity.status.is_converged() && !derivatives_finite(&d) {
             return Err(Failure::api(query::not_representable(

@@ -34,6 +34,18 @@ pub struct Proximity {
 }
 
 impl Proximity {
+    /// Every number zero (room to be written over).
+    pub(crate) const ZERO: Proximity = Proximity {
+        alpha: 0.0,
+        point: Vec3::new(0.0, 0.0, 0.0),
+        contact1: Vec3::new(0.0, 0.0, 0.0),
+        contact2: Vec3::new(0.0, 0.0, 0.0),
+        iterations: 0,
+        status: SolveStatus::Converged,
+        solver: Solver::InteriorPoint,
+        derivatives: DerivativeKind::None,
+    };
+
     /// Whether α*, x* and the contact points are all finite (a double holds the answer).
     pub(crate) fn is_representable(&self) -> bool {
         let points = self.point.iter().chain(self.contact1.iter());

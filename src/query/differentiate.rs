@@ -6,7 +6,7 @@ use super::context::{Options, Proximity, Want};
 use super::proximity::{plain_derivatives, query};
 use super::warm::Cache;
 use crate::error::Error;
-use crate::math::{Pose, Real};
+use crate::math::{Pose, Real, Vec3};
 use crate::shapes::Shape;
 
 /// ∂α*/∂(r₁, q₁, r₂, q₂): 14 numbers, `q` as given (through the normalisation). By default
@@ -110,6 +110,24 @@ pub struct Derivatives {
     pub dcontact2: [[Real; 14]; 3],
 }
 
+impl Default for Derivatives {
+    /// Every number zero (room to be written over, as [`derivatives_into`] does).
+    fn default() -> Self {
+        Self::ZERO
+    }
+}
+
+impl Derivatives {
+    /// Every number zero.
+    const ZERO: Derivatives = Derivatives {
+        proximity: Proximity::ZERO,
+        dalpha: [0.0; 14],
+        jacobian: [[0.0; 14]; 4],
+        dcontact1: [[0.0; 14]; 3],
+        dcontact2: [[0.0; 14]; 3],
+    };
+}
+
 /// The Jacobian of (x*, α*) and, by the chain rule, of both contact points:
 /// `∂pᵢ = ∂rᵢ + (∂x* − ∂rᵢ)/α* − (x* − rᵢ) ∂α*/α*²`.
 #[inline]
@@ -133,48 +151,79 @@ pub(crate) fn derivatives_warm(
     options: &Options,
     warm: Option<&mut Cache>,
 ) -> Result<Derivatives, Error> {
+    let mut d = Derivatives::ZERO;
+    derivatives_into(shape1, pose1, shape2, pose2, options, warm, &mut d)?;
+    Ok(d)
+}
+
+/// [`derivatives_warm`] written into `out` in place (the C boundary's body: the answer's
+/// ~1.3 kB is not moved through returns). `out` holds garbage when an error is returned.
+#[inline]
+pub(crate) fn derivatives_into(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    warm: Option<&mut Cache>,
+    out: &mut Derivatives,
+) -> Result<(), Error> {
     // The geometric answer where it has exact derivatives (no full query's room), else the
     // full query.
-    let (mut jacobian, mut g) = ([[0.0; 14]; 4], [0.0; 14]);
-    let (p, dalpha) = match plain_derivatives(
+    out.proximity = match plain_derivatives(
         shape1,
         pose1,
         shape2,
         pose2,
         options,
-        &mut g,
-        Some(&mut jacobian),
+        &mut out.dalpha,
+        Some(&mut out.jacobian),
         warm,
     ) {
-        Some(p) => (p, g),
+        Some(p) => p,
         None => {
             let f = query(shape1, pose1, shape2, pose2, options, Want::Jacobian)?;
-            jacobian = f.jacobian;
-            (f.prox, f.gradient)
+            out.jacobian = f.jacobian;
+            out.dalpha = f.gradient;
+            f.prox
         }
     };
-    let mut d = Derivatives {
-        proximity: p,
-        dalpha,
-        jacobian,
-        dcontact1: [[0.0; 14]; 3],
-        dcontact2: [[0.0; 14]; 3],
-    };
-    if p.alpha > 0.0 {
-        let inv = 1.0 / p.alpha;
-        let r = [*pose1.position(), *pose2.position()];
-        for (i, out) in [&mut d.dcontact1, &mut d.dcontact2].into_iter().enumerate() {
-            let rel = p.point - r[i];
-            for row in 0..3 {
-                for col in 0..14 {
-                    let dr = if col == 7 * i + row { 1.0 } else { 0.0 };
-                    out[row][col] = dr + (jacobian[row][col] - dr) * inv
-                        - rel[row] * jacobian[3][col] * inv * inv;
-                }
-            }
-        }
+    let (alpha, point) = (out.proximity.alpha, out.proximity.point);
+    if alpha > 0.0 {
+        let j = &out.jacobian;
+        contact_jacobian(j, &point, alpha, pose1.position(), 0, &mut out.dcontact1);
+        contact_jacobian(j, &point, alpha, pose2.position(), 1, &mut out.dcontact2);
+    } else {
+        out.dcontact1 = [[0.0; 14]; 3];
+        out.dcontact2 = [[0.0; 14]; 3];
     }
-    Ok(d)
+    Ok(())
+}
+
+/// `∂pᵢ = ∂rᵢ + (∂x* − ∂rᵢ)/α* − (x* − rᵢ) ∂α*/α*²` for contact point `i` (α* > 0, `rᵢ` its
+/// shape's position), from the Jacobian's rows, into `out`. Off the three entries where `∂rᵢ`
+/// is 1 the formula's operations are `J·(1/α*) − (x* − rᵢ)·J_α·(1/α*)·(1/α*)` (its zero terms
+/// dropped: the same numbers, up to the sign of a zero), a loop without a branch; the three
+/// are written after it.
+#[inline]
+fn contact_jacobian(
+    j: &[[Real; 14]; 4],
+    point: &Vec3,
+    alpha: Real,
+    r: &Vec3,
+    i: usize,
+    out: &mut [[Real; 14]; 3],
+) {
+    let inv = 1.0 / alpha;
+    let rel = point - r;
+    for (row, o) in out.iter_mut().enumerate() {
+        let s = rel[row];
+        for col in 0..14 {
+            o[col] = j[row][col] * inv - s * j[3][col] * inv * inv;
+        }
+        let col = 7 * i + row;
+        o[col] = 1.0 + (j[row][col] - 1.0) * inv - s * j[3][col] * inv * inv;
+    }
 }
 
 /// Maps 14 quaternion-parameter columns to 12 MRP-parameter columns (`J_q · ∂q/∂p` per pose).
@@ -226,4 +275,39 @@ pub fn jacobian_mrp(
         out[r] = to_mrp_columns(&j[r], [mrp1, mrp2]);
     }
     Ok((p, out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::contact_jacobian;
+    use crate::math::{lcg, Vec3};
+
+    /// The branch-free contact Jacobian against the formula as written,
+    /// `∂rᵢ + (∂x* − ∂rᵢ)/α* − (x* − rᵢ) ∂α*/α*²` entry by entry: the same numbers (`==`, so
+    /// up to the sign of a zero) on random Jacobians, points and α*.
+    #[test]
+    fn contact_jacobian_is_the_formula() {
+        let mut g = lcg(0xC0A7);
+        for _ in 0..2_000 {
+            let mut j = [[0.0; 14]; 4];
+            for v in j.iter_mut().flatten() {
+                *v = g() * 10f64.powf(3.0 * g());
+            }
+            let point = Vec3::new(g(), g(), g()) * 3.0;
+            let alpha = 0.05 + 2.0 * (g() + 1.0);
+            for i in 0..2 {
+                let r = Vec3::new(g(), g(), g());
+                let mut out = [[f64::NAN; 14]; 3];
+                contact_jacobian(&j, &point, alpha, &r, i, &mut out);
+                let (inv, rel) = (1.0 / alpha, point - r);
+                for row in 0..3 {
+                    for col in 0..14 {
+                        let dr = if col == 7 * i + row { 1.0 } else { 0.0 };
+                        let want = dr + (j[row][col] - dr) * inv - rel[row] * j[3][col] * inv * inv;
+                        assert_eq!(out[row][col], want, "i {i}, ({row}, {col})");
+                    }
+                }
+            }
+        }
+    }
 }

@@ -51,6 +51,7 @@ pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
 pub(crate) use context::Want;
 pub use context::{Distance, DistancePath, Options, Proximity, SignedDistance};
+pub(crate) use differentiate::derivatives_into;
 pub use differentiate::{derivatives, gradient, gradient_mrp, jacobian, jacobian_mrp, Derivatives};
 pub use distance::{distance, distance_gradient, distance_within};
 pub(crate) use early_exit::check_threshold;
