@@ -266,3 +266,73 @@ fn box_decisions_match_proximity() {
         "{checked} {below}"
     );
 }
+
+/// The same question at every scale from 1e-200 to 1e200 (a sphere against a box, capsule and
+/// cylinder, and two boxes, posed at α* = 0.75 and 1.5 along a rotated offset): the decision
+/// does not depend on the scale (the closed decisions compare squares of lengths, which
+/// underflow below ~1e-154, and leave such scales to the general path). Two boxes are checked
+/// down to 1e-150 only: below ~1e-165 the general path's early exit answers "not below" for
+/// α* = 0.75 (`docs/failure-modes.md`, an open defect of the ray cast's stop at such scales,
+/// older than the closed decisions).
+#[test]
+fn decisions_hold_at_every_scale() {
+    use dcol::{Pose, Shape};
+    let q = [0.9, 0.1, -0.3, 0.2];
+    let opts = Options::default();
+    for e in (-200..=200).step_by(10) {
+        let s = 10f64.powi(e);
+        let ball = Shape::sphere(s).unwrap();
+        let solids = [
+            Shape::cuboid(s, 0.1 * s, 0.1 * s).unwrap(),
+            Shape::capsule(0.1 * s, 1.8 * s).unwrap(),
+            Shape::cylinder(0.1 * s, 2.0 * s).unwrap(),
+        ];
+        let boxes = (
+            Shape::cuboid(s, 0.5 * s, 0.3 * s).unwrap(),
+            Shape::cuboid(s, 0.1 * s, 0.1 * s).unwrap(),
+        );
+        let pairs = [
+            (&ball, &solids[0]),
+            (&ball, &solids[1]),
+            (&ball, &solids[2]),
+            (&boxes.0, &boxes.1),
+        ];
+        let n_pairs = if e >= -150 { 4 } else { 3 };
+        for (n, (a, b)) in pairs.into_iter().take(n_pairs).enumerate() {
+            let p1 = Pose::new([0.0; 3], [1.0, 0.0, 0.0, 0.0]).unwrap();
+            // α* at unit offset along the direction, then offsets that give 0.75 and 1.5.
+            let dir = [0.8 * s, 0.5 * s, 0.3 * s];
+            let unit = Pose::new(dir, q).unwrap();
+            let a0 = proximity(a, &p1, b, &unit, &opts).unwrap().alpha;
+            for target in [0.75, 1.5] {
+                let k = target / a0;
+                let p2 = Pose::new(dir.map(|v| v * k), q).unwrap();
+                for (x, y, px, py) in [(a, b, &p1, &p2), (b, a, &p2, &p1)] {
+                    let d = alpha_below(x, px, y, py, 1.0, &opts).unwrap();
+                    assert_eq!(
+                        d.below,
+                        target < 1.0,
+                        "pair {n}, scale 1e{e}, alpha* {target}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Open defect (docs/failure-modes.md): two boxes at 1e-170 of unit size, α* = 0.75 (the
+/// proximity query answers it), get "not below" from the general path's early exit.
+#[test]
+#[ignore = "open defect: the ray cast's early exit at scales below ~1e-165 (docs/failure-modes.md)"]
+fn tiny_boxes_threshold() {
+    use dcol::{Pose, Shape};
+    let s = 1e-170;
+    let a = Shape::cuboid(s, 0.5 * s, 0.3 * s).unwrap();
+    let b = Shape::cuboid(s, 0.1 * s, 0.1 * s).unwrap();
+    let p1 = Pose::new([0.0; 3], [1.0, 0.0, 0.0, 0.0]).unwrap();
+    let p2 = Pose::new([1.5 * s, 0.3 * s, 0.1 * s], [1.0, 0.0, 0.0, 0.0]).unwrap();
+    let opts = Options::default();
+    let alpha = proximity(&a, &p1, &b, &p2, &opts).unwrap().alpha;
+    assert!((alpha - 0.75).abs() < 1e-9, "{alpha}");
+    assert!(alpha_below(&a, &p1, &b, &p2, 1.0, &opts).unwrap().below);
+}

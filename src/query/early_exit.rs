@@ -319,3 +319,46 @@ pub(crate) fn intersect_warm(
     cache.keep_separating(None);
     intersect(shape1, pose1, shape2, pose2, options)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::closed_decision;
+    use crate::math::{lcg, Pose};
+    use crate::shapes::Shape;
+    use crate::{proximity, Options};
+
+    /// The closed decisions answer (not `None`) on random unit-scale poses of a sphere against
+    /// a box, capsule and cylinder and of two boxes, and agree with proximity's α* < 1: what
+    /// the integration tests cannot see, as both paths report `EarlyExit`.
+    #[test]
+    fn closed_decisions_answer_and_agree() {
+        let mut g = lcg(0xC105ED);
+        let ball = Shape::sphere(0.4).unwrap();
+        let cube = Shape::cuboid(0.5, 0.3, 0.2).unwrap();
+        let pairs = [
+            (&ball, cube.clone()),
+            (&ball, Shape::capsule(0.2, 0.8).unwrap()),
+            (&ball, Shape::cylinder(0.3, 0.7).unwrap()),
+            (&cube, Shape::cuboid(0.2, 0.4, 0.3).unwrap()),
+        ];
+        for (a, b) in &pairs {
+            let (mut answered, mut total) = (0, 0);
+            for _ in 0..2_000 {
+                let p1 = Pose::new([g(), g(), g()], [g(), g(), g(), g()]).unwrap();
+                let p2 = Pose::new([g() * 1.5, g() * 1.5, g()], [g(), g(), g(), g()]).unwrap();
+                let alpha = proximity(a, &p1, b, &p2, &Options::default())
+                    .unwrap()
+                    .alpha;
+                if (alpha - 1.0).abs() < 1e-9 {
+                    continue;
+                }
+                total += 1;
+                if let Some(below) = closed_decision(a, &p1, b, &p2, 1.0) {
+                    assert_eq!(below, alpha < 1.0, "alpha {alpha}");
+                    answered += 1;
+                }
+            }
+            assert!(answered >= total * 99 / 100, "{answered} of {total}");
+        }
+    }
+}

@@ -31,10 +31,14 @@ pub(crate) enum Solid {
 }
 
 /// Whether α* < t for a sphere of radius `rho` whose centre lies at `p` in the solid's frame
-/// (the solid's origin at 0): `dist(p, t·solid) < t·rho`. `None` when a number on the way is
-/// not finite (the caller then asks the general path).
+/// (the solid's origin at 0): `dist(p, t·solid) < t·rho`. `None` (the caller then asks the
+/// general path) when `p` is not finite, or when the reach `t·rho` (with the capsule's radius)
+/// lies outside [1e-150, 1e150], where the squares compared would underflow or overflow.
 #[inline]
 pub(crate) fn sphere_below(p: &Vec3, t: Real, rho: Real, solid: Solid) -> Option<bool> {
+    if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+        return None;
+    }
     let out = |v: Real, h: Real| (v.abs() - t * h).max(0.0);
     let (gap2, reach) = match solid {
         Solid::Box(h) => {
@@ -55,8 +59,12 @@ pub(crate) fn sphere_below(p: &Vec3, t: Real, rho: Real, solid: Solid) -> Option
             (ex * ex + er * er, t * rho)
         }
     };
-    let reach2 = reach * reach;
-    (gap2.is_finite() && reach2.is_finite()).then_some(gap2 < reach2)
+    // Squares of lengths below ~1e-154 are subnormal or zero: no decision at such scales (a
+    // gap2 that overflows is caught below).
+    if !(1e-150..=1e150).contains(&reach) {
+        return None;
+    }
+    (gap2.is_finite()).then_some(gap2 < reach * reach)
 }
 
 /// A cross product of two unit edge directions shorter than this (squared length 1e-12) is not
@@ -67,9 +75,15 @@ const SHORT: Real = 1e-12;
 /// Whether α* < t for two boxes centred at their origins, of half extents `ea` and `eb`, box 2
 /// turned by `c = R₁ᵀR₂` at `d = R₁ᵀ(r₂ − r₁)` in box 1's frame: `Some(false)` as soon as an
 /// axis gives a ratio ≥ t, `Some(true)` when all 15 are below, `None` when one of them is a
-/// short cross product or a number is not finite (the caller asks the general path).
+/// short cross product, a number is not finite, or a scaled half extent `t·h` lies outside
+/// [1e-150, 1e150] (the caller asks the general path).
 #[inline]
 pub(crate) fn boxes_below(ea: &Vec3, eb: &Vec3, c: &Mat3, d: &Vec3, t: Real) -> Option<bool> {
+    // Sizes far from 1 (products near the subnormal range) are left to the general path.
+    let sizes = ea.iter().chain(eb.iter()).map(|h| h * t);
+    if !sizes.into_iter().all(|v| (1e-150..=1e150).contains(&v)) {
+        return None;
+    }
     let abs = c.abs();
     // |n·d| ≥ t (h₁(n) + h₂(n)) for an axis n (not necessarily unit: both sides scale with it).
     let apart = |nd: Real, h: Real| nd.abs() >= t * h;
@@ -167,9 +181,27 @@ mod tests {
             }
         }
         assert!(decided[0] > 10_000 && decided[1] > 3_000, "{decided:?}");
-        // Non-finite numbers on the way: no decision.
+        // Non-finite numbers on the way, a NaN centre, reaches whose squares would underflow:
+        // no decision.
         let big = Vec3::new(1e200, 1e200, 0.0);
-        assert_eq!(sphere_below(&big, 1.0, 0.5, solids[0]), None);
+        for solid in solids {
+            assert_eq!(sphere_below(&big, 1.0, 0.5, solid), None);
+            assert_eq!(sphere_below(&Vec3::repeat(f64::NAN), 1.0, 0.5, solid), None);
+        }
+        let tiny = [
+            Solid::Box(Vec3::repeat(1e-170)),
+            Solid::Segment {
+                half: 1e-170,
+                radius: 1e-170,
+            },
+            Solid::Cylinder {
+                radius: 1e-170,
+                half: 1e-170,
+            },
+        ];
+        for solid in tiny {
+            assert_eq!(sphere_below(&Vec3::zeros(), 1.0, 1e-170, solid), None);
+        }
     }
 }
 
