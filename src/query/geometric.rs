@@ -10,6 +10,7 @@
 //! gauge of the normalised Minkowski difference at `r` (α* is homogeneous of degree one in the
 //! offset, so no precision is lost at tiny or huge offsets).
 
+use super::ball_jacobian::ball_jacobian;
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
@@ -397,7 +398,7 @@ pub(crate) fn jacobian_into(
             [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
                 sphere_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
-            _ => None,
+            _ => ball_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out),
         };
         if closed.is_some() {
             return Some(Formed::Closed);

@@ -2,6 +2,9 @@
 //! and the exact distance.
 
 mod assemble;
+mod ball_jacobian;
+#[cfg(test)]
+mod ball_jacobian_tests;
 mod cached;
 mod capsule_jacobian;
 #[cfg(test)]

@@ -56,7 +56,7 @@ fn outer(u: &Vec3, k: Real) -> Mat3 {
 /// from `B`) and the contact point `w` (world, relative to `B`'s origin), ties decided within
 /// `TIE·ℓ` (`ℓ` the pair's length scale, as the general solve); `None` for other shapes or
 /// undecided features.
-fn projection_jacobian(
+pub(super) fn projection_jacobian(
     b: &Shape,
     pose: &Pose,
     n: &Vec3,
