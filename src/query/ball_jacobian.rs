@@ -83,9 +83,7 @@ pub(crate) fn ball_jacobian(
             ShapeKind::Polytope | ShapeKind::Capsule | ShapeKind::Cylinder | ShapeKind::Cone
         )
     };
-    if !(other(kinds[0]) && other(kinds[1]))
-        || kinds == [ShapeKind::Capsule, ShapeKind::Capsule]
-    {
+    if !(other(kinds[0]) && other(kinds[1])) || kinds == [ShapeKind::Capsule, ShapeKind::Capsule] {
         return None;
     }
     let alpha = prox.alpha;

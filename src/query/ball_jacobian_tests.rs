@@ -107,7 +107,11 @@ fn ball_closed_form_matches_central_differences() {
                     break;
                 }
             }
-            assert!(checked == 100, "{capsule} {:?} {order}: {checked}", other.kind());
+            assert!(
+                checked == 100,
+                "{capsule} {:?} {order}: {checked}",
+                other.kind()
+            );
         }
     }
 }

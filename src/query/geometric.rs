@@ -18,6 +18,7 @@ use super::derivatives::rotation_axes;
 use super::dispatch::{route, Stage, Stages};
 use super::ellipsoid_jacobian::ellipsoid_jacobian;
 use super::polytope_jacobian::polytope_jacobian;
+use super::segment_jacobian::segment_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
     Answer, Solved,
@@ -398,7 +399,8 @@ pub(crate) fn jacobian_into(
             [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
                 sphere_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
-            _ => ball_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out),
+            _ => ball_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
+                .or_else(|| segment_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)),
         };
         if closed.is_some() {
             return Some(Formed::Closed);

@@ -31,6 +31,9 @@ mod polytope_jacobian;
 #[cfg(test)]
 mod polytope_jacobian_tests;
 mod proximity;
+mod segment_jacobian;
+#[cfg(test)]
+mod segment_jacobian_tests;
 mod separated;
 mod shape_gradient;
 mod shortcuts;

@@ -32,7 +32,7 @@ use crate::shapes::{Shape, ShapeKind};
 pub(super) const TIE: Real = 1e-10;
 /// The general solve's disc test: `1 − cos` of the normal and a flat face's at most this
 /// (`sensitivity::DISC_COS`).
-const DISC: Real = 1e-13;
+pub(super) const DISC: Real = 1e-13;
 /// A decision this close (as a factor) to either tolerance is left to the general solve.
 pub(super) const MARGIN: Real = 100.0;
 
