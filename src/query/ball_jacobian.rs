@@ -27,7 +27,8 @@
 
 use super::context::Proximity;
 use super::sphere_jacobian::{decide, projection_jacobian, TIE};
-use crate::math::{Pose, Real, Vec3};
+use super::vertex_feature::{flat_feature, Flat};
+use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
 /// The ball shape `shape` touches by at its outward unit normal `n` (world): its centre
@@ -47,6 +48,8 @@ fn touching_ball(shape: &Shape, pose: &Pose, n: &Vec3, tau: Real) -> Option<(Vec
             let end = if m.x > 0.0 { h } else { -h };
             Some((rot.column(0) * end, rho))
         }
+        ShapeKind::Polytope if shape.centred_box().is_none() => flat_ball(shape, &rot, &m, tau),
+        ShapeKind::Polygon | ShapeKind::ConvexHull => flat_ball(shape, &rot, &m, tau),
         ShapeKind::Polytope => {
             let e = shape.centred_box()?;
             let mut corner = Vec3::zeros();
@@ -59,6 +62,15 @@ fn touching_ball(shape: &Shape, pose: &Pose, n: &Vec3, tau: Real) -> Option<(Vec
             }
             Some((rot * corner, 0.0))
         }
+        _ => None,
+    }
+}
+
+/// [`touching_ball`] for a polytope other than a centred box, a convex hull or a padded
+/// polygon: its vertex (padded by its radius) where one alone ties.
+fn flat_ball(shape: &Shape, rot: &Mat3, m: &Vec3, tau: Real) -> Option<(Vec3, Real)> {
+    match flat_feature(shape, m, tau)? {
+        (Flat::Vertex(p), r) => Some((rot * p, r)),
         _ => None,
     }
 }
@@ -80,7 +92,12 @@ pub(crate) fn ball_jacobian(
     let other = |k: ShapeKind| {
         matches!(
             k,
-            ShapeKind::Polytope | ShapeKind::Capsule | ShapeKind::Cylinder | ShapeKind::Cone
+            ShapeKind::Polytope
+                | ShapeKind::Capsule
+                | ShapeKind::Cylinder
+                | ShapeKind::Cone
+                | ShapeKind::Polygon
+                | ShapeKind::ConvexHull
         )
     };
     if !(other(kinds[0]) && other(kinds[1])) || kinds == [ShapeKind::Capsule, ShapeKind::Capsule] {
@@ -100,11 +117,14 @@ pub(crate) fn ball_jacobian(
     for pass in 0..2 {
         for s in 0..2 {
             let wanted = if pass == 0 {
-                ShapeKind::Capsule
+                kinds[s] == ShapeKind::Capsule
             } else {
-                ShapeKind::Polytope
+                matches!(
+                    kinds[s],
+                    ShapeKind::Polytope | ShapeKind::Polygon | ShapeKind::ConvexHull
+                )
             };
-            if ball.is_some() || kinds[s] != wanted {
+            if ball.is_some() || !wanted {
                 continue;
             }
             let out = if s == 0 { nu } else { -nu };

@@ -25,6 +25,8 @@ mod ellipsoid_jacobian;
 mod ellipsoid_jacobian_tests;
 #[cfg(test)]
 mod fast_derivatives_tests;
+#[cfg(test)]
+mod flat_jacobian_tests;
 mod geometric;
 mod halfspace;
 mod polytope_jacobian;
@@ -45,6 +47,7 @@ mod sphere_jacobian_tests;
 mod structured_solve_tests;
 #[cfg(test)]
 mod test_support;
+mod vertex_feature;
 mod warm;
 mod warm_contacts;
 mod warm_distance;

@@ -31,6 +31,7 @@
 
 use super::context::Proximity;
 use super::sphere_jacobian::{decide, DISC, MARGIN, TIE};
+use super::vertex_feature::{flat_feature, Flat};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::sensitivity::PARALLEL_SIN;
@@ -43,6 +44,14 @@ fn touching_segment(shape: &Shape, pose: &Pose, out: &Vec3, tau: Real) -> Option
     let m = rot.tr_mul(out);
     let axis = || rot.column(0).into_owned();
     match shape.solver_kind() {
+        ShapeKind::Polytope | ShapeKind::Polygon | ShapeKind::ConvexHull
+            if shape.centred_box().is_none() =>
+        {
+            match flat_feature(shape, &m, tau)? {
+                (Flat::Edge(t), r) => Some((rot * t, r)),
+                _ => None,
+            }
+        }
         ShapeKind::Polytope => {
             let e = shape.centred_box()?;
             // An edge: vertices flipped along exactly one axis tie (2eᵢ|mᵢ|).

@@ -25,6 +25,7 @@
 //! `None` and the general solve decides.
 
 use super::context::Proximity;
+use super::vertex_feature::{flat_feature, Flat};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
@@ -85,6 +86,10 @@ pub(super) fn projection_jacobian(
     };
     let face = |a: Vec3| Mat3::identity() - outer(&a, 1.0);
     match b.solver_kind() {
+        ShapeKind::Polytope if b.centred_box().is_none() => {
+            flat_projection(b, &rot, &m, n, radius, tau)
+        }
+        ShapeKind::Polygon | ShapeKind::ConvexHull => flat_projection(b, &rot, &m, n, radius, tau),
         ShapeKind::Polytope => {
             let e = b.centred_box()?;
             let mut zero = [false; 3];
@@ -156,6 +161,31 @@ pub(super) fn projection_jacobian(
         }
         _ => None,
     }
+}
+
+/// [`projection_jacobian`] for a polytope other than a centred box, a convex hull or a padded
+/// polygon (`rot` its attitude, `m` the body normal): zero at a vertex (`k(I − n̂n̂ᵀ)` at a
+/// padded one, `k = ρ/(R + ρ)`), `ttᵀ + k ccᵀ` on an edge of direction `t`, `I − aaᵀ` on a
+/// face of normal `a`; `None` where the feature is undecided.
+fn flat_projection(
+    b: &Shape,
+    rot: &crate::math::Mat3,
+    m: &Vec3,
+    n: &Vec3,
+    radius: Real,
+    tau: Real,
+) -> Option<Mat3> {
+    let (flat, rho) = flat_feature(b, m, tau)?;
+    let k = if rho > 0.0 { rho / (radius + rho) } else { 0.0 };
+    Some(match flat {
+        Flat::Vertex(_) => (Mat3::identity() - outer(n, 1.0)) * k,
+        Flat::Edge(t) => {
+            let t = rot * t;
+            let c = t.cross(n).normalize();
+            outer(&t, 1.0) + outer(&c, k)
+        }
+        Flat::Face(a) => Mat3::identity() - outer(&(rot * a), 1.0),
+    })
 }
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone or
