@@ -1,8 +1,9 @@
 //! The Jacobian of `(x*, α*)` in closed form where one shape touches by a ball fixed in it: a
-//! capsule by one of its end caps, or a box by a vertex (a ball of radius zero), against a box,
-//! a capsule, a cylinder or a cone. Those pairs' proximity is a few thousand
-//! instructions and their Jacobian went through the general feature solve
-//! (`crate::solver::sensitivity`, ~7 000 beyond proximity).
+//! capsule by one of its end caps, a box, a polytope or an unpadded hull by a vertex (a ball of
+//! radius zero), a padded polygon by a padded vertex, against a box, a polytope, a hull, a
+//! padded polygon, a capsule, a cylinder, a cone or an ellipsoid. Those pairs' Jacobian went
+//! through the general feature solve (`crate::solver::sensitivity`, ~7 000 instructions beyond
+//! proximity) or the polytopes' closed form.
 //!
 //! It is [`super::sphere_jacobian`]'s formula with the sphere's centre moved off its shape's
 //! origin. Shape `s` (origin `r_s`) touches by the ball of centre `r_s + α u` and radius `αR`
@@ -15,15 +16,12 @@
 //! dx* = M dr_s + (I − M) dr_b + α(ω_b × w − M(ω_b × y)) + α M(ω_s × u) + (w − M y₀) dα*
 //! ```
 //!
-//! with `dα*` the gradient (the Jacobian's α row). With `R = 0` (a box's vertex) `M` is the
-//! limit of the same expressions (the tangent plane's projection on a smooth side, a line's
-//! on an edge, zero at a vertex). An ellipsoid is left to the general solve: against a
-//! capsule's cap the two differed by up to 2.2e-12 (non-dimensional) where the sphere's
-//! closed form and the general solve agree to 5e-14 (the ellipsoid's proximity is iterative,
-//! the closed form starts from its normal; not investigated further). Which cap or vertex touches is read from the
-//! optimal normal as the general solve reads it (support pieces tied within its tolerance);
-//! within a factor 100 of that decision on either shape the answer is `None` and the general
-//! solve decides.
+//! with `dα*` the gradient (the Jacobian's α row). With `R = 0` (a vertex) `M` is the limit of
+//! the same expressions (the tangent plane's projection on a smooth side, a line's on an edge,
+//! zero at a vertex). Which cap or vertex touches, and `B`'s feature, are read from the optimal
+//! normal as the general solve reads them (support pieces tied within its tolerance, its disc
+//! test); within a factor 100 of a decision on either shape the answer is `None` and the
+//! general solve decides.
 
 use super::context::Proximity;
 use super::sphere_jacobian::{decide, projection_jacobian, TIE};
@@ -33,8 +31,8 @@ use crate::shapes::{Shape, ShapeKind};
 
 /// The ball shape `shape` touches by at its outward unit normal `n` (world): its centre
 /// relative to the shape's origin (world, unit scale) and its radius; `None` where the shape
-/// is not a capsule or a centred box, touches by more than one ball (a capsule's side, a box's
-/// edge or face), or the decision is within the margin. `tau`: the tie tolerance (`TIE·ℓ`).
+/// is not a capsule or made of vertices, touches by more than one ball (a capsule's side, an
+/// edge, a face), or the decision is within the margin. `tau`: the tie tolerance (`TIE·ℓ`).
 fn touching_ball(shape: &Shape, pose: &Pose, n: &Vec3, tau: Real) -> Option<(Vec3, Real)> {
     let rot = pose.rotation();
     let m = rot.tr_mul(n);
@@ -48,8 +46,8 @@ fn touching_ball(shape: &Shape, pose: &Pose, n: &Vec3, tau: Real) -> Option<(Vec
             let end = if m.x > 0.0 { h } else { -h };
             Some((rot.column(0) * end, rho))
         }
-        ShapeKind::Polytope if shape.centred_box().is_none() => flat_ball(shape, &rot, &m, tau),
-        ShapeKind::Polygon | ShapeKind::ConvexHull => flat_ball(shape, &rot, &m, tau),
+        ShapeKind::Polytope if shape.centred_box().is_none() => flat_ball(shape, rot, &m, tau),
+        ShapeKind::Polygon | ShapeKind::ConvexHull => flat_ball(shape, rot, &m, tau),
         ShapeKind::Polytope => {
             let e = shape.centred_box()?;
             let mut corner = Vec3::zeros();
@@ -76,9 +74,10 @@ fn flat_ball(shape: &Shape, rot: &Mat3, m: &Vec3, tau: Real) -> Option<(Vec3, Re
 }
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` into `j` (every entry written) where a capsule touches by an
-/// end cap, or a box by a vertex, against a box, a capsule, a cylinder or a cone, from the geometric answer and its gradient `g` (the α row); `None`
-/// (with `j` holding garbage) for other pairs or features, undecided features or a non-finite
-/// answer. Two capsules and sphere pairs have their own closed forms and are not taken here.
+/// end cap, or a shape made of vertices by one vertex, against a shape other than a sphere or
+/// a half-space (see the module's documentation), from the geometric answer and its gradient
+/// `g` (the α row); `None` (with `j` holding garbage) for other pairs or features, undecided
+/// features or a non-finite answer. Two capsules and sphere pairs have their own closed forms and are not taken here.
 pub(crate) fn ball_jacobian(
     prox: &Proximity,
     g: &[Real; 14],
@@ -100,7 +99,10 @@ pub(crate) fn ball_jacobian(
                 | ShapeKind::ConvexHull
         )
     };
-    if !(other(kinds[0]) && other(kinds[1])) || kinds == [ShapeKind::Capsule, ShapeKind::Capsule] {
+    let target = |k: ShapeKind| other(k) || k == ShapeKind::Ellipsoid;
+    if !(other(kinds[0]) && target(kinds[1]) || other(kinds[1]) && target(kinds[0]))
+        || kinds == [ShapeKind::Capsule, ShapeKind::Capsule]
+    {
         return None;
     }
     let alpha = prox.alpha;
@@ -112,7 +114,7 @@ pub(crate) fn ball_jacobian(
     let nu = dalpha_dd / norm;
     let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
     let tau = TIE * ell;
-    // A capsule's cap first (either shape), then a box's vertex.
+    // A capsule's cap first (either shape), then a vertex.
     let mut ball = None;
     for pass in 0..2 {
         for s in 0..2 {

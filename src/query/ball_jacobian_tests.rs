@@ -25,6 +25,11 @@ fn ball_shape(rng: &mut Rng, capsule: bool) -> Shape {
     }
 }
 
+/// The sphere tests' mildly eccentric ellipsoid.
+fn ellipsoid() -> Shape {
+    Shape::ellipsoid([[1.5, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap()
+}
+
 /// The pairs the closed form takes: a capsule against a box, a cylinder, a cone and an
 /// and a box against a box, a cylinder and a cone (the other shape fixed, the
 /// capsule or box random).
@@ -33,9 +38,11 @@ fn pairs() -> Vec<(bool, Shape)> {
         (true, Shape::cuboid(0.5, 0.35, 0.25).unwrap()),
         (true, Shape::cylinder(0.3, 0.9).unwrap()),
         (true, Shape::cone(1.0, 0.5).unwrap()),
+        (true, ellipsoid()),
         (false, Shape::cuboid(0.5, 0.35, 0.25).unwrap()),
         (false, Shape::cylinder(0.3, 0.9).unwrap()),
         (false, Shape::cone(1.0, 0.5).unwrap()),
+        (false, ellipsoid()),
     ]
 }
 
@@ -69,7 +76,9 @@ fn ball_closed_form_matches_the_feature_solve() {
                 hits += 1;
                 let general = general_beside([s[0], s[1]], [&p1, &p2], &jc);
                 let ell = s[0].bounding_radius().max(s[1].bounding_radius());
-                worst = worst.max(gap(&jc, &general, ell));
+                // Relative to the Jacobian's size, as the capsules' test.
+                let size = jc.iter().flatten().fold(1.0, |m: Real, v| m.max(v.abs()));
+                worst = worst.max(gap(&jc, &general, ell) / size);
             }
             let kind = other.kind();
             eprintln!("{capsule} {kind:?} {order}: {hits} of {answered}, worst {worst:.1e}");

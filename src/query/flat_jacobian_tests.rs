@@ -32,6 +32,7 @@ fn shapes(rng: &mut Rng) -> (Vec<Shape>, Vec<Shape>) {
         Shape::capsule(0.25, 0.8).unwrap(),
         Shape::cylinder(0.3, 0.9).unwrap(),
         Shape::cone(1.0, 0.5).unwrap(),
+        Shape::ellipsoid([[1.5, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap(),
     ];
     (flat, others)
 }

@@ -1,6 +1,8 @@
 //! The Jacobian of `(x*, α*)` in closed form for a sphere against a box, a capsule, a
-//! cylinder, a cone or an ellipsoid, where the general feature solve (`crate::solver::sensitivity`) costs
-//! several thousand instructions beyond proximity (`docs/derivatives.md`).
+//! cylinder, a cone, an ellipsoid, a polytope, an unpadded hull or a padded polygon, where the
+//! general feature solve (`crate::solver::sensitivity`) costs several thousand instructions
+//! beyond proximity (`docs/derivatives.md`). [`projection_jacobian`] also serves
+//! `super::ball_jacobian` (a ball off its shape's origin, of radius zero at a vertex).
 //!
 //! With the sphere `s` (radius `R`, centre `r_s`) and the other shape `B` (origin `r_b`,
 //! attitude `Q`), the scaled shapes touch where `B` scaled by α* about `r_b` is at distance
@@ -87,9 +89,9 @@ pub(super) fn projection_jacobian(
     let face = |a: Vec3| Mat3::identity() - outer(&a, 1.0);
     match b.solver_kind() {
         ShapeKind::Polytope if b.centred_box().is_none() => {
-            flat_projection(b, &rot, &m, n, radius, tau)
+            flat_projection(b, rot, &m, n, radius, tau)
         }
-        ShapeKind::Polygon | ShapeKind::ConvexHull => flat_projection(b, &rot, &m, n, radius, tau),
+        ShapeKind::Polygon | ShapeKind::ConvexHull => flat_projection(b, rot, &m, n, radius, tau),
         ShapeKind::Polytope => {
             let e = b.centred_box()?;
             let mut zero = [false; 3];
@@ -151,6 +153,9 @@ pub(super) fn projection_jacobian(
                 Some(rim(rho))
             }
         }
+        // Touched by a point (a vertex: `R = 0`), `(R·I + H)⁻¹H` tends to the projection
+        // onto the tangent plane (H's range).
+        ShapeKind::Ellipsoid if radius == 0.0 => Some(face(*n)),
         ShapeKind::Ellipsoid => {
             // h(m) = √(mᵀP⁻¹m): with g = P⁻¹m, ∇²h = (P⁻¹ − ggᵀ/h²)/h (body frame).
             let p_inv = b.ellipsoid_inverse()?;
@@ -188,8 +193,8 @@ fn flat_projection(
     })
 }
 
-/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone or
-/// an ellipsoid (either order) into `j` (every entry written), from the geometric answer and
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone,
+/// an ellipsoid, a polytope, an unpadded hull or a padded polygon (either order) into `j` (every entry written), from the geometric answer and
 /// its gradient `g` (the α row); `None` (with `j` holding garbage) for other pairs, undecided
 /// features or a non-finite answer.
 pub(crate) fn sphere_jacobian(
