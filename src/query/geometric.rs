@@ -17,6 +17,7 @@ use super::cores::Cores;
 use super::derivatives::rotation_axes;
 use super::dispatch::{route, Stage, Stages};
 use super::ellipsoid_jacobian::ellipsoid_jacobian;
+use super::face_jacobian::face_jacobian;
 use super::polytope_jacobian::polytope_jacobian;
 use super::segment_jacobian::segment_jacobian;
 use super::shortcuts::{
@@ -400,7 +401,8 @@ pub(crate) fn jacobian_into(
                 sphere_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
             _ => ball_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
-                .or_else(|| segment_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)),
+                .or_else(|| segment_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out))
+                .or_else(|| face_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)),
         };
         if closed.is_some() {
             return Some(Formed::Closed);

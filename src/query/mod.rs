@@ -23,6 +23,7 @@ mod early_exit;
 mod ellipsoid_jacobian;
 #[cfg(test)]
 mod ellipsoid_jacobian_tests;
+mod face_jacobian;
 #[cfg(test)]
 mod fast_derivatives_tests;
 #[cfg(test)]
