@@ -43,7 +43,8 @@ fn pairs() -> Vec<(usize, Shape)> {
 
 /// On each pair in both orders, 4 000 random poses and dimensions (separated and
 /// overlapping): wherever the closed form answers the general feature solve answers too, the
-/// two agree to 1e-12 (non-dimensional), and the public `jacobian` returns the closed form's
+/// two agree to 1e-12 (non-dimensional, relative to the Jacobian's largest entry or 1; measured
+/// 2.7e-13, and 6.6e-13 on a second seed), and the public `jacobian` returns the closed form's
 /// numbers with the same proximity answer; the closed form answers on at least 100 poses of
 /// each.
 #[test]
@@ -70,7 +71,10 @@ fn segment_closed_form_matches_the_feature_solve() {
                 hits += 1;
                 let general = general_beside([s[0], s[1]], [&p1, &p2], &jc);
                 let ell = s[0].bounding_radius().max(s[1].bounding_radius());
-                worst = worst.max(gap(&jc, &general, ell));
+                // Relative to the Jacobian's size, as the capsules' test: nearly parallel
+                // segments have entries ~1/sin.
+                let size = jc.iter().flatten().fold(1.0, |m: Real, v| m.max(v.abs()));
+                worst = worst.max(gap(&jc, &general, ell) / size);
             }
             let kind = other.kind();
             eprintln!("{which} {kind:?} {order}: {hits} of {answered}, worst {worst:.1e}");
