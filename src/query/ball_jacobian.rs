@@ -24,8 +24,8 @@
 //! general solve decides.
 
 use super::context::Proximity;
-use super::sphere_jacobian::{decide, projection_jacobian, TIE};
-use super::vertex_feature::{flat_feature, Flat};
+use super::sphere_jacobian::projection_jacobian;
+use super::vertex_feature::{decide, flat_feature, Flat, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 

@@ -19,8 +19,7 @@
 //! within a factor 100 of that decision the answer is `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::sphere_jacobian::{decide, TIE};
-use super::vertex_feature::{flat_feature, Flat};
+use super::vertex_feature::{decide, flat_feature, Flat, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 

@@ -30,8 +30,7 @@
 //! parallel than 100 times the general solve's sine, the answer is `None`.
 
 use super::context::Proximity;
-use super::sphere_jacobian::{decide, DISC, MARGIN, TIE};
-use super::vertex_feature::{flat_feature, Flat};
+use super::vertex_feature::{decide, flat_feature, Flat, DISC, MARGIN, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::sensitivity::PARALLEL_SIN;

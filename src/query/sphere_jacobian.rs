@@ -27,28 +27,9 @@
 //! `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::vertex_feature::{flat_feature, Flat};
+use super::vertex_feature::{decide, flat_feature, Flat, DISC, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
-
-/// The general solve's tie tolerance on support values, over `ℓ` (`sensitivity::TIE_TOL`).
-pub(super) const TIE: Real = 1e-10;
-/// The general solve's disc test: `1 − cos` of the normal and a flat face's at most this
-/// (`sensitivity::DISC_COS`).
-pub(super) const DISC: Real = 1e-13;
-/// A decision this close (as a factor) to either tolerance is left to the general solve.
-pub(super) const MARGIN: Real = 100.0;
-
-/// How a tolerance test came out: clearly within, clearly beyond, or too close to call.
-pub(super) fn decide(value: Real, tol: Real) -> Option<bool> {
-    if value <= tol / MARGIN {
-        Some(true)
-    } else if value >= tol * MARGIN {
-        Some(false)
-    } else {
-        None
-    }
-}
 
 /// `uuᵀ·k`.
 fn outer(u: &Vec3, k: Real) -> Mat3 {

@@ -1,11 +1,31 @@
 //! The feature a polytope, an unpadded convex hull or a padded polygon touches by at a normal, read from
 //! its vertices as the general feature solve reads it (`crate::solver::features`: the vertices,
 //! or padded vertices, whose support values tie within its tolerance), for the closed-form
-//! Jacobians (`super::ball_jacobian`, `super::segment_jacobian`, `super::sphere_jacobian`).
+//! Jacobians (`super::ball_jacobian`, `super::segment_jacobian`, `super::sphere_jacobian`,
+//! `super::face_jacobian`), and the tolerances and margin all the closed forms decide
+//! features with.
 
-use super::sphere_jacobian::decide;
 use crate::math::{Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
+
+/// The general solve's tie tolerance on support values, over `ℓ` (`sensitivity::TIE_TOL`).
+pub(super) const TIE: Real = 1e-10;
+/// The general solve's disc test: `1 − cos` of the normal and a flat face's at most this
+/// (`sensitivity::DISC_COS`).
+pub(super) const DISC: Real = 1e-13;
+/// A decision this close (as a factor) to either tolerance is left to the general solve.
+pub(super) const MARGIN: Real = 100.0;
+
+/// How a tolerance test came out: clearly within, clearly beyond, or too close to call.
+pub(super) fn decide(value: Real, tol: Real) -> Option<bool> {
+    if value <= tol / MARGIN {
+        Some(true)
+    } else if value >= tol * MARGIN {
+        Some(false)
+    } else {
+        None
+    }
+}
 
 /// A shape's contact feature (body frame).
 pub(super) enum Flat {
