@@ -30,7 +30,7 @@
 //! sine, the answer is `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::sphere_jacobian::{decide, MARGIN, TIE};
+use super::vertex_feature::{decide, MARGIN, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::sensitivity::PARALLEL_SIN;

@@ -10,13 +10,16 @@
 //! gauge of the normalised Minkowski difference at `r` (α* is homogeneous of degree one in the
 //! offset, so no precision is lost at tiny or huge offsets).
 
+use super::ball_jacobian::ball_jacobian;
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
 use super::derivatives::{rotation_axes, rotation_dots};
 use super::dispatch::{route, Stage, Stages};
 use super::ellipsoid_jacobian::ellipsoid_jacobian;
+use super::face_jacobian::face_jacobian;
 use super::polytope_jacobian::polytope_jacobian;
+use super::segment_jacobian::segment_jacobian;
 use super::shortcuts::{
     capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
     Answer, Solved,
@@ -363,7 +366,9 @@ pub(crate) fn jacobian_into(
             [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
                 sphere_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
-            _ => None,
+            _ => ball_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
+                .or_else(|| segment_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out))
+                .or_else(|| face_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)),
         };
         if closed.is_some() {
             return Some(Formed::Closed);

@@ -2,6 +2,9 @@
 //! and the exact distance.
 
 mod assemble;
+mod ball_jacobian;
+#[cfg(test)]
+mod ball_jacobian_tests;
 mod cached;
 mod capsule_jacobian;
 #[cfg(test)]
@@ -20,14 +23,20 @@ mod early_exit;
 mod ellipsoid_jacobian;
 #[cfg(test)]
 mod ellipsoid_jacobian_tests;
+mod face_jacobian;
 #[cfg(test)]
 mod fast_derivatives_tests;
+#[cfg(test)]
+mod flat_jacobian_tests;
 mod geometric;
 mod halfspace;
 mod polytope_jacobian;
 #[cfg(test)]
 mod polytope_jacobian_tests;
 mod proximity;
+mod segment_jacobian;
+#[cfg(test)]
+mod segment_jacobian_tests;
 mod separated;
 mod shape_gradient;
 mod shortcuts;
@@ -39,6 +48,7 @@ mod sphere_jacobian_tests;
 mod structured_solve_tests;
 #[cfg(test)]
 mod test_support;
+mod vertex_feature;
 mod warm;
 mod warm_contacts;
 mod warm_distance;

@@ -1,6 +1,8 @@
 //! The Jacobian of `(x*, α*)` in closed form for a sphere against a box, a capsule, a
-//! cylinder, a cone or an ellipsoid, where the general feature solve (`crate::solver::sensitivity`) costs
-//! several thousand instructions beyond proximity (`docs/derivatives.md`).
+//! cylinder, a cone, an ellipsoid, a polytope, an unpadded hull or a padded polygon, where the
+//! general feature solve (`crate::solver::sensitivity`) costs several thousand instructions
+//! beyond proximity (`docs/derivatives.md`). [`projection_jacobian`] also serves
+//! `super::ball_jacobian` (a ball off its shape's origin, of radius zero at a vertex).
 //!
 //! With the sphere `s` (radius `R`, centre `r_s`) and the other shape `B` (origin `r_b`,
 //! attitude `Q`), the scaled shapes touch where `B` scaled by α* about `r_b` is at distance
@@ -25,27 +27,9 @@
 //! `None` and the general solve decides.
 
 use super::context::Proximity;
+use super::vertex_feature::{decide, flat_feature, Flat, DISC, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
-
-/// The general solve's tie tolerance on support values, over `ℓ` (`sensitivity::TIE_TOL`).
-pub(super) const TIE: Real = 1e-10;
-/// The general solve's disc test: `1 − cos` of the normal and a flat face's at most this
-/// (`sensitivity::DISC_COS`).
-const DISC: Real = 1e-13;
-/// A decision this close (as a factor) to either tolerance is left to the general solve.
-pub(super) const MARGIN: Real = 100.0;
-
-/// How a tolerance test came out: clearly within, clearly beyond, or too close to call.
-pub(super) fn decide(value: Real, tol: Real) -> Option<bool> {
-    if value <= tol / MARGIN {
-        Some(true)
-    } else if value >= tol * MARGIN {
-        Some(false)
-    } else {
-        None
-    }
-}
 
 /// `uuᵀ·k`.
 fn outer(u: &Vec3, k: Real) -> Mat3 {
@@ -56,7 +40,7 @@ fn outer(u: &Vec3, k: Real) -> Mat3 {
 /// from `B`) and the contact point `w` (world, relative to `B`'s origin), ties decided within
 /// `TIE·ℓ` (`ℓ` the pair's length scale, as the general solve); `None` for other shapes or
 /// undecided features.
-fn projection_jacobian(
+pub(super) fn projection_jacobian(
     b: &Shape,
     pose: &Pose,
     n: &Vec3,
@@ -85,6 +69,10 @@ fn projection_jacobian(
     };
     let face = |a: Vec3| Mat3::identity() - outer(&a, 1.0);
     match b.solver_kind() {
+        ShapeKind::Polytope if b.centred_box().is_none() => {
+            flat_projection(b, rot, &m, n, radius, tau)
+        }
+        ShapeKind::Polygon | ShapeKind::ConvexHull => flat_projection(b, rot, &m, n, radius, tau),
         ShapeKind::Polytope => {
             let e = b.centred_box()?;
             let mut zero = [false; 3];
@@ -146,6 +134,9 @@ fn projection_jacobian(
                 Some(rim(rho))
             }
         }
+        // Touched by a point (a vertex: `R = 0`), `(R·I + H)⁻¹H` tends to the projection
+        // onto the tangent plane (H's range).
+        ShapeKind::Ellipsoid if radius == 0.0 => Some(face(*n)),
         ShapeKind::Ellipsoid => {
             // h(m) = √(mᵀP⁻¹m): with g = P⁻¹m, ∇²h = (P⁻¹ − ggᵀ/h²)/h (body frame).
             let p_inv = b.ellipsoid_inverse()?;
@@ -158,8 +149,33 @@ fn projection_jacobian(
     }
 }
 
-/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone or
-/// an ellipsoid (either order) into `j` (every entry written), from the geometric answer and
+/// [`projection_jacobian`] for a polytope other than a centred box, a convex hull or a padded
+/// polygon (`rot` its attitude, `m` the body normal): zero at a vertex (`k(I − n̂n̂ᵀ)` at a
+/// padded one, `k = ρ/(R + ρ)`), `ttᵀ + k ccᵀ` on an edge of direction `t`, `I − aaᵀ` on a
+/// face of normal `a`; `None` where the feature is undecided.
+fn flat_projection(
+    b: &Shape,
+    rot: &crate::math::Mat3,
+    m: &Vec3,
+    n: &Vec3,
+    radius: Real,
+    tau: Real,
+) -> Option<Mat3> {
+    let (flat, rho) = flat_feature(b, m, tau)?;
+    let k = if rho > 0.0 { rho / (radius + rho) } else { 0.0 };
+    Some(match flat {
+        Flat::Vertex(_) => (Mat3::identity() - outer(n, 1.0)) * k,
+        Flat::Edge(t) => {
+            let t = rot * t;
+            let c = t.cross(n).normalize();
+            outer(&t, 1.0) + outer(&c, k)
+        }
+        Flat::Face(a) => Mat3::identity() - outer(&(rot * a), 1.0),
+    })
+}
+
+/// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone,
+/// an ellipsoid, a polytope, an unpadded hull or a padded polygon (either order) into `j` (every entry written), from the geometric answer and
 /// its gradient `g` (the α row); `None` (with `j` holding garbage) for other pairs, undecided
 /// features or a non-finite answer.
 pub(crate) fn sphere_jacobian(
