@@ -7,6 +7,7 @@
 //! - sphere–box and sphere–cylinder distance (separated): the centre's closest point of the solid
 //!   written out in the solid's frame (a clamp; the axial clamp and the radial shortening),
 //!   both orders, at the default tolerance and at 1e-12.
+//! - sphere–sphere distance (separated, gaps 1e-6 to 3): the centres' distance less the radii.
 
 use dcol::{distance, proximity, DistancePath, Options, Pose, Shape, Vec3};
 
@@ -289,4 +290,43 @@ fn sphere_box_and_cylinder_distance_match_closest_point() {
         checked += 1;
     }
     assert!(checked > 4000, "only {checked} separated poses");
+}
+
+#[test]
+fn sphere_sphere_distance_matches_centres() {
+    let mut rng = Rng(0x5EED_5555_0003);
+    for case in 0..4000 {
+        let (r1, r2) = (rng.range(0.01, 1.0), rng.range(0.01, 1.0));
+        let c1 = Vec3::new(
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+        );
+        let gap = 10f64.powf(rng.range(-6.0, 0.5));
+        let u = rng.unit();
+        let c2 = c1 + u * (r1 + r2 + gap);
+        let p1 = Pose::new(c1.into(), rng.quaternion()).unwrap();
+        let p2 = Pose::new(c2.into(), rng.quaternion()).unwrap();
+        let (s1, s2) = (Shape::sphere(r1).unwrap(), Shape::sphere(r2).unwrap());
+        let d = distance(&s1, &p1, &s2, &p2, &Options::default()).unwrap();
+        // The truth from the centres as placed (c2 − c1 rounded, not u).
+        let w = c2 - c1;
+        let truth = w.norm() - r1 - r2;
+        let n = w / w.norm();
+        assert_eq!(d.path, DistancePath::ClosedForm, "case {case}");
+        assert!(
+            (d.distance - truth).abs() <= 1e-14 * truth.max(1.0),
+            "case {case}: {} against {truth}",
+            d.distance
+        );
+        assert!((d.normal - n).norm() <= 1e-14, "case {case}: normal");
+        assert!(
+            (d.closest1 - (c1 + n * r1)).norm() <= 1e-14,
+            "case {case}: witness 1"
+        );
+        assert!(
+            (d.closest2 - (c2 - n * r2)).norm() <= 1e-14,
+            "case {case}: witness 2"
+        );
+    }
 }
