@@ -147,3 +147,122 @@ fn distance_cutoff_rejects_bad_values() {
         ));
     }
 }
+
+/// A sphere against a box, a capsule, a cylinder (and a rounded box, which takes the general
+/// path), both orders, on random poses about the touching scale and random thresholds: the
+/// threshold answer (decided without α* for the first three) equals `proximity(..).alpha < t`
+/// outside a 1e-9 relative band around the tie.
+#[test]
+fn sphere_decisions_match_proximity() {
+    use common::random::{hull_of, Rng};
+    use dcol::{Pose, Shape};
+    let mut rng = Rng::new(0xDEC1DE);
+    let ball = Shape::sphere(0.35).unwrap();
+    let rounded = {
+        let mut r = Rng::new(7);
+        hull_of(&mut r, 40, [0.5, 0.4, 0.3], 0.05)
+    };
+    let solids = [
+        Shape::cuboid(0.6, 0.4, 0.3).unwrap(),
+        Shape::capsule(0.25, 0.9).unwrap(),
+        Shape::cylinder(0.4, 0.8).unwrap(),
+        rounded,
+    ];
+    let opts = Options::default();
+    let (mut checked, mut below) = (0usize, 0usize);
+    for solid in &solids {
+        for k in 0..8_000 {
+            let dir = rng.unit::<3>();
+            let reach = rng.range(0.3, 1.6);
+            let p1 = Pose::new([rng.range(-1.0, 1.0), 0.2, -0.3], rng.quat()).unwrap();
+            let r1 = p1.position();
+            let p2 = Pose::new(
+                [
+                    r1.x + dir[0] * reach,
+                    r1.y + dir[1] * reach,
+                    r1.z + dir[2] * reach,
+                ],
+                rng.quat(),
+            )
+            .unwrap();
+            let (s1, s2, q1, q2) = if k % 2 == 0 {
+                (&ball, solid, &p1, &p2)
+            } else {
+                (solid, &ball, &p2, &p1)
+            };
+            let alpha = proximity(s1, q1, s2, q2, &opts).unwrap().alpha;
+            for t in [1.0, rng.range(0.3, 2.5)] {
+                if ((alpha - t) / t).abs() < 1e-9 {
+                    continue;
+                }
+                let d = alpha_below(s1, q1, s2, q2, t, &opts).unwrap();
+                assert_eq!(d.below, alpha < t, "{k}: alpha {alpha}, t {t}");
+                if t == 1.0 {
+                    assert_eq!(intersect(s1, q1, s2, q2, &opts).unwrap().below, alpha < 1.0);
+                }
+                checked += 1;
+                below += usize::from(d.below);
+            }
+        }
+    }
+    assert!(
+        checked > 60_000 && below > 15_000 && checked - below > 15_000,
+        "{checked} {below}"
+    );
+}
+
+/// Two boxes (decided by their 15 separating axes without α*), on random poses about the
+/// touching scale, a third of them with equal or axis-swapped attitudes (parallel edges, left
+/// to the general path): the threshold answer equals `proximity(..).alpha < t` outside a 1e-9
+/// relative band.
+#[test]
+fn box_decisions_match_proximity() {
+    use common::random::Rng;
+    use dcol::Pose;
+    let mut rng = Rng::new(0xB0B0);
+    let (a, b) = (
+        dcol::Shape::cuboid(0.6, 0.4, 0.3).unwrap(),
+        dcol::Shape::cuboid(0.25, 0.5, 0.2).unwrap(),
+    );
+    let opts = Options::default();
+    let (mut checked, mut below) = (0usize, 0usize);
+    for k in 0..20_000 {
+        let q1 = rng.quat();
+        let q2 = match k % 3 {
+            0 => q1,
+            1 => {
+                // q1 times a quarter turn about body x: every edge parallel to one of box 1's.
+                let (c, s) = (0.5f64.sqrt(), 0.5f64.sqrt());
+                let [w, x, y, z] = q1;
+                [w * c - x * s, w * s + x * c, y * c + z * s, z * c - y * s]
+            }
+            _ => rng.quat(),
+        };
+        let dir = rng.unit::<3>();
+        let reach = rng.range(0.3, 2.0);
+        let p1 = Pose::new([0.1, -0.2, 0.3], q1).unwrap();
+        let p2 = Pose::new(
+            [
+                0.1 + dir[0] * reach,
+                -0.2 + dir[1] * reach,
+                0.3 + dir[2] * reach,
+            ],
+            q2,
+        )
+        .unwrap();
+        let alpha = proximity(&a, &p1, &b, &p2, &opts).unwrap().alpha;
+        for t in [1.0, rng.range(0.3, 2.5)] {
+            if ((alpha - t) / t).abs() < 1e-9 {
+                continue;
+            }
+            let d = alpha_below(&a, &p1, &b, &p2, t, &opts).unwrap();
+            assert_eq!(d.below, alpha < t, "{k}: alpha {alpha}, t {t}");
+            checked += 1;
+            below += usize::from(d.below);
+        }
+    }
+    assert!(
+        checked > 35_000 && below > 8_000 && checked - below > 8_000,
+        "{checked} {below}"
+    );
+}

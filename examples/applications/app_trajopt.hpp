@@ -13,6 +13,7 @@
 #include <IpTNLP.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <vector>
@@ -32,10 +33,11 @@ struct TrajSpec {
   int nx = 0;   // numbers per knot
   std::vector<double> start, goal, weights;  // nx each
   std::vector<double> step_limit;            // nx each; <= 0: no limit on that component
-  /// Amplitudes (nx each; empty: none) of a fixed pseudo-random offset added to the interior
-  /// knots of the straight-line guess: a guess on a symmetry of the problem (a cone centred in
-  /// a square hole) leaves the way round it to rounding, and a small offset picks one.
-  std::vector<double> guess_jitter;
+  /// Amplitudes (nx each; empty: none) of a smooth bump `amplitude * sin(pi t)` added to the
+  /// straight-line guess (t = 0 at the start, 1 at the goal): a guess on a symmetry of the
+  /// problem (a cone centred in a square hole) leaves the way round it to rounding, and a bump
+  /// the size of the answer's deviation picks one.
+  std::vector<double> guess_bump;
   const dcol_shape *robot = nullptr;
   const std::vector<Obstacle> *obstacles = nullptr;
   /// The robot's pose at a state.
@@ -100,18 +102,14 @@ class TrajNlp : public Ipopt::TNLP {
                           Ipopt::Number *, Ipopt::Number *, Ipopt::Index, bool init_lambda,
                           Ipopt::Number *) override {
     if (!init_x || init_z || init_lambda) return false;
-    // The naive guess: the straight line from start to goal (with the spec's jitter on the
-    // interior knots, from a fixed linear congruential sequence).
-    unsigned long long seed = 0x9E3779B97F4A7C15ull;
+    // The naive guess: the straight line from start to goal (plus the spec's bump, zero at
+    // both ends).
     for (int k = 0; k < s_.N; ++k) {
       const double t = static_cast<double>(k) / (s_.N - 1);
       for (int i = 0; i < s_.nx; ++i) {
         double v = (1.0 - t) * s_.start[i] + t * s_.goal[i];
-        if (k > 0 && k + 1 < s_.N && static_cast<size_t>(i) < s_.guess_jitter.size()) {
-          seed = seed * 6364136223846793005ull + 1442695040888963407ull;
-          const double u = static_cast<double>(seed >> 11) / 9007199254740992.0;  // [0, 1)
-          v += s_.guess_jitter[static_cast<size_t>(i)] * (2.0 * u - 1.0);
-        }
+        if (static_cast<size_t>(i) < s_.guess_bump.size())
+          v += s_.guess_bump[static_cast<size_t>(i)] * std::sin(3.14159265358979323846 * t);
         x[k * s_.nx + i] = v;
       }
     }

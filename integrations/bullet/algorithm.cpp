@@ -10,6 +10,7 @@
 #include <new>
 
 #include "internal.hpp"
+#include "plane_contacts.hpp"
 
 namespace dcol_bullet {
 
@@ -231,6 +232,7 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     for (int i = 0; i < 3; ++i) down[i] = -(r[0][i] * nrm[0] + r[1][i] * nrm[1] + r[2][i] * nrm[2]);
     if (above - detail::support(*e, down) > margin + 1e-6 * e->radius) return false;
     margin += e->pad;
+    if (closed_form(*e, sw->getWorldTransform(), nrm, c, plane_first, margin, cs, n, st)) return true;
     const dcol_pose ps = detail::world_pose(*e, sw->getWorldTransform());
     const double h = nrm[0] * ps.position[0] + nrm[1] * ps.position[1] + nrm[2] * ps.position[2] - c;
     dcol_pose box;
@@ -250,6 +252,70 @@ class Algorithm : public btActivatingCollisionAlgorithm {
     const dcol_shape *hs = plane_halfspace();
     *st = plane_first ? dcol_contacts(hs, &box, e->shape, &ps, margin, nullptr, cs, kMaxPoints, n)
                       : dcol_contacts(e->shape, &ps, hs, &box, margin, nullptr, cs, kMaxPoints, n);
+    return true;
+  }
+
+  // Bullet's sphere, box, capsule, cylinder or cone (their dcol shapes: for cylinders and cones
+  // the core, `margin` holding the pad) against the plane n.x = c in closed form
+  // (plane_contacts.hpp: the contacts from the support map, no dcol query; docs/bullet.md), as
+  // dcol_contacts writes them (normal from the first shape to the second). False for the other
+  // shapes (hulls, dcol_bullet::Shape): dcol answers.
+  static bool closed_form(const Entry &e, const btTransform &t, const double nrm[3], double c, bool plane_first,
+                          double margin, dcol_contact *cs, std::size_t *n, dcol_status *st) {
+    const int kind = e.kind;
+    if (kind != SPHERE_SHAPE_PROXYTYPE && kind != BOX_SHAPE_PROXYTYPE && kind != CAPSULE_SHAPE_PROXYTYPE &&
+        kind != CYLINDER_SHAPE_PROXYTYPE && kind != CONE_SHAPE_PROXYTYPE)
+      return false;
+    dcol_plane::Plane pl;
+    for (int k = 0; k < 3; ++k) pl.n[k] = nrm[k];
+    pl.d = c;
+    const btMatrix3x3 &r = t.getBasis();
+    const btVector3 &o = t.getOrigin();
+    dcol_plane::Frame f;
+    for (int i = 0; i < 3; ++i) {
+      f.c[i] = o[i];
+      for (int k = 0; k < 3; ++k) f.axis[k][i] = r[i][k];  // column k: the shape's axis k in world
+    }
+    dcol_plane::Points pts;
+    int res;
+    const int up = e.axis;
+    switch (kind) {
+      case SPHERE_SHAPE_PROXYTYPE: res = dcol_plane::sphere(pl, f.c, e.dims[0], pts, margin); break;
+      case BOX_SHAPE_PROXYTYPE: res = dcol_plane::box(pl, f, e.dims, pts, margin); break;
+      case CAPSULE_SHAPE_PROXYTYPE:
+        res = e.dims[0] > 0 ? dcol_plane::capsule(pl, f, up, e.dims[1], 2 * e.dims[0], pts, margin)
+                            : dcol_plane::sphere(pl, f.c, e.dims[1], pts, margin);
+        break;
+      case CYLINDER_SHAPE_PROXYTYPE: res = dcol_plane::cylinder(pl, f, up, e.dims[1], 2 * e.dims[0], pts, margin); break;
+      default: {
+        // Bullet's cone: apex at +h/2 on the up axis, base at -h/2; dcol's: apex at -3h/4 on its
+        // axis, base at +h/4: the axis is -up, the centre h/4 below the shape's origin.
+        const double h = 2 * e.dims[0];
+        for (int i = 0; i < 3; ++i) {
+          f.c[i] -= 0.25 * h * f.axis[up][i];
+          f.axis[up][i] = -f.axis[up][i];
+        }
+        res = dcol_plane::cone(pl, f, up, h, e.dims[1], pts, margin);
+        break;
+      }
+    }
+    *n = 0;
+    if (res < 0) {
+      *st = DCOL_ERROR_INVALID_POSE;
+      return true;
+    }
+    *st = DCOL_OK;
+    int order[dcol_plane::kMaxPoints];
+    const int k = res == 0 ? 0 : dcol_plane::reduce(pts, static_cast<int>(kMaxPoints), order);
+    const double s = plane_first ? 1.0 : -1.0;
+    for (int i = 0; i < k; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        cs[i].position[j] = pts.pos[order[i]][j];
+        cs[i].normal[j] = s * nrm[j];
+      }
+      cs[i].depth = pts.depth[order[i]];
+    }
+    *n = static_cast<std::size_t>(k);
     return true;
   }
 

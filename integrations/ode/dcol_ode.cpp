@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dcol_ode_internal.hpp"
+#include "plane_contacts.hpp"
 
 namespace dcol_ode {
 namespace {
@@ -339,14 +340,12 @@ int write_contacts(dGeomID o1, dGeomID o2, const dcol_contact *cs, std::size_t n
   return static_cast<int>(n);
 }
 
-// A solid against ODE's plane n.x = d (solid below, n out of it): the dcol half-space of depth 1
-// whose boundary is the plane, posed at the foot of the solid's centre on the plane.
-int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, int flags, dContactGeom *contact,
-                  int skip) {
+// ODE's plane n.x = d (the solid region below, n out of it): its unit normal, offset and attitude,
+// computed again only when its parameters change (a scene has one floor or a few walls; the same
+// numbers either way). nullptr when the parameters make no plane.
+const PlaneFrame *plane_frame(dGeomID plane) {
   dVector4 p;
   dGeomPlaneGetParams(plane, p);
-  // The plane's unit normal, offset and attitude, computed again only when its parameters
-  // change (a scene has one floor or a few walls; the same numbers either way).
   PlaneFrame &f = g.plane_frame;
   if (!f.set || std::memcmp(f.params, p, sizeof f.params) != 0) {
     std::memcpy(f.params, p, sizeof f.params);
@@ -367,13 +366,21 @@ int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, 
       for (int k = 0; k < 4; ++k) f.q[k] = q[k] / ql;
     }
   }
-  if (!f.ok) {
+  return f.ok ? &f : nullptr;
+}
+
+// A solid against ODE's plane: the dcol half-space of depth 1 whose boundary is the plane, posed
+// at the foot of the solid's centre on the plane.
+int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, int flags, dContactGeom *contact,
+                  int skip) {
+  const PlaneFrame *f = plane_frame(plane);
+  if (!f) {
     ++g.stats.rejected;
     return 0;
   }
-  const double *n = f.n;
+  const double *n = f->n;
   const double *c = solid.pose.position;
-  const double h = n[0] * c[0] + n[1] * c[1] + n[2] * c[2] - f.d;
+  const double h = n[0] * c[0] + n[1] * c[1] + n[2] * c[2] - f->d;
   if (h > solid.radius) return 0;  // the solid's bounding ball is above the plane
   if (!g.halfspace_tried) {
     g.halfspace_tried = true;
@@ -385,7 +392,7 @@ int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, 
   }
   dcol_pose hp;
   for (int k = 0; k < 3; ++k) hp.position[k] = c[k] - (h + 1.0) * n[k];
-  for (int k = 0; k < 4; ++k) hp.quaternion[k] = f.q[k];
+  for (int k = 0; k < 4; ++k) hp.quaternion[k] = f->q[k];
   dcol_contact cs[DCOL_MAX_CONTACTS];
   std::size_t count = 0;
   const dcol_status st = dcol_contacts(g.halfspace, &hp, solid.shape, &solid.pose, 0.0, nullptr, cs, capacity(flags), &count);
@@ -397,6 +404,105 @@ int collide_plane(dGeomID o1, dGeomID o2, const Resolved &solid, dGeomID plane, 
   return write_contacts(o1, o2, cs, count, o1 == plane, contact, skip);
 }
 
+// ODE's sphere, box, capsule or cylinder against ODE's plane in closed form (plane_contacts.hpp:
+// the contacts from the solid's support map, no dcol query; docs/ode.md). The solid's sizes are
+// checked as dcol checks them (the shape made for them, or the rejection, is cached). Returns -2
+// for the other classes (recorded convexes and dcol geoms go to collide_plane).
+int collide_plane_closed(dGeomID o1, dGeomID o2, dGeomID solid, int cls, dGeomID plane, int flags,
+                         dContactGeom *contact, int skip) {
+  double dims[3] = {0, 0, 0};
+  Key key;
+  switch (cls) {
+    case dSphereClass:
+      dims[0] = dGeomSphereGetRadius(solid);
+      key = Key{kSphere, dims[0], 0, 0};
+      break;
+    case dBoxClass: {
+      dVector3 l;
+      dGeomBoxGetLengths(solid, l);  // full side lengths
+      for (int k = 0; k < 3; ++k) dims[k] = 0.5 * l[k];
+      key = Key{kBox, dims[0], dims[1], dims[2]};
+      break;
+    }
+    case dCapsuleClass:
+    case dCylinderClass: {
+      dReal radius = 0, length = 0;
+      if (cls == dCapsuleClass)
+        dGeomCapsuleGetParams(solid, &radius, &length);
+      else
+        dGeomCylinderGetParams(solid, &radius, &length);
+      dims[0] = radius;
+      dims[1] = length;
+      if (cls == dCapsuleClass && length == 0) {
+        cls = dSphereClass;  // ODE's way to write a sphere
+        key = Key{kSphere, radius, 0, 0};
+      } else {
+        key = Key{cls == dCapsuleClass ? kCapsule : kCylinder, radius, length, 0};
+      }
+      break;
+    }
+    default:
+      return -2;
+  }
+  if (!cached_shape(key)) {
+    ++g.stats.rejected;
+    return 0;
+  }
+  const PlaneFrame *f = plane_frame(plane);
+  if (!f) {
+    ++g.stats.rejected;
+    return 0;
+  }
+  dcol_plane::Plane pl;
+  for (int k = 0; k < 3; ++k) pl.n[k] = f->n[k];
+  pl.d = f->d;
+  const dReal *p = dGeomGetPosition(solid);
+  dcol_plane::Points pts;
+  int t;
+  if (cls == dSphereClass) {
+    const double c[3] = {p[0], p[1], p[2]};
+    t = dcol_plane::sphere(pl, c, dims[0], pts);
+  } else {
+    const dReal *R = dGeomGetRotation(solid);  // 3x4 row-major: column k is the body's axis k
+    dcol_plane::Frame fr;
+    for (int i = 0; i < 3; ++i) {
+      fr.c[i] = p[i];
+      for (int k = 0; k < 3; ++k) fr.axis[k][i] = R[4 * i + k];
+    }
+    if (cls == dBoxClass)
+      t = dcol_plane::box(pl, fr, dims, pts);
+    else if (cls == dCapsuleClass)
+      t = dcol_plane::capsule(pl, fr, 2, dims[0], dims[1], pts);
+    else
+      t = dcol_plane::cylinder(pl, fr, 2, dims[0], dims[1], pts);
+  }
+  if (t < 0) {
+    ++g.stats.rejected;  // a non-finite pose
+    return 0;
+  }
+  if (t == 0) return 0;
+  int order[dcol_plane::kMaxPoints];
+  const int n = dcol_plane::reduce(pts, static_cast<int>(capacity(flags)), order);
+  // The plane's normal points out of it into the solid: ODE's normal when o1 is the solid.
+  const double s = o1 == plane ? -1.0 : 1.0;
+  for (int i = 0; i < n; ++i) {
+    dContactGeom *c = slot(contact, skip, static_cast<std::size_t>(i));
+    for (int k = 0; k < 3; ++k) {
+      c->pos[k] = pts.pos[order[i]][k];
+      c->normal[k] = s * pl.n[k];
+    }
+    c->pos[3] = 0;
+    c->normal[3] = 0;
+    c->depth = pts.depth[order[i]];
+    c->g1 = o1;
+    c->g2 = o2;
+    c->side1 = -1;
+    c->side2 = -1;
+  }
+  g.stats.contacts += static_cast<unsigned long>(n);
+  return n;
+}
+
 int collide(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int skip) {
   ++g.stats.calls;
   const int c1 = dGeomGetClass(o1), c2 = dGeomGetClass(o2);
@@ -404,6 +510,8 @@ int collide(dGeomID o1, dGeomID o2, int flags, dContactGeom *contact, int skip) 
   if (c1 == dPlaneClass || c2 == dPlaneClass) {
     const bool plane_first = c1 == dPlaneClass;
     dGeomID solid = plane_first ? o2 : o1;
+    const int closed = collide_plane_closed(o1, o2, solid, plane_first ? c2 : c1, plane_first ? o1 : o2, flags, contact, skip);
+    if (closed != -2) return closed;
     const Res res = resolve(solid, plane_first ? c2 : c1, &r1);
     if (res == Res::kPlainConvex) {
       --g.stats.calls;  // ODE's answer, not dcol's

@@ -14,6 +14,7 @@ use super::warm::Cache;
 use crate::error::{Error, ErrorDetail};
 use crate::math::{robust_norm, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
+use crate::solver::decision::{boxes_below, sphere_below, Solid};
 use crate::solver::{Method, SolveStatus};
 
 /// What decided a threshold question.
@@ -103,6 +104,14 @@ pub fn alpha_below(
     let bounded = shape1.solver_kind() != ShapeKind::Halfspace
         && shape2.solver_kind() != ShapeKind::Halfspace;
     if options.method == Method::Auto && bounded {
+        if let Some(below) = closed_decision(shape1, pose1, shape2, pose2, threshold) {
+            return Ok(Decision {
+                below,
+                decided_by: DecidedBy::EarlyExit,
+                iterations: 0,
+                status: SolveStatus::Converged,
+            });
+        }
         let dist = robust_norm(&(pose2.position() - pose1.position()));
         if dist > 0.0 && dist.is_finite() {
             let stop = Some((threshold, true));
@@ -150,6 +159,46 @@ pub fn alpha_below(
             status: f.prox.status,
         },
     })
+}
+
+/// The decision of a sphere against a box, a capsule or a cylinder (either order), or of two
+/// boxes, without α* (`crate::solver::decision`); `None` for other pairs or where the
+/// decision is left open (a number on the way not finite, nearly parallel box edges).
+#[inline]
+fn closed_decision(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    threshold: Real,
+) -> Option<bool> {
+    let (ball, centre, solid, pose) = match (shape1.solver_kind(), shape2.solver_kind()) {
+        (ShapeKind::Sphere, ShapeKind::Sphere) => return None,
+        (ShapeKind::Sphere, _) => (shape1, pose1, shape2, pose2),
+        (_, ShapeKind::Sphere) => (shape2, pose2, shape1, pose1),
+        _ => {
+            let (ea, eb) = (shape1.centred_box()?, shape2.centred_box()?);
+            let c = pose1.rotation().tr_mul(pose2.rotation());
+            let d = pose1
+                .rotation()
+                .tr_mul(&(pose2.position() - pose1.position()));
+            return boxes_below(&ea, &eb, &c, &d, threshold);
+        }
+    };
+    let rho = ball.rounded_segment()?.1;
+    let kind = if let Some(half) = solid.centred_box() {
+        Solid::Box(half)
+    } else if let Some((half, radius)) = solid.rounded_segment() {
+        Solid::Segment { half, radius }
+    } else if let Some((radius, half)) = solid.cylinder_dims() {
+        Solid::Cylinder { radius, half }
+    } else {
+        return None;
+    };
+    let p = pose
+        .rotation()
+        .tr_mul(&(centre.position() - pose.position()));
+    sphere_below(&p, threshold, rho, kind)
 }
 
 /// Do the shapes intersect (α* < 1)? [`alpha_below`] with threshold 1.

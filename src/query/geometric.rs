@@ -13,7 +13,7 @@
 use super::capsule_jacobian::capsule_jacobian;
 use super::context::{Options, Proximity, ShapeSink};
 use super::cores::Cores;
-use super::derivatives::rotation_axes;
+use super::derivatives::{rotation_axes, rotation_dots};
 use super::dispatch::{route, Stage, Stages};
 use super::ellipsoid_jacobian::ellipsoid_jacobian;
 use super::polytope_jacobian::polytope_jacobian;
@@ -163,7 +163,7 @@ pub(crate) fn proximity(
 /// `∂h₁(n)/∂q₁ₖ = n·(∂R₁/∂q₁ₖ) b₁*` and `∂h₂(−n)/∂q₂ₖ = −n·(∂R₂/∂q₂ₖ) b₂*`, and
 /// `∂α*/∂h_K = −α*/h_K`. Exact wherever the optimal normal and support points are unique. A
 /// sphere's support function does not depend on its attitude: its columns are exactly zero.
-#[inline]
+#[inline(always)]
 pub(crate) fn gradient(
     prox: &Proximity,
     dalpha_dd: &Vec3,
@@ -171,16 +171,28 @@ pub(crate) fn gradient(
     pose1: &Pose,
     pose2: &Pose,
 ) -> [Real; 14] {
-    // The axes formed where they are used (keeping them, as `gradient_with`'s caller does for
-    // the Jacobian, cost a gradient alone ~50 instructions more).
-    gradient_by(prox, dalpha_dd, shapes, [pose1, pose2], |i| {
-        rotation_axes([pose1, pose2][i])
-    })
+    let mut g = [0.0; 14];
+    for j in 0..3 {
+        g[j] = -dalpha_dd[j];
+        g[7 + j] = dalpha_dd[j];
+    }
+    // ∂Qᵢ/∂qᵢₖ bᵢ = ωᵢₖ × wᵢ with wᵢ = Qᵢbᵢ the support point relative to rᵢ (world), so
+    // n·(∂Qᵢ/∂qᵢₖ)bᵢ = ωᵢₖ·(wᵢ × n): the four dots without forming the axes
+    // ([`rotation_dots`]).
+    let alpha = prox.alpha;
+    if shapes[0].solver_kind() != ShapeKind::Sphere {
+        let t = (prox.contact1 - pose1.position()).cross(dalpha_dd) * -alpha;
+        g[3..7].copy_from_slice(&rotation_dots(pose1, &t));
+    }
+    if shapes[1].solver_kind() != ShapeKind::Sphere {
+        let t = (prox.contact2 - pose2.position()).cross(dalpha_dd) * alpha;
+        g[10..14].copy_from_slice(&rotation_dots(pose2, &t));
+    }
+    g
 }
 
 /// Each shape's four rotation axes ([`rotation_axes`]), zero for a sphere (its rotation
-/// columns are exactly zero and are not formed): computed once for the gradient and the
-/// Jacobian of one call.
+/// columns are exactly zero and are not formed): computed once for the Jacobian of one call.
 #[inline]
 pub(crate) fn pair_axes(shapes: [&Shape; 2], poses: [&Pose; 2]) -> [[Vec3; 4]; 2] {
     let axes_of = |i: usize| {
@@ -191,52 +203,6 @@ pub(crate) fn pair_axes(shapes: [&Shape; 2], poses: [&Pose; 2]) -> [[Vec3; 4]; 2
         }
     };
     [axes_of(0), axes_of(1)]
-}
-
-/// [`gradient`] with the pair's rotation axes ([`pair_axes`]) given: the same numbers.
-#[inline]
-pub(crate) fn gradient_with(
-    prox: &Proximity,
-    dalpha_dd: &Vec3,
-    shapes: [&Shape; 2],
-    pose1: &Pose,
-    pose2: &Pose,
-    axes: &[[Vec3; 4]; 2],
-) -> [Real; 14] {
-    gradient_by(prox, dalpha_dd, shapes, [pose1, pose2], |i| axes[i])
-}
-
-/// The body of [`gradient`] and [`gradient_with`]: `axes(i)` gives shape i's rotation axes
-/// (asked only for a shape that is not a sphere).
-#[inline(always)]
-fn gradient_by(
-    prox: &Proximity,
-    dalpha_dd: &Vec3,
-    shapes: [&Shape; 2],
-    poses: [&Pose; 2],
-    axes: impl Fn(usize) -> [Vec3; 4],
-) -> [Real; 14] {
-    let mut g = [0.0; 14];
-    for j in 0..3 {
-        g[j] = -dalpha_dd[j];
-        g[7 + j] = dalpha_dd[j];
-    }
-    // ∂Qᵢ/∂qᵢₖ bᵢ = ωᵢₖ × wᵢ with wᵢ = Qᵢbᵢ the support point relative to rᵢ (world), so
-    // n·(∂Qᵢ/∂qᵢₖ)bᵢ = ωᵢₖ·(wᵢ × n).
-    let alpha = prox.alpha;
-    if shapes[0].solver_kind() != ShapeKind::Sphere {
-        let t = (prox.contact1 - poses[0].position()).cross(dalpha_dd) * -alpha;
-        for (k, w) in axes(0).iter().enumerate() {
-            g[3 + k] = w.dot(&t);
-        }
-    }
-    if shapes[1].solver_kind() != ShapeKind::Sphere {
-        let t = (prox.contact2 - poses[1].position()).cross(dalpha_dd) * alpha;
-        for (k, w) in axes(1).iter().enumerate() {
-            g[10 + k] = w.dot(&t);
-        }
-    }
-    g
 }
 
 /// `factor · ∂hᵢ(mᵢ)/∂θᵢ` into each wanted buffer of `sink`, for the support functions at the

@@ -645,15 +645,12 @@ pub(crate) fn plain_derivatives(
         return None;
     };
     let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-    // With a Jacobian, the rotation axes once for it and the gradient (the same numbers); the
-    // gradient alone forms them in its own loops, as it always did.
+    // The rotation axes are formed for a Jacobian only (the gradient takes their dot products
+    // without forming them).
     let axes = jacobian
         .as_ref()
         .map(|_| geometric::pair_axes(shapes, poses));
-    *grad = match &axes {
-        Some(axes) => geometric::gradient_with(&prox, &dalpha_dd, shapes, pose1, pose2, axes),
-        None => geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2),
-    };
+    *grad = geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2);
     let g = &*grad;
     // One sum instead of fourteen tests: any infinity or NaN makes it non-finite (a finite
     // gradient whose sum overflows only sends the call to the full query, the same answer).

@@ -16,6 +16,7 @@
 //! ([`Settings`]).
 
 pub(crate) mod closed_form;
+pub(crate) mod decision;
 pub(crate) mod dense;
 pub(crate) mod direct;
 pub(crate) mod ellipsoid_pair;

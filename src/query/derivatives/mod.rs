@@ -116,24 +116,52 @@ pub(crate) fn rotation_generators(pose: &Pose) -> [Mat3; 4] {
     rotation_axes(pose).map(|o| Mat3::new(0.0, -o.z, o.y, o.z, 0.0, -o.x, -o.y, o.x, 0.0))
 }
 
-/// The axes `ω_k` of [`rotation_generators`] (`M_k u = ω_k × u`).
+/// The axes `ω_k` of [`rotation_generators`] (`M_k u = ω_k × u`): with the raw quaternion
+/// `(w, v)` of squared norm `n²`, `ω_k = (2/n²)(w ẽ_k − ẽ₀ v + v × ẽ_k)` (the unit quaternion's
+/// form with `(2/‖q‖)` and `q/‖q‖` multiplied out: one division, no square root).
+#[inline]
 pub(crate) fn rotation_axes(pose: &Pose) -> [Vec3; 4] {
-    let q = pose.quaternion();
-    // ‖q‖ without overflow or underflow: scale by the largest component first.
-    let c = q.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
-    let u = q.map(|x| x / c);
-    let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + u[3] * u[3]).sqrt();
-    let (w, v) = (u[0] / n, Vec3::new(u[1] / n, u[2] / n, u[3] / n));
-    let k = 2.0 / n / c;
-    // `(ẽ_j w + v × ẽ_j) k` written out: the sums with the zero products of the general form
-    // are exact, so these are its numbers (up to the sign of a zero).
-    let (x, y, z) = (v.x, v.y, v.z);
+    let (k, [w, x, y, z]) = axes_scale(pose);
     [
-        -v * k,
+        Vec3::new(-x * k, -y * k, -z * k),
         Vec3::new(w * k, z * k, -y * k),
         Vec3::new(-z * k, w * k, x * k),
         Vec3::new(y * k, -x * k, w * k),
     ]
+}
+
+/// `[ω_k·t]` for the four axes of [`rotation_axes`], without forming them:
+/// `ω₀·t = −k v·t`, `ω_j·t = k (w t + t × v)_j` (`(v × ẽ_j)·t = ẽ_j·(t × v)`), `k = 2/n²`.
+#[inline]
+pub(crate) fn rotation_dots(pose: &Pose, t: &Vec3) -> [Real; 4] {
+    let (k, [w, x, y, z]) = axes_scale(pose);
+    let v = Vec3::new(x, y, z);
+    let kt = t * k;
+    let a = kt * w + kt.cross(&v);
+    [-v.dot(&kt), a.x, a.y, a.z]
+}
+
+/// `(2/n², q)` for the pose's quaternion `q` of squared norm `n²` in [1e-150, 1e150] (any
+/// quaternion a caller normalises, and far beyond), else the same for `q/c` with `c` its largest
+/// component and `2/n²` divided by `c` (the axes are homogeneous of degree −1 in q), so that no
+/// square overflows or underflows.
+#[inline(always)]
+fn axes_scale(pose: &Pose) -> (Real, [Real; 4]) {
+    let q = pose.quaternion();
+    let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    if (1e-150..=1e150).contains(&n2) {
+        return (2.0 / n2, q);
+    }
+    scaled_axes_scale(q)
+}
+
+#[cold]
+#[inline(never)]
+fn scaled_axes_scale(q: [Real; 4]) -> (Real, [Real; 4]) {
+    let c = q.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+    let u = q.map(|x| x / c);
+    let n2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + u[3] * u[3];
+    (2.0 / n2 / c, u)
 }
 
 /// `κℓ/dist`: solver coordinates are this times physical ones (ξ, α, slacks).

@@ -95,6 +95,44 @@ fn rotation_generators_match_matrix_derivatives() {
     assert!(worst <= 1e-14, "generators differ by {worst:e} (times |q|)");
 }
 
+/// `rotation_dots` (the gradient's four dots, the axes not formed) against the formed axes
+/// dotted with the same vector, over quaternions of norms 1e-300 to 1e300 (both sides of the
+/// unscaled range), relative to `max|ω_i|·max|t_i|`.
+#[test]
+fn rotation_dots_are_the_axes_dotted() {
+    let mut worst = 0.0f64;
+    for (i, scale) in [1e-300, 1e-160, 1e-3, 1.0, 7.5, 1e160, 1e300]
+        .into_iter()
+        .enumerate()
+    {
+        for j in 0..50 {
+            let t = (i * 50 + j) as f64;
+            let q = [
+                (t * 0.37).sin(),
+                (t * 1.1).cos(),
+                (t * 0.73).sin() - 0.2,
+                (t * 2.3).cos(),
+            ]
+            .map(|x| x * scale);
+            let pose = Pose::new([0.0; 3], q).unwrap();
+            let v = crate::Vec3::new((t * 0.9).cos(), (t * 0.4).sin() * 3.0, -0.5);
+            let dots = super::rotation_dots(&pose, &v);
+            for (k, w) in super::rotation_axes(&pose).iter().enumerate() {
+                // Largest components (a norm's squares underflow at 1e300).
+                let bound = w.amax() * v.amax();
+                assert!(
+                    bound.is_finite() && bound > 0.0,
+                    "scale {scale:e}: {bound:e}"
+                );
+                worst = worst.max((dots[k] - w.dot(&v)).abs() / bound);
+            }
+        }
+    }
+    // Each side is a three-term dot of rounded factors: |error| <= ~4u·Σ|ω_i t_i| <= 12u·bound
+    // (u = 1.1e-16) per side.
+    assert!(worst <= 2.7e-15, "dots differ by {worst:e} relative");
+}
+
 /// A sphere's quaternion columns are exactly zero (its set ignores its attitude), and every
 /// other column equals the generic computation for the same ball written as an ellipsoid
 /// (`P = I/R²`), whose quaternion columns come out at rounding level.
