@@ -288,7 +288,7 @@ fn box_on_plane(pair: &HalfspacePair<'_>, margin: Real) -> Option<BoxOnPlane> {
     finite(&b.sd).then_some(b)
 }
 
-/// Fills `out` with the manifold of the candidate points `pts` for the signed distance `sd`:
+/// Fills `out` with the manifold of the candidate points `(pos, depth)` for the signed distance `sd`:
 /// at most `cap` of them (`reduce`); `InvalidPose` (naming the poses' largest coordinate) when
 /// one of its numbers is not finite.
 fn finish(
@@ -303,10 +303,27 @@ fn finish(
     out.status = sd.status;
     out.iterations = sd.iterations;
     out.contacts.clear();
-    if cap > 0 {
+    // Points of shapes within their size of the largest double can pass it.
+    // `v · 0` is 0 for a finite `v` and NaN otherwise: one sum tests every number (summed as
+    // the points are written: any order gives 0 or NaN alike).
+    let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
+    let mut sum = out.signed_distance * 0.0 + zero(&out.normal);
+    let n = pos.len().min(depth.len());
+    if cap > 0 && n <= cap.min(MAX_CONTACTS) {
+        // Nothing to reduce (`reduce` would choose them all, in order).
+        for (p, d) in pos.iter().zip(depth) {
+            sum = sum + d * 0.0 + zero(p);
+            out.contacts.push(Contact {
+                position: *p,
+                normal: sd.normal,
+                depth: *d,
+            });
+        }
+    } else if cap > 0 {
         let mut chosen = [0usize; MAX_CONTACTS];
         let k = reduce(pos, depth, cap, &mut chosen);
         for &i in &chosen[..k] {
+            sum = sum + depth[i] * 0.0 + zero(&pos[i]);
             out.contacts.push(Contact {
                 position: pos[i],
                 normal: sd.normal,
@@ -314,15 +331,6 @@ fn finish(
             });
         }
     }
-    // Points of shapes within their size of the largest double can pass it.
-    // `v · 0` is 0 for a finite `v` and NaN otherwise: one sum tests every number.
-    let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
-    let sum = out
-        .contacts()
-        .iter()
-        .fold(out.signed_distance * 0.0 + zero(&out.normal), |s, c| {
-            s + c.depth * 0.0 + zero(&c.position)
-        });
     let finite = sum == 0.0;
     if !finite {
         return Err(not_representable(pose1.position(), pose2.position()));

@@ -279,19 +279,24 @@ fn clip_to_facet(
 
 /// Clips the polygon `poly` (in a box's frame), in place, to `|p_i| ≤ href_i` for the two axes
 /// `i ≠ k` (two buffers taking turns); false when nothing is left. Each edge `(p, q)` in order,
-/// `p`'s value carried over from the edge before (no indexing, one evaluation per point).
+/// `p`'s value carried over from the edge before (no indexing, one evaluation per point). A side
+/// with every point within it (a pass that would copy them in order) is skipped.
 #[inline(always)]
 fn clip_rect(poly: &mut ArrayVec<Vec3, MAX>, href: &Vec3, k: usize) -> bool {
     let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
     let (mut cur, mut next) = (poly, &mut tmp);
+    let mut turns = 0;
     for i in [(k + 1) % 3, (k + 2) % 3] {
         let h = href[i];
         for side in [1.0, -1.0] {
-            next.clear();
+            let f = |p: &Vec3| side * p[i] - h;
             let Some(&first) = cur.first() else {
                 return false;
             };
-            let f = |p: &Vec3| side * p[i] - h;
+            if cur.iter().all(|p| f(p) <= 0.0) {
+                continue;
+            }
+            next.clear();
             let n = cur.len();
             let (mut p, mut fp) = (first, f(&first));
             for a in 1..=n {
@@ -306,12 +311,16 @@ fn clip_rect(poly: &mut ArrayVec<Vec3, MAX>, href: &Vec3, k: usize) -> bool {
                 (p, fp) = (q, fq);
             }
             std::mem::swap(&mut cur, &mut next);
+            turns += 1;
             if cur.is_empty() {
                 return false;
             }
         }
     }
-    // Four turns: the result is back in `poly`.
+    if turns % 2 == 1 {
+        // The result is in `tmp`: back to `poly`.
+        next.clone_from(cur);
+    }
     true
 }
 
