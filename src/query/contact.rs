@@ -175,12 +175,8 @@ pub(crate) fn manifold(
             // Boxes apart (by more than the margin, or less) take the distance query's answer
             // in Rust's manifold, whose signed distance is that query's to the last bit; the
             // C function reads only the points.
-            End::Closed(b) if (b.sd.distance <= 0.0 && !b.points.is_empty()) || !exact_distance => {
-                let mut pts = Points::new();
-                for (p, d) in &b.points {
-                    pts.push(*p, *d);
-                }
-                return finish(&b.sd, &pts, cap, out, (pose1, pose2));
+            End::Closed(b) if (b.sd.distance <= 0.0 && !b.pos.is_empty()) || !exact_distance => {
+                return finish(&b.sd, (&b.pos, &b.depth), cap, out, (pose1, pose2));
             }
             // As `signed_distance` checks its answers.
             End::Edges(sd) if !finite(&sd) => {
@@ -199,7 +195,7 @@ pub(crate) fn manifold(
                 for (p, d) in b.pos.iter().zip(&b.depth).take(b.count) {
                     pts.push(*p, *d);
                 }
-                return finish(&b.sd, &pts, cap, out, (pose1, pose2));
+                return finish(&b.sd, pts.slices(), cap, out, (pose1, pose2));
             }
             if let Some(()) = on_halfspace_alone(&pair, strict(pair.other), margin, cap, out)? {
                 return Ok(());
@@ -212,12 +208,12 @@ pub(crate) fn manifold(
         None => signed_distance_validated(shape1, pose1, shape2, pose2, options)?,
     };
     if sd.distance > margin || cap == 0 {
-        return finish(&sd, &Points::new(), 0, out, (pose1, pose2));
+        return finish(&sd, (&[], &[]), 0, out, (pose1, pose2));
     }
     let mut pts = Points::new();
     if strict(shape1) || strict(shape2) {
         pts.push_witness(&sd);
-        return finish(&sd, &pts, cap, out, (pose1, pose2));
+        return finish(&sd, pts.slices(), cap, out, (pose1, pose2));
     }
     let ell = match super::halfspace::split(shape1, pose1, shape2, pose2)? {
         Some(pair) => {
@@ -238,7 +234,7 @@ pub(crate) fn manifold(
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         pts.push_witness(&sd);
     }
-    finish(&sd, &pts, cap, out, (pose1, pose2))
+    finish(&sd, pts.slices(), cap, out, (pose1, pose2))
 }
 
 /// A shape against a half-space from one support point of the shape (the half-space's closed
@@ -266,13 +262,13 @@ fn on_halfspace_alone(
     }
     let mut pts = Points::new();
     if sd.distance > margin || cap == 0 {
-        return finish(&sd, &pts, 0, out, poses).map(Some);
+        return finish(&sd, pts.slices(), 0, out, poses).map(Some);
     }
     if strict {
         // One support point, the only one (a ball's or an ellipsoid's): the general path's
         // witness.
         pts.push_witness(&sd);
-        return finish(&sd, &pts, cap, out, poses).map(Some);
+        return finish(&sd, pts.slices(), cap, out, poses).map(Some);
     }
     let ell = pair.ell();
     on_halfspace(pair, &sd, margin, ell, &mut pts);
@@ -280,7 +276,7 @@ fn on_halfspace_alone(
     if !(deepest >= -sd.distance - SEP_TOL * ell) {
         return Ok(None);
     }
-    finish(&sd, &pts, cap, out, poses).map(Some)
+    finish(&sd, pts.slices(), cap, out, poses).map(Some)
 }
 
 /// A centred box on a half-space in closed form (`super::contact_halfspace`, the same numbers
@@ -292,12 +288,12 @@ fn box_on_plane(pair: &HalfspacePair<'_>, margin: Real) -> Option<BoxOnPlane> {
     finite(&b.sd).then_some(b)
 }
 
-/// Fills `out` with the manifold of the candidate points `pts` for the signed distance `sd`:
+/// Fills `out` with the manifold of the candidate points `(pos, depth)` for the signed distance `sd`:
 /// at most `cap` of them (`reduce`); `InvalidPose` (naming the poses' largest coordinate) when
 /// one of its numbers is not finite.
 fn finish(
     sd: &SignedDistance,
-    pts: &Points,
+    (pos, depth): (&[Vec3], &[Real]),
     cap: usize,
     out: &mut Manifold,
     (pose1, pose2): (&Pose, &Pose),
@@ -307,27 +303,34 @@ fn finish(
     out.status = sd.status;
     out.iterations = sd.iterations;
     out.contacts.clear();
-    if cap > 0 {
-        let mut chosen = [0usize; MAX_CONTACTS];
-        let n = pts.len();
-        let k = reduce(&pts.pos[..n], &pts.depth[..n], cap, &mut chosen);
-        for &i in &chosen[..k] {
+    // Points of shapes within their size of the largest double can pass it.
+    // `v · 0` is 0 for a finite `v` and NaN otherwise: one sum tests every number (summed as
+    // the points are written: any order gives 0 or NaN alike).
+    let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
+    let mut sum = out.signed_distance * 0.0 + zero(&out.normal);
+    let n = pos.len().min(depth.len());
+    if cap > 0 && n <= cap.min(MAX_CONTACTS) {
+        // Nothing to reduce (`reduce` would choose them all, in order).
+        for (p, d) in pos.iter().zip(depth) {
+            sum = sum + d * 0.0 + zero(p);
             out.contacts.push(Contact {
-                position: pts.pos[i],
+                position: *p,
                 normal: sd.normal,
-                depth: pts.depth[i],
+                depth: *d,
+            });
+        }
+    } else if cap > 0 {
+        let mut chosen = [0usize; MAX_CONTACTS];
+        let k = reduce(pos, depth, cap, &mut chosen);
+        for &i in &chosen[..k] {
+            sum = sum + depth[i] * 0.0 + zero(&pos[i]);
+            out.contacts.push(Contact {
+                position: pos[i],
+                normal: sd.normal,
+                depth: depth[i],
             });
         }
     }
-    // Points of shapes within their size of the largest double can pass it.
-    // `v · 0` is 0 for a finite `v` and NaN otherwise: one sum tests every number.
-    let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
-    let sum = out
-        .contacts()
-        .iter()
-        .fold(out.signed_distance * 0.0 + zero(&out.normal), |s, c| {
-            s + c.depth * 0.0 + zero(&c.position)
-        });
     let finite = sum == 0.0;
     if !finite {
         return Err(not_representable(pose1.position(), pose2.position()));
@@ -348,8 +351,8 @@ impl Points {
             depth: ArrayVec::new(),
         }
     }
-    fn len(&self) -> usize {
-        self.pos.len()
+    fn slices(&self) -> (&[Vec3], &[Real]) {
+        (&self.pos, &self.depth)
     }
     fn push(&mut self, pos: Vec3, depth: Real) {
         if !self.pos.is_full() {

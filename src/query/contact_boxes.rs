@@ -33,11 +33,12 @@ const COS_FACET: Real = 0.3;
 /// path's.
 const SEP_TOL: Real = 1e-9;
 
-/// A closed-form manifold: the signed distance and the candidate points (world position
-/// midway between the surfaces, depth).
+/// A closed-form manifold: the signed distance and the candidate points (world positions
+/// midway between the surfaces, and their depths), in the form `super::contact::finish` reads.
 pub(crate) struct Boxes {
     pub sd: SignedDistance,
-    pub points: ArrayVec<(Vec3, Real), MAX>,
+    pub pos: ArrayVec<Vec3, MAX>,
+    pub depth: ArrayVec<Real, MAX>,
 }
 
 /// What [`boxes`] found (on the stack: the hot path does not allocate, so the closed form's
@@ -83,8 +84,12 @@ pub(crate) fn boxes(
             let end = edges(shape1, pose1, shape2, pose2, (depth, n, len), scale);
             if let End::Edges(sd) = &end {
                 let pair = ((h1, pose1), (h2, pose2), (&c, &t));
-                if let Some(points) = edge_pair(pair, &n, sd, margin, scale) {
-                    return End::Closed(Boxes { sd: *sd, points });
+                if let Some((pos, depth)) = edge_pair(pair, &n, sd, margin, scale) {
+                    return End::Closed(Boxes {
+                        sd: *sd,
+                        pos,
+                        depth,
+                    });
                 }
             }
             return end;
@@ -95,12 +100,26 @@ pub(crate) fn boxes(
     } else {
         (h2, h1, pose2, c.transpose(), -c.tr_mul(&t))
     };
-    let pts = clip_to_facet(href, hinc, &cinc, &tinc, k, s, margin);
+    let (pts, plane) = clip_to_facet(href, hinc, &cinc, &tinc, k, s);
+    // Each candidate's depth below the facet; those at least `−margin` deep are kept (on the
+    // stack: `pts` holds at most MAX points).
+    let (mut inc, mut depths) = ([Vec3::zeros(); MAX], [0.0; MAX]);
+    let mut kept = 0;
+    for p in &pts {
+        let d = plane - s * p[k];
+        if d >= -margin {
+            inc[kept] = *p;
+            depths[kept] = d;
+            kept += 1;
+        }
+    }
+    let inc = &inc[..kept];
+    let depths = &depths[..kept];
     // The deepest clipped point is the overlap's depth (the facet's axis won: the nearest
     // facet of the difference, whose nearest point lies on it). Apart by less than the margin
     // (`depth < 0`), the axis's gap is a lower bound on the distance, and the distance when a
     // clipped point is that far and no farther. To rounding, else the general path decides.
-    let deepest = pts.iter().map(|p| p.1).fold(Real::NEG_INFINITY, Real::max);
+    let deepest = depths.iter().fold(Real::NEG_INFINITY, |m, d| m.max(*d));
     if !((deepest - depth).abs() <= 1e-9 * scale) {
         return End::General;
     }
@@ -110,17 +129,20 @@ pub(crate) fn boxes(
     let facet = rot.column(k) * s;
     let normal = if first { facet } else { -facet };
     let world = |p: &Vec3| pref.position() + rot * p;
-    let mut points = ArrayVec::new();
-    let (mut w_ref, mut w_inc) = (Vec3::zeros(), Vec3::zeros());
-    for (p, d) in &pts {
+    let (mut pos, mut dep) = (ArrayVec::new(), ArrayVec::new());
+    // The last point as deep as `deepest` gives the witnesses.
+    let mut at = 0;
+    for (i, (p, d)) in inc.iter().zip(depths).enumerate() {
         // `p` on the incident box's face; its foot on the reference facet's plane is `p + d·e`.
-        let mid = world(&(p + Vec3::ith(k, s) * (0.5 * d)));
-        points.push((mid, *d));
+        pos.push(world(&(p + Vec3::ith(k, s) * (0.5 * d))));
+        dep.push(*d);
         if *d == deepest {
-            w_inc = world(p);
-            w_ref = world(&(p + Vec3::ith(k, s) * *d));
+            at = i;
         }
     }
+    // `kept ≥ 1` here (else `deepest` is −∞ and the general path answered).
+    let (p, d) = (inc[at], depths[at]);
+    let (w_inc, w_ref) = (world(&p), world(&(p + Vec3::ith(k, s) * d)));
     let (closest1, closest2) = if first {
         (w_ref, w_inc)
     } else {
@@ -139,7 +161,8 @@ pub(crate) fn boxes(
             status: SolveStatus::Converged,
             path: DistancePath::SeparatingAxes,
         },
-        points,
+        pos,
+        depth: dep,
     })
 }
 
@@ -202,14 +225,16 @@ fn apart(gap: Real) -> Boxes {
             status: SolveStatus::Converged,
             path: DistancePath::SeparatingAxes,
         },
-        points: ArrayVec::new(),
+        pos: ArrayVec::new(),
+        depth: ArrayVec::new(),
     }
 }
 
 /// In the reference box's frame: the incident box (half extents `hinc`, axes the columns of
 /// `c`, centre `t`)'s face most opposed to the reference facet `s·e_k`, clipped to the facet's
-/// rectangle; each point (on the incident face) with its depth below the facet's plane, kept
-/// when the depth is at least `−margin`.
+/// rectangle (or its corner, when no face is within about 72 degrees), points on the incident
+/// face; and the facet's plane `s·x_k = href_k` (`href_k`). A point's depth below the facet is
+/// `href_k − s·p_k`.
 fn clip_to_facet(
     href: &Vec3,
     hinc: &Vec3,
@@ -217,14 +242,14 @@ fn clip_to_facet(
     t: &Vec3,
     k: usize,
     s: Real,
-    margin: Real,
-) -> ArrayVec<(Vec3, Real), MAX> {
+) -> (ArrayVec<Vec3, MAX>, Real) {
     // The incident face: the axis j most aligned with the facet's normal, on the side facing it.
     let j = (0..3)
         .max_by(|&a, &b| c[(k, a)].abs().total_cmp(&c[(k, b)].abs()))
         .unwrap_or(0);
     let sign = if c[(k, j)] * s > 0.0 { -1.0 } else { 1.0 };
     let plane = href[k];
+    let mut poly: ArrayVec<Vec3, MAX> = ArrayVec::new();
     if c[(k, j)].abs() < COS_FACET {
         // No face of the incident box within about 72 degrees of the normal: its corner (the
         // general path's feature too).
@@ -232,17 +257,12 @@ fn clip_to_facet(
             let side = if c[(k, a)] * s > 0.0 { -1.0 } else { 1.0 };
             p + c.column(a) * (side * hinc[a])
         });
-        let d = plane - s * corner[k];
-        let mut one = ArrayVec::new();
-        if d >= -margin {
-            one.push((corner, d));
-        }
-        return one;
+        poly.push(corner);
+        return (poly, plane);
     }
     let centre = t + c.column(j) * (sign * hinc[j]);
     let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
     let (u, v) = (c.column(j1) * hinc[j1], c.column(j2) * hinc[j2]);
-    let mut poly: ArrayVec<Vec3, MAX> = ArrayVec::new();
     for p in [
         centre + u + v,
         centre - u + v,
@@ -252,29 +272,31 @@ fn clip_to_facet(
         poly.push(p);
     }
     if !clip_rect(&mut poly, href, k) {
-        return ArrayVec::new();
+        poly.clear();
     }
-    poly.iter()
-        .map(|p| (*p, plane - s * p[k]))
-        .filter(|(_, d)| *d >= -margin)
-        .collect()
+    (poly, plane)
 }
 
 /// Clips the polygon `poly` (in a box's frame), in place, to `|p_i| ≤ href_i` for the two axes
 /// `i ≠ k` (two buffers taking turns); false when nothing is left. Each edge `(p, q)` in order,
-/// `p`'s value carried over from the edge before (no indexing, one evaluation per point).
+/// `p`'s value carried over from the edge before (no indexing, one evaluation per point). A side
+/// with every point within it (a pass that would copy them in order) is skipped.
 #[inline(always)]
 fn clip_rect(poly: &mut ArrayVec<Vec3, MAX>, href: &Vec3, k: usize) -> bool {
     let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
     let (mut cur, mut next) = (poly, &mut tmp);
+    let mut turns = 0;
     for i in [(k + 1) % 3, (k + 2) % 3] {
         let h = href[i];
         for side in [1.0, -1.0] {
-            next.clear();
+            let f = |p: &Vec3| side * p[i] - h;
             let Some(&first) = cur.first() else {
                 return false;
             };
-            let f = |p: &Vec3| side * p[i] - h;
+            if cur.iter().all(|p| f(p) <= 0.0) {
+                continue;
+            }
+            next.clear();
             let n = cur.len();
             let (mut p, mut fp) = (first, f(&first));
             for a in 1..=n {
@@ -289,12 +311,16 @@ fn clip_rect(poly: &mut ArrayVec<Vec3, MAX>, href: &Vec3, k: usize) -> bool {
                 (p, fp) = (q, fq);
             }
             std::mem::swap(&mut cur, &mut next);
+            turns += 1;
             if cur.is_empty() {
                 return false;
             }
         }
     }
-    // Four turns: the result is back in `poly`.
+    if turns % 2 == 1 {
+        // The result is in `tmp`: back to `poly`.
+        next.clone_from(cur);
+    }
     true
 }
 
@@ -321,7 +347,7 @@ fn edge_pair(
     sd: &SignedDistance,
     margin: Real,
     scale: Real,
-) -> Option<ArrayVec<(Vec3, Real), MAX>> {
+) -> Option<(ArrayVec<Vec3, MAX>, ArrayVec<Real, MAX>)> {
     let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
     if !(sd.distance <= 0.0 && finite(&sd.closest1) && finite(&sd.closest2)) {
         return None;
@@ -369,21 +395,22 @@ fn edge_pair(
     let rot = pref.rotation();
     let world = |p: &Vec3| pref.position() + rot * p;
     let keep = margin + SEP_TOL * scale;
-    let mut points = ArrayVec::new();
+    let (mut pos, mut depth) = (ArrayVec::new(), ArrayVec::new());
     let mut deepest = Real::NEG_INFINITY;
     for q in &poly {
         // `q` on the reference face, `b` on the incident face's plane along d.
         let b = q + d * ((centre - q).dot(&face) / df);
         let e = (q - b).dot(&d);
         if -e <= keep {
-            points.push((world(&(q + (b - q) * 0.5)), e));
+            pos.push(world(&(q + (b - q) * 0.5)));
+            depth.push(e);
             deepest = deepest.max(e);
         }
     }
     if !(deepest >= -sd.distance - SEP_TOL * scale) {
         return None;
     }
-    Some(points)
+    Some((pos, depth))
 }
 
 #[cfg(test)]

@@ -110,7 +110,7 @@ fn box_on_a_halfspace_is_the_general_path() {
                 pts.push(*p, *d);
             }
             let mut m = Manifold::empty();
-            finish(&fast.sd, &pts, cap, &mut m, (p1, p2)).unwrap();
+            finish(&fast.sd, pts.slices(), cap, &mut m, (p1, p2)).unwrap();
             assert_eq!(m.normal, general.normal);
             assert_eq!(m.signed_distance, general.signed_distance);
             assert_eq!(m.contacts(), general.contacts(), "case {i}");
