@@ -18,8 +18,8 @@
 //     cylinder's cap when within about 25 degrees; else the base rim's lowest point and the apex.
 // More points than asked: the deepest, the one farthest from it, the one spanning the largest
 // triangle with those two, then each time the one farthest from those chosen (dcol's choice).
-// Every number is a finite function of finite inputs; a non-finite result reports -1 (the caller
-// counts the pair as rejected).
+// A non-finite input, or a written point or depth that is not finite (a frame that is not
+// orthonormal), reports -1 with no points (the caller counts the pair as rejected).
 #ifndef DCOL_PLANE_CONTACTS_HPP
 #define DCOL_PLANE_CONTACTS_HPP
 
@@ -67,6 +67,20 @@ inline void push(const Plane &p, const double q[3], double tol, Points &out) {
 
 /// How far above the plane a point may be and count: the margin and 1e-9 max(bounding radius, 1).
 inline double tolerance(double bounding_radius, double margin) { return margin + 1e-9 * std::max(bounding_radius, 1.0); }
+
+/// The solid's answer once its points are written: 1 with contacts, 0 without, -1 (and no
+/// points) when a written position or depth is not finite (a frame that is not orthonormal,
+/// e.g. one entry of it infinite, can make a depth finite and a point not).
+inline int finish(Points &out) {
+  for (int i = 0; i < out.count; ++i) {
+    const double *q = out.pos[i];
+    if (!(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) && std::isfinite(out.depth[i]))) {
+      out.count = 0;
+      return -1;
+    }
+  }
+  return out.count > 0 ? 1 : 0;
+}
 
 /// 1: the lowest point's depth is >= -margin (touching, or within the margin); 0: apart; -1: not finite.
 inline int touching(double deepest, double margin) {
@@ -128,7 +142,7 @@ inline int sphere(const Plane &p, const double c[3], double radius, Points &out,
   double q[3];
   for (int k = 0; k < 3; ++k) q[k] = c[k] - radius * p.n[k];
   detail::push(p, q, detail::tolerance(radius, margin), out);
-  return out.count > 0 ? 1 : 0;
+  return detail::finish(out);
 }
 
 /// A box of half extents `half` (along the frame's axes).
@@ -156,7 +170,7 @@ inline int box(const Plane &p, const Frame &f, const double half[3], Points &out
              signs[m][1] * s[j] * half[j] * f.axis[j][k];
     detail::push(p, q, tol, out);
   }
-  return out.count > 0 ? 1 : 0;
+  return detail::finish(out);
 }
 
 /// A capsule of `radius` around the segment of `length` along the frame's axis `along`.
@@ -180,7 +194,7 @@ inline int capsule(const Plane &p, const Frame &f, int along, double radius, dou
     for (int k = 0; k < 3; ++k) q[k] = f.c[k] - low * 0.5 * length * e[k] + radius * w[k];
     detail::push(p, q, tol, out);
   }
-  return out.count > 0 ? 1 : 0;
+  return detail::finish(out);
 }
 
 /// A cylinder of `radius` and `length` along the frame's axis `along` (caps at +-length/2).
@@ -208,7 +222,7 @@ inline int cylinder(const Plane &p, const Frame &f, int along, double radius, do
     detail::rim_low(p, c1, e, radius, q);
     detail::push(p, q, tol, out);
   }
-  return out.count > 0 ? 1 : 0;
+  return detail::finish(out);
 }
 
 /// A cone of `height` and base `radius` along the frame's axis `along` (apex at -3H/4, base at
@@ -237,7 +251,7 @@ inline int cone(const Plane &p, const Frame &f, int along, double height, double
     detail::push(p, rim, tol, out);
     detail::push(p, apex, tol, out);
   }
-  return out.count > 0 ? 1 : 0;
+  return detail::finish(out);
 }
 
 /// Keeps at most `cap` (>= 1) of the points, dcol's choice; `order` receives their indices.

@@ -111,7 +111,7 @@ pub struct Derivatives {
 }
 
 impl Default for Derivatives {
-    /// Every number zero (room to be written over, as [`derivatives_into`] does).
+    /// Every number zero (room for the answer to be written over).
     fn default() -> Self {
         Self::ZERO
     }
