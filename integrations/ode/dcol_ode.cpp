@@ -147,6 +147,9 @@ dcol_shape *make_shape(const Key &k) {
 }
 
 const dcol_shape *cached_shape(const Key &k) {
+  // A NaN size never equals itself: it would miss the cache and add an entry on every call.
+  // Sizes that are not finite are no shape (the pair is rejected), and are not kept.
+  if (!(std::isfinite(k.a) && std::isfinite(k.b) && std::isfinite(k.c))) return nullptr;
   for (int i = 0; i < 2; ++i) {
     if (g.recent_set[i] && g.recent_key[i] == k) return g.recent_shape[i];
   }
