@@ -270,10 +270,9 @@ fn box_decisions_match_proximity() {
 /// The same question at every scale from 1e-200 to 1e200 (a sphere against a box, capsule and
 /// cylinder, and two boxes, posed at α* = 0.75 and 1.5 along a rotated offset): the decision
 /// does not depend on the scale (the closed decisions compare squares of lengths, which
-/// underflow below ~1e-154, and leave such scales to the general path). Two boxes are checked
-/// down to 1e-150 only: below ~1e-165 the general path's early exit answers "not below" for
-/// α* = 0.75 (`docs/failure-modes.md`, an open defect of the ray cast's stop at such scales,
-/// older than the closed decisions).
+/// underflow below ~1e-154, and leave such scales to the general path, which must then be
+/// right too: a box's vertices were once merged into one below ~1e-162, where a norm's squares
+/// underflow, and its early exit said "not below" for α* = 0.75).
 #[test]
 fn decisions_hold_at_every_scale() {
     use dcol::{Pose, Shape};
@@ -297,8 +296,7 @@ fn decisions_hold_at_every_scale() {
             (&ball, &solids[2]),
             (&boxes.0, &boxes.1),
         ];
-        let n_pairs = if e >= -150 { 4 } else { 3 };
-        for (n, (a, b)) in pairs.into_iter().take(n_pairs).enumerate() {
+        for (n, (a, b)) in pairs.into_iter().enumerate() {
             let p1 = Pose::new([0.0; 3], [1.0, 0.0, 0.0, 0.0]).unwrap();
             // α* at unit offset along the direction, then offsets that give 0.75 and 1.5.
             let dir = [0.8 * s, 0.5 * s, 0.3 * s];
@@ -320,10 +318,11 @@ fn decisions_hold_at_every_scale() {
     }
 }
 
-/// Open defect (docs/failure-modes.md): two boxes at 1e-170 of unit size, α* = 0.75 (the
-/// proximity query answers it), get "not below" from the general path's early exit.
+/// Two boxes of size 1e-170, α* = 0.75: the general path answers "below" and proximity answers
+/// by the ray cast (every vertex of such a box was merged into one, the norm's squares
+/// underflowing, so the cast's first support point was wrong, the early exit said "not below"
+/// and proximity fell back to the interior-point method).
 #[test]
-#[ignore = "open defect: the ray cast's early exit at scales below ~1e-165 (docs/failure-modes.md)"]
 fn tiny_boxes_threshold() {
     use dcol::{Pose, Shape};
     let s = 1e-170;
@@ -332,7 +331,8 @@ fn tiny_boxes_threshold() {
     let p1 = Pose::new([0.0; 3], [1.0, 0.0, 0.0, 0.0]).unwrap();
     let p2 = Pose::new([1.5 * s, 0.3 * s, 0.1 * s], [1.0, 0.0, 0.0, 0.0]).unwrap();
     let opts = Options::default();
-    let alpha = proximity(&a, &p1, &b, &p2, &opts).unwrap().alpha;
-    assert!((alpha - 0.75).abs() < 1e-9, "{alpha}");
+    let p = proximity(&a, &p1, &b, &p2, &opts).unwrap();
+    assert!((p.alpha - 0.75).abs() < 1e-12, "{}", p.alpha);
+    assert_eq!(p.solver, dcol::Solver::RayCast);
     assert!(alpha_below(&a, &p1, &b, &p2, 1.0, &opts).unwrap().below);
 }

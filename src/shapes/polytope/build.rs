@@ -5,7 +5,7 @@ use super::{
     Climb, Faces, Polytope, CLIMB_MIN, ENUMERATE_MAX, GAUGE_CLIMB_MIN, SAT_DIRECTIONS, SAT_FACETS,
 };
 use crate::error::{Error, ErrorDetail};
-use crate::math::{Real, Vec3};
+use crate::math::{robust_norm, Real, Vec3};
 use crate::shapes::check_halfspaces;
 use crate::shapes::quickhull::{self, HullError, Lists, Mesh};
 
@@ -405,10 +405,12 @@ fn centred_box(normals: &[Vec3], offsets: &[Real]) -> Option<Vec3> {
 /// Adds `v` unless a vertex within rounding of it is already there (several facets through one
 /// vertex give it once per triple of facets). `scale` is the smallest facet offset: two
 /// vertices closer than 1e-9 of it are one, however far from the origin (relative to `‖v‖`
-/// alone, the two faces of a box 1e10 times wider than thick merged into one).
+/// alone, the two faces of a box 1e10 times wider than thick merged into one). Lengths by
+/// `robust_norm`: a plain norm's squares underflow for shapes below ~1e-154, and every vertex
+/// of a box of 1e-170 then merged into one.
 pub(crate) fn add_vertex(vertices: &mut Vec<Vec3>, v: Vec3, scale: Real) -> usize {
-    let tol = 1e-9 * v.norm().min(scale).max(Real::MIN_POSITIVE);
-    match vertices.iter().position(|w| (w - v).norm() <= tol) {
+    let tol = 1e-9 * robust_norm(&v).min(scale).max(Real::MIN_POSITIVE);
+    match vertices.iter().position(|w| robust_norm(&(w - v)) <= tol) {
         Some(k) => k,
         None => {
             vertices.push(v);
