@@ -11,31 +11,12 @@ use dcol::ffi::{dcol_contact, dcol_contacts, dcol_pose, dcol_shape, dcol_shape_f
 use dcol::ffi::{dcol_shape_new_box, dcol_shape_new_sphere, dcol_status};
 use dcol::{contact_manifold, distance, signed_distance, DistancePath, Options, Pose, Shape, Vec3};
 
-/// A small deterministic generator (xorshift64*), uniform in [0, 1).
-struct Rng(u64);
+mod common;
+
+use common::xorshift::Rng;
+
+/// The attitudes this file draws, on the shared generator.
 impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let v = Vec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let n = v.norm();
-            if n > 0.1 && n <= 1.0 {
-                return v / n;
-            }
-        }
-    }
     /// A random attitude: identity, a tilt of 1e-9 to 1e-3 rad, or any.
     fn quaternion(&mut self) -> [f64; 4] {
         let axis = self.unit();

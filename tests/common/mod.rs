@@ -10,6 +10,7 @@
 
 pub mod oracle;
 pub mod random;
+pub mod xorshift;
 
 use dcol::{Pose, Shape};
 use serde_json::Value;
