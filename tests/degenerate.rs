@@ -115,13 +115,13 @@ fn rotated_box_face_on_cylinder_cap() {
     }
 }
 
-/// Open defect (docs/failure-modes.md): a convex hull and a padded polygon of size 1e-170 are
-/// rejected as degenerate (their constructors' tolerances underflow), where the same shapes at
-/// unit size and at 1e170 are accepted.
+/// A convex hull and a padded polygon from 1e-300 to 1e300 in size (their constructors once
+/// rejected them below ~1e-150 as degenerate: products of coordinates underflowed): accepted,
+/// with the same bounding and inscribed radii (scaled), and α* against a sphere and a box of the same scale equal to the unit
+/// size's within 1e-12 relative (the scaled problem is the same problem).
 #[test]
-#[ignore = "open defect: hull and polygon constructors below ~1e-150 (docs/failure-modes.md)"]
-fn tiny_hull_and_polygon_are_accepted() {
-    for s in [1.0, 1e-170] {
+fn tiny_and_huge_hulls_and_polygons_answer_as_at_unit_size() {
+    let hull_at = |s: f64| {
         let pts: Vec<[f64; 3]> = (0..30)
             .map(|k| {
                 let (t, u) = (k as f64 * 0.7, k as f64 * 1.3);
@@ -132,9 +132,63 @@ fn tiny_hull_and_polygon_are_accepted() {
                 ]
             })
             .collect();
-        assert!(Shape::convex_hull(&pts, 0.0).is_ok(), "hull at {s:e}");
-        let c = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
+        Shape::convex_hull(&pts, 0.0)
+    };
+    let polygon_at = |s: f64| {
+        let c = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.5, -1.0]];
         let d = [0.4 * s, 0.3 * s, 0.5 * s, 0.35 * s];
-        assert!(Shape::polygon(&c, &d, 0.08 * s).is_ok(), "polygon at {s:e}");
+        Shape::polygon(&c, &d, 0.08 * s)
+    };
+    let alpha = |a: &Shape, b: &Shape, s: f64| {
+        let q = Pose::new([0.9 * s, -0.4 * s, 0.3 * s], [0.9, 0.1, -0.3, 0.2]).unwrap();
+        let p = proximity(a, &at([0.0; 3]), b, &q, &Options::default()).unwrap();
+        assert!(p.status.is_converged(), "{:?} at {s:e}", p.status);
+        p.alpha
+    };
+    let unit = |s: f64| {
+        let ball = Shape::sphere(0.3 * s).unwrap();
+        let cube = Shape::cuboid(0.2 * s, 0.3 * s, 0.25 * s).unwrap();
+        let (h, g) = (hull_at(s).unwrap(), polygon_at(s).unwrap());
+        (
+            [
+                h.bounding_radius() / s,
+                h.inscribed_radius() / s,
+                g.bounding_radius() / s,
+            ],
+            [
+                alpha(&h, &ball, s),
+                alpha(&h, &cube, s),
+                alpha(&g, &ball, s),
+                alpha(&g, &cube, s),
+                alpha(&h, &g, s),
+            ],
+        )
+    };
+    let (n1, a1) = unit(1.0);
+    for s in [
+        1e-300,
+        1e-170,
+        1e-120,
+        2f64.powi(-101),
+        1e-30,
+        1e30,
+        2f64.powi(101),
+        1e120,
+        1e170,
+        1e300,
+    ] {
+        let (n, a) = unit(s);
+        for (x, y) in n.iter().zip(&n1) {
+            assert!(
+                (x - y).abs() <= 1e-14 * y,
+                "radius {x} at {s:e}, {y} at unit size"
+            );
+        }
+        for (x, y) in a.iter().zip(&a1) {
+            assert!(
+                (x - y).abs() <= 1e-12 * y,
+                "alpha {x} at {s:e}, {y} at unit size"
+            );
+        }
     }
 }

@@ -56,7 +56,8 @@ impl Polygon {
                 }
             }
         }
-        let mut rho2: Real = 0.0;
+        // The largest vertex norm (not its square, which underflows for polygons below ~1e-154).
+        let mut polygon_radius: Real = 0.0;
         let min_off = off.iter().cloned().fold(Real::INFINITY, Real::min);
         let mut vertices: Vec<Vec3> = Vec::new();
         for i in 0..m {
@@ -74,12 +75,11 @@ impl Polygon {
                     .zip(&off)
                     .all(|(nl, ol)| nl[0] * v[0] + nl[1] * v[1] <= ol + 1e-9 * ol.max(vn))
                 {
-                    rho2 = rho2.max(vn * vn);
+                    polygon_radius = polygon_radius.max(vn);
                     super::polytope::add_vertex(&mut vertices, Vec3::new(v[0], v[1], 0.0), min_off);
                 }
             }
         }
-        let polygon_radius = rho2.sqrt();
         if !(polygon_radius.is_finite() && polygon_radius > 0.0) {
             return Err(unbounded());
         }

@@ -345,14 +345,52 @@ pub(crate) fn tolerance(pts: &[Vec3]) -> Real {
 }
 
 /// The hull of `pts` (finite; any number, duplicates allowed).
+///
+/// Points whose largest coordinate lies outside `[2⁻¹⁰⁰, 2¹⁰⁰)` are hulled at unit size (scaled by
+/// a power of two, which is exact) and the corners and offsets scaled back: the construction's
+/// products of coordinates would underflow or overflow there. Inside that range nothing is
+/// rescaled, so the hull is bit for bit what it was.
 pub(crate) fn hull(pts: &[Vec3]) -> Result<Mesh, HullError> {
+    let mut largest: Real = 0.0;
     for (i, p) in pts.iter().enumerate() {
         for j in 0..3 {
             if !p[j].is_finite() {
                 return Err(HullError::NonFinite(3 * i + j, p[j]));
             }
+            largest = largest.max(p[j].abs());
         }
     }
+    let Some((f, e)) = unit_factor(largest) else {
+        return hull_finite(pts);
+    };
+    let scaled: Vec<Vec3> = pts.iter().map(|p| p * f).collect();
+    let back = (2.0 as Real).powi(e);
+    let mut mesh = hull_finite(&scaled).map_err(|e| match e {
+        HullError::Failed(d) => HullError::Failed(d * back),
+        e => e,
+    })?;
+    for (v, &k) in mesh.vertices.iter_mut().zip(&mesh.source) {
+        *v = pts[k as usize];
+    }
+    for o in &mut mesh.offsets {
+        *o *= back;
+    }
+    Ok(mesh)
+}
+
+/// The power of two `2⁻ᵉ` with `largest` in `[2ᵉ, 2ᵉ⁺¹)`, and `e`, when `largest` lies outside
+/// `[2⁻¹⁰⁰, 2¹⁰⁰)`; `None` inside that range (or for 0 or a subnormal, whose hull fails as
+/// coincident points anyway). Multiplying by it is exact.
+fn unit_factor(largest: Real) -> Option<(Real, i32)> {
+    let e = ((largest.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    if (-100..100).contains(&e) || largest < Real::MIN_POSITIVE {
+        return None;
+    }
+    Some(((2.0 as Real).powi(-e), e))
+}
+
+/// [`hull`] of finite points at the size given.
+fn hull_finite(pts: &[Vec3]) -> Result<Mesh, HullError> {
     let tol = tolerance(pts);
     let simplex = initial_simplex(pts, tol)?;
     let mut b = Builder {
