@@ -115,7 +115,7 @@ fn rotated_box_face_on_cylinder_cap() {
     }
 }
 
-/// A convex hull and a padded polygon from 1e-300 to 1e300 in size (their constructors once
+/// A convex hull, a padded polygon and a 40-plane polytope from 1e-300 to 1e300 in size (their constructors once
 /// rejected them below ~1e-150 as degenerate: products of coordinates underflowed): accepted,
 /// with the same bounding and inscribed radii (scaled), and α* against a sphere and a box of the same scale equal to the unit
 /// size's within 1e-12 relative (the scaled problem is the same problem).
@@ -139,6 +139,17 @@ fn tiny_and_huge_hulls_and_polygons_answer_as_at_unit_size() {
         let d = [0.4 * s, 0.3 * s, 0.5 * s, 0.35 * s];
         Shape::polygon(&c, &d, 0.08 * s)
     };
+    // 40 planes: built as the polar hull of a_i / b_i (1e300 apart for the tiniest).
+    let planes_at = |s: f64| {
+        let a: Vec<[f64; 3]> = (0..40)
+            .map(|k| {
+                let (t, u) = (k as f64 * 0.7, k as f64 * 1.3 + 0.2);
+                [t.cos() * u.sin(), t.sin() * u.sin(), u.cos()]
+            })
+            .collect();
+        let b: Vec<f64> = (0..40).map(|k| (0.5 + 0.01 * k as f64) * s).collect();
+        Shape::polytope(&a, &b)
+    };
     let alpha = |a: &Shape, b: &Shape, s: f64| {
         let q = Pose::new([0.9 * s, -0.4 * s, 0.3 * s], [0.9, 0.1, -0.3, 0.2]).unwrap();
         let p = proximity(a, &at([0.0; 3]), b, &q, &Options::default()).unwrap();
@@ -148,12 +159,17 @@ fn tiny_and_huge_hulls_and_polygons_answer_as_at_unit_size() {
     let unit = |s: f64| {
         let ball = Shape::sphere(0.3 * s).unwrap();
         let cube = Shape::cuboid(0.2 * s, 0.3 * s, 0.25 * s).unwrap();
-        let (h, g) = (hull_at(s).unwrap(), polygon_at(s).unwrap());
+        let (h, g, p) = (
+            hull_at(s).unwrap(),
+            polygon_at(s).unwrap(),
+            planes_at(s).unwrap(),
+        );
         (
             [
                 h.bounding_radius() / s,
                 h.inscribed_radius() / s,
                 g.bounding_radius() / s,
+                p.bounding_radius() / s,
             ],
             [
                 alpha(&h, &ball, s),
@@ -161,6 +177,8 @@ fn tiny_and_huge_hulls_and_polygons_answer_as_at_unit_size() {
                 alpha(&g, &ball, s),
                 alpha(&g, &cube, s),
                 alpha(&h, &g, s),
+                alpha(&p, &ball, s),
+                alpha(&p, &h, s),
             ],
         )
     };
