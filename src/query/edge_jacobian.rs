@@ -29,6 +29,7 @@
 //! (`super::face_jacobian::touching_feature`, its tolerances with a factor 100 of margin).
 
 use super::context::Proximity;
+use super::vertex_feature::block_finite;
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::Shape;
 
@@ -112,5 +113,5 @@ pub(super) fn edge_jacobian(
         }
     }
     j[3] = *g;
-    crate::math::all_finite(j).then_some(())
+    block_finite(j).then_some(())
 }

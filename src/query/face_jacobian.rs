@@ -21,7 +21,7 @@
 
 use super::context::Proximity;
 use super::edge_jacobian::{edge_jacobian, support_hessian};
-use super::vertex_feature::{decide, flat_feature, Flat, TIE};
+use super::vertex_feature::{block_finite, decide, flat_feature, Flat, TIE};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
@@ -127,5 +127,5 @@ pub(crate) fn face_jacobian(
         }
     }
     j[3] = *g;
-    crate::math::all_finite(j).then_some(())
+    block_finite(j).then_some(())
 }
