@@ -131,18 +131,19 @@ pub(crate) fn capsule_jacobian(
             j[i][7 + col] = lic + c0[i] * gb;
         }
     }
-    // Each rotation column is `Dᵢω + c₀ dα` with `z = ω × aᵢ = −[aᵢ]×ω`:
-    // D₁ = −(αs(I − L) + v₁wᵀ)[a₁]×, D₂ = −(αtL + v₂wᵀ)[a₂]×, formed once for the four axes.
     let (as1, at2) = (alpha * s, alpha * t);
-    let d1 = -((Mat3::identity() - l) * as1 + v1 * w.transpose()) * a1.cross_matrix();
-    let d2 = -(l * at2 + v2 * w.transpose()) * a2.cross_matrix();
-    for (i, (d, a)) in [(d1, &axes[0]), (d2, &axes[1])].into_iter().enumerate() {
-        for (kk, omega) in a.iter().enumerate() {
-            let col = 7 * i + 3 + kk;
-            let dx = d * omega + c0 * g[col];
-            for r in 0..3 {
-                j[r][col] = dx[r];
-            }
+    for (kk, omega) in axes[0].iter().enumerate() {
+        let z = omega.cross(&a1);
+        let dx = (z - l * z) * as1 + v1 * w.dot(&z) + c0 * g[3 + kk];
+        for i in 0..3 {
+            j[i][3 + kk] = dx[i];
+        }
+    }
+    for (kk, omega) in axes[1].iter().enumerate() {
+        let z = omega.cross(&a2);
+        let dx = (l * z) * at2 + v2 * w.dot(&z) + c0 * g[10 + kk];
+        for i in 0..3 {
+            j[i][10 + kk] = dx[i];
         }
     }
     j[3] = *g;

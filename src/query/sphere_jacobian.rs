@@ -234,10 +234,8 @@ pub(crate) fn sphere_jacobian(
             j[i][cb + c] = id - m[(i, c)] + v[i] * g[cb + c];
         }
     }
-    // α(ω × w − M(ω × y)) = Bω with B = α(M[y]× − [w]×), formed once for the four axes.
-    let bm = (m * y.cross_matrix() - w.cross_matrix()) * alpha;
     for (k, omega) in axes[b].iter().enumerate() {
-        let dx = bm * omega + v * g[cb + 3 + k];
+        let dx = (omega.cross(&w) - m * omega.cross(&y)) * alpha + v * g[cb + 3 + k];
         for i in 0..3 {
             j[i][cb + 3 + k] = dx[i];
         }
