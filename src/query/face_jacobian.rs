@@ -57,7 +57,7 @@ pub(super) fn touching_feature(shape: &Shape, pose: &Pose, out: &Vec3, tau: Real
     }
     match flat_feature(shape, &m, tau)? {
         (Flat::Face(a), _) => Some(Touch::Face(rot * a)),
-        (Flat::Edge(t), r) if r == 0.0 => Some(Touch::Edge(rot * t)),
+        (Flat::Edge(t), 0.0) => Some(Touch::Edge(rot * t)),
         _ => None,
     }
 }
