@@ -25,7 +25,7 @@
 
 use super::context::Proximity;
 use super::sphere_jacobian::projection_jacobian;
-use super::vertex_feature::{decide, flat_feature, Flat, TIE};
+use super::vertex_feature::{block_finite, decide, flat_feature, Flat, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
@@ -166,5 +166,5 @@ pub(crate) fn ball_jacobian(
         }
     }
     j[3] = *g;
-    crate::math::all_finite(j).then_some(())
+    block_finite(j).then_some(())
 }

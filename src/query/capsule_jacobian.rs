@@ -30,7 +30,7 @@
 //! sine, the answer is `None` and the general solve decides.
 
 use super::context::Proximity;
-use super::vertex_feature::{decide, MARGIN, TIE};
+use super::vertex_feature::{block_finite, decide, MARGIN, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::sensitivity::PARALLEL_SIN;
@@ -147,5 +147,5 @@ pub(crate) fn capsule_jacobian(
         }
     }
     j[3] = *g;
-    crate::math::all_finite(j).then_some(())
+    block_finite(j).then_some(())
 }

@@ -29,6 +29,7 @@
 //! `T₂ = −α*N([g₂]× + H₂[n]×)` (`δᵢ` written as matrices acting on `ω`).
 
 use super::context::Proximity;
+use super::vertex_feature::block_finite;
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
@@ -97,7 +98,7 @@ pub(crate) fn ellipsoid_jacobian(
         }
     }
     j[3] = *g;
-    crate::math::all_finite(j).then_some(())
+    block_finite(j).then_some(())
 }
 
 /// `ab`, written out (nalgebra's generic product is a call per product here).

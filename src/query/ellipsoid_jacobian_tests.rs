@@ -8,7 +8,7 @@ use crate::math::rotation_from_quaternion;
 use crate::{Pose, Real, Shape};
 
 /// A random ellipsoid: semi-axes log-uniform in [`lo`, 1], a random attitude.
-fn ellipsoid(rng: &mut Rng, lo: Real) -> Shape {
+pub(super) fn ellipsoid(rng: &mut Rng, lo: Real) -> Shape {
     let q = loop {
         let q = rng.quaternion();
         if q.iter().map(|v| v * v).sum::<Real>() > 0.01 {

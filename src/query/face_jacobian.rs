@@ -17,33 +17,47 @@
 //! with `dα*` the envelope theorem's gradient (the α row). Which face touches is read from the
 //! optimal normal as the general solve reads it (support pieces tied within its tolerance);
 //! within a factor 100 of that decision the answer is `None` and the general solve decides.
+//! Where the feature is an unpadded edge, `super::edge_jacobian` gives the answer.
 
 use super::context::Proximity;
-use super::vertex_feature::{decide, flat_feature, Flat, TIE};
-use crate::math::{Mat3, Pose, Real, Vec3};
+use super::edge_jacobian::{edge_jacobian, support_hessian};
+use super::vertex_feature::{block_finite, decide, flat_feature, Flat, TIE};
+use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 
-/// The outward unit normal (world) of the face `shape` touches by at its outward unit normal
-/// `out`; `None` for other features or shapes, or a decision within the margin.
-fn touching_face(shape: &Shape, pose: &Pose, out: &Vec3, tau: Real) -> Option<Vec3> {
+/// The feature of `B` an ellipsoid touches (world).
+pub(super) enum Touch {
+    /// A face: its outward unit normal.
+    Face(Vec3),
+    /// An edge (unpadded): its unit direction.
+    Edge(Vec3),
+}
+
+/// The face or unpadded edge `shape` touches by at its outward unit normal `out`; `None` for
+/// other features or shapes, or a decision within the margin.
+pub(super) fn touching_feature(shape: &Shape, pose: &Pose, out: &Vec3, tau: Real) -> Option<Touch> {
     let rot = pose.rotation();
     let m = rot.tr_mul(out);
     if let Some(e) = shape.centred_box() {
-        // A face: vertices flipped along two axes tie (2eᵢ|mᵢ|), not along the third.
-        let mut free = None;
+        // Vertices flipped along axis i tie when 2eᵢ|mᵢ| is within the tolerance: a face
+        // where two axes tie, an edge (along that axis) where one does.
+        let mut tied = [false; 3];
         for i in 0..3 {
-            if !decide(2.0 * e[i] * m[i].abs(), tau)? {
-                if free.is_some() {
-                    return None;
-                }
-                free = Some(i);
-            }
+            tied[i] = decide(2.0 * e[i] * m[i].abs(), tau)?;
         }
-        let k = free?;
-        return Some(rot.column(k) * m[k].signum());
+        return match tied {
+            [true, true, false] => Some(Touch::Face(rot.column(2) * m[2].signum())),
+            [true, false, true] => Some(Touch::Face(rot.column(1) * m[1].signum())),
+            [false, true, true] => Some(Touch::Face(rot.column(0) * m[0].signum())),
+            [true, false, false] => Some(Touch::Edge(rot.column(0).into_owned())),
+            [false, true, false] => Some(Touch::Edge(rot.column(1).into_owned())),
+            [false, false, true] => Some(Touch::Edge(rot.column(2).into_owned())),
+            _ => None,
+        };
     }
     match flat_feature(shape, &m, tau)? {
-        (Flat::Face(a), _) => Some(rot * a),
+        (Flat::Face(a), _) => Some(Touch::Face(rot * a)),
+        (Flat::Edge(t), 0.0) => Some(Touch::Edge(rot * t)),
         _ => None,
     }
 }
@@ -83,15 +97,13 @@ pub(crate) fn face_jacobian(
     let nu = dalpha_dd / norm;
     let out = if b == 0 { nu } else { -nu };
     let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
-    let a = touching_face(shapes[b], poses[b], &out, TIE * ell)?;
-    // The ellipsoid's support Hessian at −a: h(m) = √(mᵀP⁻¹m), g = P⁻¹m,
-    // ∇²h = (P⁻¹ − ggᵀ/h²)/h (body frame), rotated.
-    let rot = poses[e].rotation();
-    let p_inv = shapes[e].ellipsoid_inverse()?;
-    let m = -rot.tr_mul(&a);
-    let gm = p_inv * m;
-    let h = m.dot(&gm).sqrt();
-    let hess: Mat3 = rot * ((p_inv - gm * gm.transpose() / (h * h)) / h) * rot.transpose();
+    let a = match touching_feature(shapes[b], poses[b], &out, TIE * ell)? {
+        Touch::Face(a) => a,
+        Touch::Edge(t) => {
+            return edge_jacobian(prox, g, [e, b], shapes, poses, axes, -out, t, j);
+        }
+    };
+    let hess = support_hessian(shapes[e], poses[e], &-a)?;
     let re = poses[e].position();
     let p = [prox.contact1, prox.contact2][e] - re;
     let (ce, cb) = (7 * e, 7 * b);
@@ -115,5 +127,5 @@ pub(crate) fn face_jacobian(
         }
     }
     j[3] = *g;
-    crate::math::all_finite(j).then_some(())
+    block_finite(j).then_some(())
 }

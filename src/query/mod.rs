@@ -20,6 +20,9 @@ mod differentiate;
 mod dispatch;
 mod distance;
 mod early_exit;
+mod edge_jacobian;
+#[cfg(test)]
+mod edge_jacobian_tests;
 mod ellipsoid_jacobian;
 #[cfg(test)]
 mod ellipsoid_jacobian_tests;

@@ -30,7 +30,7 @@
 //! parallel than 100 times the general solve's sine, the answer is `None`.
 
 use super::context::Proximity;
-use super::vertex_feature::{decide, flat_feature, Flat, DISC, MARGIN, TIE};
+use super::vertex_feature::{block_finite, decide, flat_feature, Flat, DISC, MARGIN, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::sensitivity::PARALLEL_SIN;
@@ -152,5 +152,5 @@ pub(crate) fn segment_jacobian(
         }
     }
     j[3] = *g;
-    crate::math::all_finite(j).then_some(())
+    block_finite(j).then_some(())
 }

@@ -2,8 +2,8 @@
 //! its vertices as the general feature solve reads it (`crate::solver::features`: the vertices,
 //! or padded vertices, whose support values tie within its tolerance), for the closed-form
 //! Jacobians (`super::ball_jacobian`, `super::segment_jacobian`, `super::sphere_jacobian`,
-//! `super::face_jacobian`), and the tolerances and margin all the closed forms decide
-//! features with.
+//! `super::face_jacobian`), the tolerances and margin all the closed forms decide
+//! features with, and their finiteness check.
 
 use crate::math::{Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
@@ -82,4 +82,19 @@ pub(super) fn flat_feature(shape: &Shape, m: &Vec3, tau: Real) -> Option<(Flat, 
         }
     };
     Some((flat, radius))
+}
+
+/// Whether every entry of a closed form's Jacobian is finite, cheaply: the column sums of its
+/// four rows (14 independent sums the compiler vectorises), then their sum. Any infinity or
+/// NaN makes it non-finite; a finite Jacobian whose sum overflows (entries near 1e307) is
+/// called non-finite too, which only sends the pair to the general solve.
+#[inline]
+pub(super) fn block_finite(j: &[[Real; 14]; 4]) -> bool {
+    let mut acc = j[0];
+    for row in &j[1..] {
+        for (a, v) in acc.iter_mut().zip(row) {
+            *a += v;
+        }
+    }
+    acc.iter().sum::<Real>().is_finite()
 }
