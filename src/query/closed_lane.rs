@@ -11,7 +11,7 @@
 //! not finite): the caller then runs the full query, which also reports every error. Measured
 //! through the C ABI with callgrind (`docs/geometric-solver.md`).
 
-use super::context::{Distance, Proximity};
+use super::context::{Distance, DistancePath, Proximity};
 use super::dispatch::{route, Stage};
 use super::distance::MAX_OFFSET_RATIO;
 use super::geometric::{closed_form, in_world};
@@ -74,12 +74,13 @@ pub(crate) fn proximity(
     in_world(&ans, [&r1, &r2], ell, dist * inv)
 }
 
-/// The distance of `shape1` at `pose1` and `shape2` at `pose2` by its closed form, certified
-/// to `tolerance`, exactly as `super::distance` answers it for separated shapes with the
-/// default method (`super::separated`'s closed form on the same inputs); `None` where the full
-/// query must answer (another pair, poses `Pose::new` would not take as they are, the inscribed
-/// balls overlapping, offsets the distance program rejects, a closed form that declines or
-/// finds an overlap, a number that is not finite).
+/// The distance of `shape1` at `pose1` and `shape2` at `pose2` as `super::distance` answers
+/// it with the default method on a pair with a closed form where that answer needs no solver:
+/// the inscribed balls overlapping, or the closed form (`super::separated`'s, certified
+/// to `tolerance`: the distance, or an overlap it found), on the same inputs with the same
+/// arithmetic; `None` where the full query must answer (a half-space, poses `Pose::new` would
+/// not take as they are, offsets the distance program rejects, a pair without a closed form or
+/// whose closed form declines, a number that is not finite).
 #[inline(always)]
 pub(crate) fn distance(
     shape1: &Shape,
@@ -89,6 +90,9 @@ pub(crate) fn distance(
     tolerance: Real,
 ) -> Option<Distance> {
     let bounded = |s: &Shape| s.solver_kind() != ShapeKind::Halfspace;
+    // Only pairs with a closed form: others pay nothing here but this test (the inscribed
+    // balls' overlap below is theirs too, but taking it only moved ~180 instructions of a
+    // separated box–box distance into the lane and back out).
     if !(bounded(shape1)
         && bounded(shape2)
         && route(shape1, shape2).distance.has(Stage::ClosedForm)
@@ -99,11 +103,16 @@ pub(crate) fn distance(
     }
     let r1 = Vec3::from(*pose1.0);
     let r2 = Vec3::from(*pose2.0);
-    // As `super::distance::distance_query_until`: the inscribed balls apart, the offset
-    // within what the distance program represents.
-    let len = robust_norm(&(r2 - r1));
-    if !(len.is_finite() && len >= shape1.inscribed_radius() + shape2.inscribed_radius()) {
+    // As `super::distance::distance_query_until`: overlap certified by the inscribed balls,
+    // else the offset within what the distance program represents.
+    let offset = r2 - r1;
+    let len = robust_norm(&offset);
+    if !len.is_finite() {
         return None;
+    }
+    let (i1, i2) = (shape1.inscribed_radius(), shape2.inscribed_radius());
+    if len < i1 + i2 {
+        return overlap(r1 + offset * (i1 / (i1 + i2)), DistancePath::InteriorPoint);
     }
     let ell = shape1.bounding_radius().max(shape2.bounding_radius());
     if !(len / ell <= MAX_OFFSET_RATIO) {
@@ -116,8 +125,23 @@ pub(crate) fn distance(
     let pair = Pair::new([shape1, shape2], [&rot1, &rot2], inv);
     let d = (r2 - r1) * inv;
     let tol = (tolerance * MARGIN).max(TOL_FLOOR);
-    let s = separated::closed_form(&pair, &d, tol).ok()??;
-    let answer = separated::in_world(&s, [&r1, &r2], ell)?;
-    let n = &answer.normal;
-    finite_array(&[n.x, n.y, n.z]).then_some(answer)
+    match separated::closed_form(&pair, &d, tol) {
+        Ok(s) => {
+            let answer = separated::in_world(&s?, [&r1, &r2], ell)?;
+            let n = &answer.normal;
+            finite_array(&[n.x, n.y, n.z]).then_some(answer)
+        }
+        // A certified overlap, at the common point `a` (normalised, relative to r₁).
+        Err(a) => overlap(r1 + a * ell, DistancePath::Gjk),
+    }
+}
+
+/// `super::distance`'s answer for overlapping shapes with the common point `w` (`None` unless
+/// it is finite), found by `path`.
+#[inline(always)]
+fn overlap(w: Vec3, path: DistancePath) -> Option<Distance> {
+    finite_array(&[w.x, w.y, w.z]).then_some(Distance {
+        path,
+        ..super::distance::overlap(w, 0)
+    })
 }

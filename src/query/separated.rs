@@ -12,7 +12,7 @@
 use super::context::{Distance, DistancePath};
 use super::cores::Cores;
 use super::dispatch::{route, Stage};
-use crate::math::{rotation_derivatives, Pose, Real, Vec3};
+use crate::math::{finite_array, rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
@@ -178,12 +178,10 @@ pub(super) fn in_world(s: &Separation, r: [&Vec3; 2], ell: Real) -> Option<Dista
     let dist = s.distance * ell;
     let closest1 = r[0] + s.a * ell;
     let closest2 = r[1] + s.b * ell;
-    let finite = dist.is_finite()
-        && dist > 0.0
-        && closest1
-            .iter()
-            .chain(closest2.iter())
-            .all(|v| v.is_finite());
+    // Every number finite in one test (`finite_array`; the chained iterator it replaces was
+    // not inlined, ~110 instructions of a sphere–sphere distance).
+    let (c1, c2) = (&closest1, &closest2);
+    let finite = dist > 0.0 && finite_array(&[dist, c1.x, c1.y, c1.z, c2.x, c2.y, c2.z]);
     finite.then_some(Distance {
         distance: dist,
         closest1,
