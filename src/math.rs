@@ -39,11 +39,7 @@ impl Pose {
         // The common case in one test: a finite sum of the position (a NaN or infinity makes it
         // NaN or infinite) and a normal squared norm of the quaternion (which needs every
         // component finite). Anything else takes `new_checked`, which names the culprit.
-        let n2: Real = quaternion.iter().map(|v| v * v).sum();
-        if (position[0] + position[1] + position[2]).is_finite()
-            && n2.is_finite()
-            && n2 > Real::MIN_POSITIVE
-        {
+        if plain_pose(&position, &quaternion) {
             return Ok(Pose {
                 position: Vec3::from(position),
                 quaternion,
@@ -137,6 +133,21 @@ impl Pose {
     pub fn rotation(&self) -> &Mat3 {
         &self.rotation
     }
+}
+
+/// [`Pose::new`]'s common case: every component finite and a quaternion whose squared norm is
+/// normal (neither underflows nor overflows), so that its rotation is
+/// [`rotation_from_quaternion`] of the numbers as given. One test: a finite sum of the position
+/// (a NaN or infinity makes it NaN or infinite) and a finite, normal squared norm of the
+/// quaternion (which needs every component finite). Anything else takes the checked
+/// constructor, which names the culprit or rescales. Shared with the C ABI's closed-form lane
+/// (`crate::query::closed_lane`), which takes the same poses without forming `Pose`.
+#[inline(always)]
+pub(crate) fn plain_pose(position: &[Real; 3], quaternion: &[Real; 4]) -> bool {
+    let n2: Real = quaternion.iter().map(|v| v * v).sum();
+    (position[0] + position[1] + position[2]).is_finite()
+        && n2.is_finite()
+        && n2 > Real::MIN_POSITIVE
 }
 
 /// `q = [1 - p·p, 2p] / (1 + p·p)` for modified Rodrigues parameters `p`.

@@ -2,10 +2,10 @@
 
 use super::boundary::{check_out, run, Failure};
 use super::cache::{cache_mut, dcol_cache};
-use super::options::dcol_options;
+use super::options::{dcol_options, plain_tolerance};
 use super::pose::dcol_pose;
 use super::proximity::{check_inputs, read_inputs};
-use super::shape::dcol_shape;
+use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
 use crate::math::{finite_array, Vec3};
 use crate::query::{self, Distance, SignedDistance};
@@ -129,6 +129,15 @@ unsafe fn distance_in(
     result: *mut dcol_distance_result,
 ) -> dcol_status {
     run(name, || {
+        if cache.is_none() {
+            // SAFETY: forwarded from this function's contract.
+            if let Some(r) = unsafe { closed_lane(shape1, pose1, shape2, pose2, options, result) } {
+                // SAFETY: the lane answers only with `result` non-NULL; valid for writes
+                // (contract).
+                unsafe { result.write(r) };
+                return Ok(());
+            }
+        }
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
@@ -148,6 +157,46 @@ unsafe fn distance_in(
         unsafe { result.write((&d).into()) };
         q.outcome(d.status, d.iterations)
     })
+}
+
+/// The closed-form lane of `dcol_distance` (`query::closed_lane::distance`): the answer of a
+/// separated pair with a closed form when every pointer is non-NULL, the options are plain
+/// (`plain_tolerance`) and the lane answers (the same numbers the full path gives, all finite,
+/// converged); `None` sends the call to the full path, which answers the same or reports the
+/// error.
+///
+/// # Safety
+/// As `dcol_distance`.
+#[inline(always)]
+unsafe fn closed_lane(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_distance_result,
+) -> Option<dcol_distance_result> {
+    if pose1.is_null() || pose2.is_null() || result.is_null() {
+        return None;
+    }
+    // SAFETY: forwarded from this function's contract (NULL is checked by `shape_ref` and above).
+    let (s1, s2, p1, p2, tolerance) = unsafe {
+        (
+            shape_ref(shape1, "shape1").ok()?,
+            shape_ref(shape2, "shape2").ok()?,
+            &*pose1,
+            &*pose2,
+            plain_tolerance(options)?,
+        )
+    };
+    let d = query::closed_lane::distance(
+        s1,
+        (&p1.position, &p1.quaternion),
+        s2,
+        (&p2.position, &p2.quaternion),
+        tolerance,
+    )?;
+    Some((&d).into())
 }
 
 /// The signed distance (as dcol_signed_distance) and its gradient with respect to

@@ -93,3 +93,27 @@ pub(crate) unsafe fn read_options(ptr: *const dcol_options) -> Result<Options, F
     opts.validate().map_err(Failure::api_in("options->"))?;
     Ok(opts)
 }
+
+/// The tolerance of the options behind `ptr` (NULL: the defaults') when they are valid and ask
+/// for the default method without smoothing: [`read_options`] would accept them, and the
+/// closed-form lane (`crate::query::closed_lane`, which uses no iteration limit) gives the full
+/// query's answer under them. `None` otherwise.
+///
+/// # Safety
+/// `ptr` must be NULL or point to a valid `dcol_options`.
+#[inline(always)]
+pub(crate) unsafe fn plain_tolerance(ptr: *const dcol_options) -> Option<f64> {
+    if ptr.is_null() {
+        return Some(Options::default().tolerance);
+    }
+    // SAFETY: non-NULL; validity and alignment are the caller's contract.
+    let o = unsafe { &*ptr };
+    // `Options::validate` without its messages: the tolerance positive and finite, at least one
+    // iteration (a smoothing of exactly 0 is valid).
+    let plain = o.method == DCOL_METHOD_AUTO
+        && o.smoothing == 0.0
+        && o.tolerance.is_finite()
+        && o.tolerance > 0.0
+        && o.max_iterations >= 1;
+    plain.then_some(o.tolerance)
+}

@@ -3,7 +3,7 @@
 use super::boundary::{check_out, run, Failure};
 use super::cache::{cache_mut, dcol_cache};
 use super::finite::{proximity_numbers, representable};
-use super::options::{dcol_options, read_options};
+use super::options::{dcol_options, plain_tolerance, read_options};
 use super::pose::{dcol_pose, read_pose};
 use super::shape::{dcol_shape, shape_ref};
 use super::status::dcol_status;
@@ -267,6 +267,15 @@ unsafe fn proximity_in(
     result: *mut dcol_proximity_result,
 ) -> dcol_status {
     run(name, || {
+        if cache.is_none() {
+            // SAFETY: forwarded from this function's contract.
+            if let Some(r) = unsafe { closed_lane(shape1, pose1, shape2, pose2, options, result) } {
+                // SAFETY: the lane answers only with `result` non-NULL; valid for writes
+                // (contract).
+                unsafe { result.write(r) };
+                return Ok(());
+            }
+        }
         // SAFETY: forwarded from this function's contract.
         let shapes = unsafe { check_inputs(shape1, pose1, shape2, pose2) }?;
         check_out(result, "result")?;
@@ -286,6 +295,48 @@ unsafe fn proximity_in(
         unsafe { result.write((&prox).into()) };
         q.outcome(prox.status, prox.iterations)
     })
+}
+
+/// The closed-form lane (`query::closed_lane`): the answer of a pair with a closed form when
+/// every pointer is non-NULL, the options are plain ([`plain_tolerance`]) and the lane answers
+/// (the same numbers the full path gives, all finite, converged); `None` sends the call to the
+/// full path, which answers the same or reports the error. About half of a sphere–sphere call
+/// was the full path's dispatch around the closed form (`docs/geometric-solver.md`).
+///
+/// # Safety
+/// As `dcol_proximity`.
+#[inline(always)]
+pub(crate) unsafe fn closed_lane(
+    shape1: *const dcol_shape,
+    pose1: *const dcol_pose,
+    shape2: *const dcol_shape,
+    pose2: *const dcol_pose,
+    options: *const dcol_options,
+    result: *mut dcol_proximity_result,
+) -> Option<dcol_proximity_result> {
+    if pose1.is_null() || pose2.is_null() || result.is_null() {
+        return None;
+    }
+    // SAFETY: forwarded from this function's contract (NULL is checked by `shape_ref` and above).
+    let (s1, s2, p1, p2, plain) = unsafe {
+        (
+            shape_ref(shape1, "shape1").ok()?,
+            shape_ref(shape2, "shape2").ok()?,
+            &*pose1,
+            &*pose2,
+            plain_tolerance(options).is_some(),
+        )
+    };
+    if !plain {
+        return None;
+    }
+    let prox = query::closed_lane::proximity(
+        s1,
+        (&p1.position, &p1.quaternion),
+        s2,
+        (&p2.position, &p2.quaternion),
+    )?;
+    Some((&prox).into())
 }
 
 /// The gradient of alpha* with respect to (r1, q1, r2, q2): 14 numbers, in that order, the

@@ -393,7 +393,7 @@ fn distance_query_until(
 }
 
 /// Distance 0 with `w` (a point in both shapes) as both witnesses.
-fn overlap(w: Vec3, iterations: u32) -> Distance {
+pub(super) fn overlap(w: Vec3, iterations: u32) -> Distance {
     Distance {
         distance: 0.0,
         closest1: w,

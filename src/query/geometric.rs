@@ -26,7 +26,7 @@ use super::shortcuts::{
 };
 use super::sphere_jacobian::sphere_jacobian;
 use super::warm::{Cache, Kind};
-use crate::math::{Pose, Real, Vec3};
+use crate::math::{finite_array, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{rounded_segments, sphere_box, sphere_revolution, RoundedSegment};
 use crate::solver::direct::{after_cast, direct};
@@ -130,34 +130,43 @@ pub(crate) fn proximity(
             }
         }
     };
+    match in_world(&ans, [&r1, &r2], ell, world) {
+        Some(prox) => {
+            // ∂α*/∂d = n/h_K(n) (world): with n·r = 1 and h_K'(n) = 1/α' in the normalised
+            // lengths, n·α'/ℓ.
+            let dalpha_dd = ans.normal * (ans.alpha * inv);
+            Outcome::Answer(prox, dalpha_dd)
+        }
+        None => Outcome::Fallback,
+    }
+}
+
+/// The normalised answer `ans` in world units (origins `r`, length scale `ℓ = ell`, α* = α'·
+/// `world`), or `None` when a number is not finite (the caller falls back). Shared by
+/// [`proximity`] and the C ABI's closed-form lane (`super::closed_lane`), which must give the
+/// same numbers.
+#[inline(always)]
+pub(super) fn in_world(ans: &Answer, r: [&Vec3; 2], ell: Real, world: Real) -> Option<Proximity> {
     // The touching point x* = r₁ + α*·ℓ·a; contact points r₁ + ℓa, r₂ + ℓb.
     let alpha = ans.alpha * world;
-    let contact1 = r1 + ans.a * ell;
-    let contact2 = r2 + ans.b * ell;
-    let point = r1 + ans.a * (alpha * ell);
-    let finite = alpha.is_finite()
-        && point.iter().all(|v| v.is_finite())
-        && contact1.iter().all(|v| v.is_finite())
-        && contact2.iter().all(|v| v.is_finite());
-    if !finite {
-        return Outcome::Fallback;
-    }
-    // ∂α*/∂d = n/h_K(n) (world): with n·r = 1 and h_K'(n) = 1/α' in the normalised lengths,
-    // n·α'/ℓ.
-    let dalpha_dd = ans.normal * (ans.alpha * inv);
-    Outcome::Answer(
-        Proximity {
-            alpha,
-            point,
-            contact1,
-            contact2,
-            iterations: 0,
-            status: SolveStatus::Converged,
-            solver: ans.solver,
-            derivatives: DerivativeKind::None,
-        },
-        dalpha_dd,
-    )
+    let contact1 = r[0] + ans.a * ell;
+    let contact2 = r[1] + ans.b * ell;
+    let point = r[0] + ans.a * (alpha * ell);
+    // Every number finite, in one test (`crate::math::finite_array`).
+    let numbers = [
+        alpha, point.x, point.y, point.z, contact1.x, contact1.y, contact1.z, contact2.x,
+        contact2.y, contact2.z,
+    ];
+    finite_array(&numbers).then_some(Proximity {
+        alpha,
+        point,
+        contact1,
+        contact2,
+        iterations: 0,
+        status: SolveStatus::Converged,
+        solver: ans.solver,
+        derivatives: DerivativeKind::None,
+    })
 }
 
 /// `∂α*/∂(r₁, q₁, r₂, q₂)` from the geometric solution by the envelope theorem
@@ -495,8 +504,13 @@ fn decided(c: &Cast) -> Result<(), (bool, Real, Vec3)> {
 }
 
 /// Sphere and capsule pairs, a sphere with a centred box, a cylinder or a cone, in closed form.
-fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
+pub(super) fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
     let seg = RoundedSegment::of;
+    // Sphere and capsule pairs first: no sphere–solid form below takes a sphere or a capsule as
+    // the solid (asking them cost a sphere pair ~120 instructions).
+    if let (Some(one), Some(two)) = (seg(&pair.one), seg(&pair.two)) {
+        return segments_answer(ray, &one, &two);
+    }
     let ball = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
         Some((0.0, radius)) => Some(radius * posed.inv_scale),
         _ => None,
@@ -537,8 +551,13 @@ fn closed_form(pair: &Pair<'_, Shape>, ray: &Vec3) -> Option<Answer> {
             solver: Solver::ClosedForm,
         });
     }
-    let (one, two) = (seg(&pair.one)?, seg(&pair.two)?);
-    let hit = rounded_segments(ray, &one, &two)?;
+    None
+}
+
+/// The closed form of two rounded segments (spheres and capsules), normalised.
+#[inline(always)]
+fn segments_answer(ray: &Vec3, one: &RoundedSegment, two: &RoundedSegment) -> Option<Answer> {
+    let hit = rounded_segments(ray, one, two)?;
     Some(Answer {
         alpha: hit.alpha,
         normal: hit.normal / hit.normal.dot(ray),

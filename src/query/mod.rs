@@ -9,6 +9,7 @@ mod cached;
 mod capsule_jacobian;
 #[cfg(test)]
 mod capsule_jacobian_tests;
+pub(crate) mod closed_lane;
 mod contact;
 mod contact_boxes;
 mod contact_halfspace;

@@ -12,7 +12,7 @@
 use super::context::{Distance, DistancePath};
 use super::cores::Cores;
 use super::dispatch::{route, Stage};
-use crate::math::{rotation_derivatives, Pose, Real, Vec3};
+use crate::math::{finite_array, rotation_derivatives, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
 use crate::solver::gjk::{self, GjkEnd, Route, Separation};
@@ -24,8 +24,8 @@ use crate::solver::SolveStatus;
 const BUDGET: u32 = 64;
 /// The bracket is closed to this fraction of the options' tolerance (in units of ℓ), as the
 /// geometric proximity path does, but not below a few roundings.
-const MARGIN: Real = 1e-3;
-const TOL_FLOOR: Real = 1e-14;
+pub(super) const MARGIN: Real = 1e-3;
+pub(super) const TOL_FLOOR: Real = 1e-14;
 /// How far (relative gauge) outside its shape a point projected onto a face may lie and
 /// still count as on it (rounding); it is pulled in before use.
 const FACE_SLACK: Real = 1e-12;
@@ -158,29 +158,35 @@ pub(crate) fn separated(
             }
         }
     };
-    let dist = s.distance * ell;
-    let closest1 = r1 + s.a * ell;
-    let closest2 = r2 + s.b * ell;
-    let finite = dist.is_finite()
-        && dist > 0.0
-        && closest1
-            .iter()
-            .chain(closest2.iter())
-            .all(|v| v.is_finite());
-    if !finite {
+    let Some(result) = in_world(&s, [&r1, &r2], ell) else {
         return Settled::Unsettled;
-    }
-    let n = s.normal;
+    };
     let grad = if gradient {
-        witness_gradient(&n, &closest1, &closest2, [shape1, shape2], [pose1, pose2])
+        let (c1, c2) = (&result.closest1, &result.closest2);
+        witness_gradient(&result.normal, c1, c2, [shape1, shape2], [pose1, pose2])
     } else {
         [0.0; 14]
     };
-    let result = Distance {
+    Settled::Apart(result, grad, false)
+}
+
+/// The normalised separation `s` in world units (origins `r`, length scale `ℓ = ell`), or
+/// `None` unless the distance is positive and the witnesses finite. Shared by [`separated`] and
+/// the C ABI's closed-form lane (`super::closed_lane`), which must give the same numbers.
+#[inline(always)]
+pub(super) fn in_world(s: &Separation, r: [&Vec3; 2], ell: Real) -> Option<Distance> {
+    let dist = s.distance * ell;
+    let closest1 = r[0] + s.a * ell;
+    let closest2 = r[1] + s.b * ell;
+    // Every number finite in one test (`finite_array`; the chained iterator it replaces was
+    // not inlined, ~110 instructions of a sphere–sphere distance).
+    let (c1, c2) = (&closest1, &closest2);
+    let finite = dist > 0.0 && finite_array(&[dist, c1.x, c1.y, c1.z, c2.x, c2.y, c2.z]);
+    finite.then_some(Distance {
         distance: dist,
         closest1,
         closest2,
-        normal: n,
+        normal: s.normal,
         iterations: 0,
         status: SolveStatus::Converged,
         path: match s.route {
@@ -188,8 +194,7 @@ pub(crate) fn separated(
             Route::Polish => DistancePath::GjkPolish,
             Route::ClosedForm => DistancePath::ClosedForm,
         },
-    };
-    Settled::Apart(result, grad, false)
+    })
 }
 
 /// `∂d/∂(r₁, q₁, r₂, q₂)` of `d = max over unit n of n·(r₂ − r₁) − h₁(n) − h₂(−n)` (the
@@ -237,7 +242,11 @@ pub(crate) fn witness_gradient(
 /// radii, lies in both), a sphere overlapping a solid of `sphere_solid`'s (`w` its centre or
 /// the solid's closest point) and a capsule whose segment is nearer a solid than its radius (`w`
 /// the solid's closest point), `w` relative to shape 1's origin.
-fn closed_form(pair: &Pair<'_, Shape>, d: &Vec3, tol: Real) -> Result<Option<Separation>, Vec3> {
+pub(super) fn closed_form(
+    pair: &Pair<'_, Shape>,
+    d: &Vec3,
+    tol: Real,
+) -> Result<Option<Separation>, Vec3> {
     // Sphere and capsule pairs first: neither `sphere_solid` nor `segment_solid` takes a
     // sphere or capsule as the solid, and asking them cost a sphere pair ~140 instructions.
     let rounded = |p: &Posed<'_, Shape>| p.shape.rounded_segment().is_some();
