@@ -42,7 +42,10 @@ pub(super) fn support_hessian(shape: &Shape, pose: &Pose, nu: &Vec3) -> Option<M
     let m = rot.tr_mul(nu);
     let gm = p_inv * m;
     let h = m.dot(&gm).sqrt();
-    Some(rot * ((p_inv - gm * gm.transpose() / (h * h)) / h) * rot.transpose())
+    // g/h first: ggᵀ (∝ size⁴) underflows for semi-axes below ~1e-77, where (g/h)(g/h)ᵀ
+    // (∝ size², as P⁻¹) does not.
+    let u = gm / h;
+    Some(rot * ((p_inv - u * u.transpose()) / h) * rot.transpose())
 }
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` into `j` (every entry written) where the ellipsoid

@@ -17,8 +17,9 @@
 //! `g₂(−n)` by `δ₂ = ω × g₂ + H₂(ω × n)`, and a change `dn ⟂ n` of the normal moves `y` by
 //! `Y dn` with `Y = H₁ + H₂`. Differentiating `d = α*y`: along `n`, the envelope theorem's `dα*`
 //! (the gradient, the Jacobian's α row); across it, `α*Y dn = P(dd − y dα* − α*(δ₁ − δ₂))`
-//! with `P = I − nnᵀ`, solved as `dn = G P(…)/α*` with `G = (Y + nnᵀ)⁻¹` (`Y` is regular on the
-//! tangent plane, `Gn = n`). With `N = H₁GP` and `c₀ = g₁ − Ny`,
+//! with `P = I − nnᵀ`, solved as `dn = G P(…)/α*` with `G = (Y + τnnᵀ)⁻¹ − nnᵀ/τ`, `τ = tr Y`
+//! (`Y` is regular on the tangent plane; `G` is its inverse there and `Gn = 0`). With
+//! `N = H₁GP` and `c₀ = g₁ − Ny`,
 //!
 //! ```text
 //!     dx* = dr₁ + g₁dα* + α*(H₁dn + δ₁) = dr₁ + N dd + c₀ dα* + α*(I − N)δ₁ + α*Nδ₂
@@ -71,8 +72,16 @@ pub(crate) fn ellipsoid_jacobian(
     let (g2, h2) = side(1)?;
     let g2 = -g2;
     let nn = n * n.transpose();
-    let gm = (h1 + h2 + nn).try_inverse()?;
-    let nm = mul(&h1, &(gm - nn));
+    // Y's pseudo-inverse on the tangent plane, (Y + τnnᵀ)⁻¹ − nnᵀ/τ for any τ > 0: τ = tr Y
+    // (a length, as Y) keeps the matrix inverted as well conditioned at every size as at unit
+    // size (τ = 1 lost the tangent block for sizes far from 1: wrong columns at 1e-20, 1e20).
+    let y = h1 + h2;
+    let tau = y.trace();
+    if !(tau > 0.0 && tau.is_finite()) {
+        return None;
+    }
+    let gm = (y + nn * tau).try_inverse()? - nn / tau;
+    let nm = mul(&h1, &gm);
     let c0 = g1 - nm * (g1 - g2);
     for col in 0..3 {
         let (ga, gb) = (g[col], g[7 + col]);
