@@ -75,7 +75,9 @@ impl ConvexHull {
         let source = mesh.source.clone();
         let shared = shared_corners(points, &source);
         let tol = quickhull::tolerance(&pts);
-        let centroid = mesh.vertices.iter().sum::<Vec3>() / mesh.vertices.len() as Real;
+        // Each corner divided first: a sum of coordinates near the largest double overflows.
+        let corners = mesh.vertices.len() as Real;
+        let centroid = mesh.vertices.iter().map(|v| v / corners).sum::<Vec3>();
         let poly = Polytope::from_mesh(mesh, tol).map_err(|least| {
             Error::InvalidShape(ErrorDetail::with_point(
                 "points",

@@ -341,7 +341,10 @@ pub(crate) fn tolerance(pts: &[Vec3]) -> Real {
     for p in pts {
         m = m.sup(&p.abs());
     }
-    64.0 * Real::EPSILON * (m.x + m.y + m.z)
+    // 64ε is a power of two: the same number as 64ε·(m.x + m.y + m.z), without the sum's
+    // overflow for coordinates near the largest double.
+    let k = 64.0 * Real::EPSILON;
+    k * m.x + k * m.y + k * m.z
 }
 
 /// The hull of `pts` (finite; any number, duplicates allowed).
