@@ -67,6 +67,20 @@ impl<'a> Body<'a> {
     fn h(&self, m: &Vec3) -> Real {
         match self {
             Body::Box(h) => h.x * m.x.abs() + h.y * m.y.abs() + h.z * m.z.abs(),
+            // The polytope's support below `SCAN_BOTH` vertices (the first vertex of largest
+            // `v·m`, its value recomputed), without its dispatch.
+            Body::Poly(p) if p.vertices().len() < SCAN_BOTH => {
+                let verts = p.vertices();
+                let (mut hi, mut top) = (0, Real::NEG_INFINITY);
+                for (k, v) in verts.iter().enumerate() {
+                    let d = v.dot(m);
+                    if d > top {
+                        top = d;
+                        hi = k;
+                    }
+                }
+                verts[hi].dot(m)
+            }
             Body::Poly(p) => p.support_value(m),
         }
     }
