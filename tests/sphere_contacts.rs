@@ -8,8 +8,8 @@
 //! - Rust's manifold: its signed distance and normal are `signed_distance`'s bit for bit, and
 //!   with the signed distance within the margin its one point is the witnesses' midpoint at depth
 //!   −sd (bit for bit); an error exactly where `signed_distance` errs.
-//! - The C function (which may stop at the closed form's verdict "apart beyond the margin"):
-//!   the same status, count and points as Rust's manifold, bit for bit.
+//! - The C function: the same status, count and points as Rust's manifold, bit for bit. (Its
+//!   status with other methods and iteration limits is the fuzz driver's check.)
 //!
 //! The closed forms' agreement with analytic answers is `sphere_closed_forms.rs`'s.
 

@@ -17,7 +17,6 @@
 use super::contact_boxes::End;
 use super::contact_halfspace::{box_on_halfspace, BoxOnPlane};
 use super::contact_reduce::{clip_polygon, clip_segment, reduce, segments, V2};
-use super::contact_sphere::SphereEnd;
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
 use super::signed::{finite, not_representable, signed_distance_validated};
@@ -168,20 +167,14 @@ pub(crate) fn manifold(
     let cap = max_points.min(MAX_CONTACTS);
     // A sphere touching or overlapping another shape: the signed distance's closed form, to
     // the last bit, without its preamble (`super::contact_sphere`); one point, the witnesses'
-    // midpoint, as below. A pair the closed form finds apart beyond the margin has no point
-    // (the C function's answer; Rust's manifold takes the distance query's signed distance).
-    match super::contact_sphere::sphere_pair(shape1, pose1, shape2, pose2, margin) {
-        Some(SphereEnd::Touching(sd)) => {
-            if sd.distance > margin || cap == 0 {
-                return finish(&sd, (&[], &[]), 0, out, (pose1, pose2));
-            }
-            let p = midpoint(&sd.closest1, &sd.closest2);
-            return finish(&sd, (&[p], &[-sd.distance]), cap, out, (pose1, pose2));
-        }
-        Some(SphereEnd::Apart(sd)) if !exact_distance => {
+    // midpoint, as below. Pairs apart take the signed distance (its distance query's status
+    // is the C function's too).
+    if let Some(sd) = super::contact_sphere::sphere_pair(shape1, pose1, shape2, pose2) {
+        if sd.distance > margin || cap == 0 {
             return finish(&sd, (&[], &[]), 0, out, (pose1, pose2));
         }
-        _ => {}
+        let p = midpoint(&sd.closest1, &sd.closest2);
+        return finish(&sd, (&[p], &[-sd.distance]), cap, out, (pose1, pose2));
     }
     // Two boxes: the closed form (`super::contact_boxes`), or the signed distance of an
     // edge-pair overlap (the separating axes' answer, which `signed_distance` would compute
