@@ -50,6 +50,9 @@ struct ConvexRecord {
   std::vector<double> points;
   dReal aabb[6] = {0, 0, 0, 0, 0, 0};
   bool checked = false;
+  // The points at the box's six sides (x min, x max, y min, ...) at the last full check: a body
+  // moving a little keeps them, so a new box is first checked against those six alone.
+  std::size_t extreme[6] = {0, 0, 0, 0, 0, 0};
 };
 
 // What the collider remembers of a pair of geoms between calls: whether its last call found
@@ -86,12 +89,17 @@ struct PlaneFrame {
 
 struct State {
   std::unordered_map<Key, dcol_shape *, KeyHash> shapes;  // nullptr: sizes dcol rejects
-  // The two shapes found last (a scene's pairs mostly repeat a few sizes): looked at before the
-  // map, whose hash and probe cost 80 instructions a call.
-  Key recent_key[2] = {};
-  const dcol_shape *recent_shape[2] = {nullptr, nullptr};
-  bool recent_set[2] = {false, false};
-  int recent_next = 0;
+  // The shape each geom found last, in a table indexed by the geom's address (a geom keeps its
+  // sizes from call to call): looked at before the map, whose hash and probe cost 80
+  // instructions a call. An entry answers only for its geom and the same key, so a geom whose
+  // sizes changed, or a new geom at a freed address, finds the shape of its own key.
+  struct Recent {
+    dGeomID geom = nullptr;
+    Key key = {};
+    const dcol_shape *shape = nullptr;
+  };
+  static constexpr std::size_t kRecent = 256;
+  Recent recent[kRecent];
   std::unordered_map<std::pair<dGeomID, dGeomID>, PairHint, PairHash> pairs;
   unsigned long pair_clock = 0;  // collider calls, for PairHint::seen
   std::unordered_map<dGeomID, ConvexRecord> convexes;
@@ -104,7 +112,7 @@ struct State {
   void clear() {
     for (auto &s : shapes) dcol_shape_free(s.second);
     shapes.clear();
-    recent_set[0] = recent_set[1] = false;
+    for (Recent &r : recent) r = Recent();
     for (auto &c : convexes) dcol_shape_free(c.second.shape);
     convexes.clear();
     pairs.clear();
@@ -146,13 +154,12 @@ dcol_shape *make_shape(const Key &k) {
   return s;  // nullptr when dcol rejects the sizes (its status and message are not needed)
 }
 
-const dcol_shape *cached_shape(const Key &k) {
+const dcol_shape *cached_shape(dGeomID geom, const Key &k) {
   // A NaN size never equals itself: it would miss the cache and add an entry on every call.
   // Sizes that are not finite are no shape (the pair is rejected), and are not kept.
   if (!(std::isfinite(k.a) && std::isfinite(k.b) && std::isfinite(k.c))) return nullptr;
-  for (int i = 0; i < 2; ++i) {
-    if (g.recent_set[i] && g.recent_key[i] == k) return g.recent_shape[i];
-  }
+  State::Recent &r = g.recent[(reinterpret_cast<std::uintptr_t>(geom) >> 4) % State::kRecent];
+  if (r.geom == geom && r.key == k) return r.shape;
   auto it = g.shapes.find(k);
   const dcol_shape *s = nullptr;
   if (it != g.shapes.end()) {
@@ -162,11 +169,9 @@ const dcol_shape *cached_shape(const Key &k) {
     g.shapes.emplace(k, made);
     s = made;
   }
-  const int i = g.recent_next;
-  g.recent_next = 1 - i;
-  g.recent_key[i] = k;
-  g.recent_shape[i] = s;
-  g.recent_set[i] = true;
+  r.geom = geom;
+  r.key = k;
+  r.shape = s;
   return s;
 }
 
@@ -195,7 +200,7 @@ Res resolve(dGeomID geom, int cls, Resolved *r) {
   switch (cls) {
     case dSphereClass: {
       const double radius = dGeomSphereGetRadius(geom);
-      r->shape = cached_shape(Key{kSphere, radius, 0, 0});
+      r->shape = cached_shape(geom, Key{kSphere, radius, 0, 0});
       r->radius = radius;
       geom_pose(geom, &r->pose);
       break;
@@ -203,7 +208,7 @@ Res resolve(dGeomID geom, int cls, Resolved *r) {
     case dBoxClass: {
       dVector3 l;
       dGeomBoxGetLengths(geom, l);  // full side lengths
-      r->shape = cached_shape(Key{kBox, 0.5 * l[0], 0.5 * l[1], 0.5 * l[2]});
+      r->shape = cached_shape(geom, Key{kBox, 0.5 * l[0], 0.5 * l[1], 0.5 * l[2]});
       r->radius = 0.5 * std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
       geom_pose(geom, &r->pose);
       break;
@@ -220,9 +225,9 @@ Res resolve(dGeomID geom, int cls, Resolved *r) {
       }
       // A capsule of length 0 is ODE's way to write a sphere (dcol's capsules need length > 0).
       if (cls == dCapsuleClass && length == 0)
-        r->shape = cached_shape(Key{kSphere, radius, 0, 0});
+        r->shape = cached_shape(geom, Key{kSphere, radius, 0, 0});
       else
-        r->shape = cached_shape(Key{cls == dCapsuleClass ? kCapsule : kCylinder, radius, length, 0});
+        r->shape = cached_shape(geom, Key{cls == dCapsuleClass ? kCapsule : kCylinder, radius, length, 0});
       geom_pose(geom, &r->pose);
       x_axis_to_z(&r->pose);
       break;
@@ -255,29 +260,51 @@ Res resolve(dGeomID geom, int cls, Resolved *r) {
 }
 
 // Whether a convex record still describes its geom: ODE's bounding box of the geom must be the box
-// of the recorded points at the geom's pose (checked again only when ODE's box has changed).
+// of the recorded points at the geom's pose (checked again only when ODE's box has changed). A box
+// that changed is first compared with the six points found at its sides by the last full check
+// (a moving body mostly keeps them: six points instead of all, 340 instructions a pile's call on
+// average); when those do not reach ODE's box within the tolerance, every point is looked at.
 bool check_record(dGeomID geom, ConvexRecord &rec) {
   dReal box[6];
   dGeomGetAABB(geom, box);
   if (rec.checked && std::memcmp(box, rec.aabb, sizeof box) == 0) return true;
   const dReal *p = dGeomGetPosition(geom);
   const dReal *R = dGeomGetRotation(geom);
-  double ours[6] = {INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY};
-  const std::size_t n = rec.points.size() / 3;
-  for (std::size_t j = 0; j < n; ++j) {
-    const double *b = &rec.points[3 * j];
-    for (int i = 0; i < 3; ++i) {
-      const double w = R[4 * i] * b[0] + R[4 * i + 1] * b[1] + R[4 * i + 2] * b[2] + p[i];
-      ours[2 * i] = std::min(ours[2 * i], w);
-      ours[2 * i + 1] = std::max(ours[2 * i + 1], w);
-    }
-  }
   double scale = 1.0;
   for (int i = 0; i < 6; ++i) scale = std::max(scale, std::fabs(box[i]));
+  auto world = [&](std::size_t j, int i) {
+    const double *b = &rec.points[3 * j];
+    return R[4 * i] * b[0] + R[4 * i + 1] * b[1] + R[4 * i + 2] * b[2] + p[i];
+  };
+  if (rec.checked) {
+    bool same = true;
+    for (int k = 0; k < 6; ++k) same = same && std::fabs(world(rec.extreme[k], k / 2) - box[k]) <= 1e-9 * scale;
+    if (same) {
+      std::memcpy(rec.aabb, box, sizeof box);
+      return true;
+    }
+  }
+  double ours[6] = {INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY};
+  std::size_t at[6] = {0, 0, 0, 0, 0, 0};
+  const std::size_t n = rec.points.size() / 3;
+  for (std::size_t j = 0; j < n; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      const double w = world(j, i);
+      if (w < ours[2 * i]) {
+        ours[2 * i] = w;
+        at[2 * i] = j;
+      }
+      if (w > ours[2 * i + 1]) {
+        ours[2 * i + 1] = w;
+        at[2 * i + 1] = j;
+      }
+    }
+  }
   bool same = true;
   for (int i = 0; i < 6; ++i) same = same && std::fabs(ours[i] - box[i]) <= 1e-9 * scale;
   if (same) {
     std::memcpy(rec.aabb, box, sizeof box);
+    std::memcpy(rec.extreme, at, sizeof at);
     rec.checked = true;
     return true;
   }
@@ -447,7 +474,7 @@ int collide_plane_closed(dGeomID o1, dGeomID o2, dGeomID solid, int cls, dGeomID
     default:
       return -2;
   }
-  if (!cached_shape(key)) {
+  if (!cached_shape(solid, key)) {
     ++g.stats.rejected;
     return 0;
   }

@@ -165,6 +165,17 @@ pub(crate) fn manifold(
 ) -> Result<(), Error> {
     check_margin(margin)?;
     let cap = max_points.min(MAX_CONTACTS);
+    // A sphere touching or overlapping another shape: the signed distance's closed form, to
+    // the last bit, without its preamble (`super::contact_sphere`); one point, the witnesses'
+    // midpoint, as below. Pairs apart take the signed distance (its distance query's status
+    // is the C function's too).
+    if let Some(sd) = super::contact_sphere::sphere_pair(shape1, pose1, shape2, pose2) {
+        if sd.distance > margin || cap == 0 {
+            return finish(&sd, (&[], &[]), 0, out, (pose1, pose2));
+        }
+        let p = midpoint(&sd.closest1, &sd.closest2);
+        return finish(&sd, (&[p], &[-sd.distance]), cap, out, (pose1, pose2));
+    }
     // Two boxes: the closed form (`super::contact_boxes`), or the signed distance of an
     // edge-pair overlap (the separating axes' answer, which `signed_distance` would compute
     // again).

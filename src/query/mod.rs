@@ -14,6 +14,7 @@ mod contact;
 mod contact_boxes;
 mod contact_halfspace;
 mod contact_reduce;
+mod contact_sphere;
 mod context;
 mod cores;
 mod derivatives;

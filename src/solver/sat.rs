@@ -67,10 +67,58 @@ impl<'a> Body<'a> {
     fn h(&self, m: &Vec3) -> Real {
         match self {
             Body::Box(h) => h.x * m.x.abs() + h.y * m.y.abs() + h.z * m.z.abs(),
+            // The polytope's support below `SCAN_BOTH` vertices (the first vertex of largest
+            // `v·m`, its value recomputed), without its dispatch.
+            Body::Poly(p) if p.vertices().len() < SCAN_BOTH => {
+                let verts = p.vertices();
+                let (mut hi, mut top) = (0, Real::NEG_INFINITY);
+                for (k, v) in verts.iter().enumerate() {
+                    let d = v.dot(m);
+                    if d > top {
+                        top = d;
+                        hi = k;
+                    }
+                }
+                verts[hi].dot(m)
+            }
             Body::Poly(p) => p.support_value(m),
         }
     }
+
+    /// `(h(m), h(−m))`, bit for bit: a polytope of fewer than [`SCAN_BOTH`] vertices in one scan
+    /// (the first vertex of largest and of least `v·m`: `v·(−m)` is `−(v·m)` exactly, so the
+    /// second is the first of largest `v·(−m)`, the vertex `h(−m)` takes), each value computed as
+    /// `h` computes it; other shapes by `h` twice.
+    #[inline]
+    fn h_both(&self, m: &Vec3) -> (Real, Real) {
+        match self {
+            Body::Poly(p) if p.vertices().len() < SCAN_BOTH => {
+                let verts = p.vertices();
+                let (mut hi, mut lo) = (0, 0);
+                let (mut top, mut bottom) = (Real::NEG_INFINITY, Real::INFINITY);
+                for (k, v) in verts.iter().enumerate() {
+                    let d = v.dot(m);
+                    if d > top {
+                        top = d;
+                        hi = k;
+                    }
+                    if d < bottom {
+                        bottom = d;
+                        lo = k;
+                    }
+                }
+                (verts[hi].dot(m), verts[lo].dot(&-m))
+            }
+            _ => (self.h(m), self.h(&-m)),
+        }
+    }
 }
+
+/// Below this many vertices a polytope's support is a scan of its vertices (the polytope's
+/// climb starts at 24, `shapes::polytope::CLIMB_MIN`), which [`Body::h_both`] does once for
+/// both signs. Where a climb answers instead, the scan's value is the largest computed `v·m`,
+/// never below the climb's.
+const SCAN_BOTH: usize = 24;
 
 /// The overlap of two polytopes: depth `≥ 0`, the unit normal from shape 1 to shape 2 and the
 /// witness points (`closest2 − closest1 = −depth·normal`).
@@ -151,8 +199,8 @@ pub(crate) fn overlap(a: &Placed<'_>, b: &Placed<'_>, scale: Real) -> Option<Res
             let m = c.tr_mul(&n);
             let nt = n.dot(&t);
             // Both signs: f(n) and f(−n).
-            let (hap, han) = (ha.h(&n), ha.h(&-n));
-            let (hbp, hbn) = (hb.h(&m), hb.h(&-m));
+            let (hap, han) = ha.h_both(&n);
+            let (hbp, hbn) = hb.h_both(&m);
             if keep(hap + hbn - nt, n, Axis::Edges(len))
                 || keep(han + hbp + nt, -n, Axis::Edges(len))
             {
@@ -401,17 +449,23 @@ fn deepest_in_prism(
         .max_by(|x, y| x.dot(m).total_cmp(&y.dot(m)))
 }
 
-/// Orders points of a planar face counter-clockwise about `axis`.
+/// Orders points of a planar face counter-clockwise about `axis` (at most [`MAX_POINTS`]).
 fn order(pts: &mut [Vec3], axis: &Vec3) {
     let c = pts.iter().sum::<Vec3>() / pts.len() as Real;
     let u = (pts[0] - c).try_normalize(0.0).unwrap_or_else(Vec3::x);
     let v = axis.cross(&u);
-    pts.sort_by(|x, y| {
-        let (dx, dy) = (x - c, y - c);
-        dx.dot(&v)
-            .atan2(dx.dot(&u))
-            .total_cmp(&dy.dot(&v).atan2(dy.dot(&u)))
-    });
+    // Each point's angle once (a comparator computing both angles took two `atan2` per
+    // comparison); a stable sort on the same keys gives the same order.
+    // (No zeroed buffer: only the points written.)
+    let mut keyed: arrayvec::ArrayVec<(Real, Vec3), MAX_POINTS> = arrayvec::ArrayVec::new();
+    for p in pts.iter().take(MAX_POINTS) {
+        let d = p - c;
+        keyed.push((d.dot(&v).atan2(d.dot(&u)), *p));
+    }
+    keyed.sort_by(|x, y| x.0.total_cmp(&y.0));
+    for (p, slot) in pts.iter_mut().zip(&keyed) {
+        *p = slot.1;
+    }
 }
 
 /// Keeps the part of the polygon (or segment, or point) `pts` where `side·x ≤ limit`
@@ -475,201 +529,5 @@ fn edge_witness(a: &Placed<'_>, b: &Placed<'_>, n: &Vec3, tol: Real) -> Option<V
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::math::lcg;
-    use crate::math::Pose;
-    use crate::shapes::Shape;
-
-    /// `two_boxes` as it was written before the edge axes were written out (the cross product,
-    /// its norm and Cᵀl in full): the reference for `two_boxes`.
-    fn two_boxes_full(
-        ea: &Vec3,
-        eb: &Vec3,
-        c: &Mat3,
-        t: &Vec3,
-        beyond: Real,
-    ) -> Result<(Real, Vec3, Axis), Real> {
-        let abs = c.abs();
-        let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
-        let mut keep = |v: Real, n: Vec3, axis: Axis| {
-            if v < best.0 {
-                best = (v, n, axis);
-            }
-            v < -beyond
-        };
-        for k in 0..3 {
-            let rb = eb.x * abs[(k, 0)] + eb.y * abs[(k, 1)] + eb.z * abs[(k, 2)];
-            let s = if t[k] < 0.0 { -1.0 } else { 1.0 };
-            let v = ea[k] + rb - t[k].abs();
-            let axis = Axis::Face1(k + if s < 0.0 { 3 } else { 0 });
-            if keep(v, Vec3::ith(k, s), axis) {
-                return Err(-v);
-            }
-        }
-        for j in 0..3 {
-            let col = c.column(j).into_owned();
-            let ra = ea.x * abs[(0, j)] + ea.y * abs[(1, j)] + ea.z * abs[(2, j)];
-            let tj = col.dot(t);
-            let s = if tj < 0.0 { -1.0 } else { 1.0 };
-            let v = ra + eb[j] - tj.abs();
-            if keep(v, col * s, Axis::Face2(j + if s > 0.0 { 3 } else { 0 })) {
-                return Err(-v);
-            }
-        }
-        for i in 0..3 {
-            for j in 0..3 {
-                let l = Vec3::ith(i, 1.0).cross(&c.column(j));
-                let len = l.norm();
-                if !(len > PARALLEL) {
-                    continue;
-                }
-                let m = c.tr_mul(&l);
-                let ra = ea.x * l.x.abs() + ea.y * l.y.abs() + ea.z * l.z.abs();
-                let rb = eb.x * m.x.abs() + eb.y * m.y.abs() + eb.z * m.z.abs();
-                let lt = l.dot(t);
-                let s = if lt < 0.0 { -1.0 } else { 1.0 };
-                let v = (ra + rb - lt.abs()) / len;
-                if keep(v, l * (s / len), Axis::Edges(len)) {
-                    return Err(-v);
-                }
-            }
-        }
-        Ok(best)
-    }
-
-    /// `two_boxes` gives the full products' answers to the last bit (a zero's sign aside: the
-    /// normals compared with `==`): 60 000 box pairs at random attitudes, quarter turns (exact
-    /// zeros in C), tilts of 1e-3 to 1e-12 rad from a quarter turn (nearly parallel edges),
-    /// overlapping, touching and apart, margins 0 and 0.05; a few with a non-finite centre.
-    #[test]
-    fn edge_axes_are_the_full_products() {
-        let mut r = lcg(0xb0b0);
-        let (mut faces, mut edges, mut apart) = (0, 0, 0);
-        for case in 0..60_000 {
-            let e = |r: &mut dyn FnMut() -> Real| {
-                Vec3::new(0.1 + r().abs(), 0.1 + r().abs(), 0.1 + r().abs())
-            };
-            let (ea, eb) = (e(&mut r), e(&mut r));
-            let quarter = |r: &mut dyn FnMut() -> Real| {
-                let h = 0.5_f64.sqrt();
-                let q = [
-                    [1.0, 0.0, 0.0, 0.0],
-                    [h, h, 0.0, 0.0],
-                    [h, 0.0, h, 0.0],
-                    [0.5, 0.5, 0.5, 0.5],
-                ];
-                q[(r().abs() * 4.0) as usize % 4]
-            };
-            let q = match case % 4 {
-                0 => [r(), r(), r(), r()],
-                1 => quarter(&mut r),
-                _ => {
-                    let [w, x, y, z] = quarter(&mut r);
-                    let tilt = [1e-3, 1e-6, 1e-9, 1e-12][case / 4 % 4] * r();
-                    let (a, b) = (tilt * r(), tilt * r());
-                    [w - a * x, x + a * w + b * z, y + b * w, z - b * x]
-                }
-            };
-            let c = *Pose::new([0.0; 3], q).unwrap().rotation();
-            let reach = (ea + eb).norm();
-            let mut t = Vec3::new(r(), r(), r()) * reach * [0.5, 1.0, 1.5][case % 3];
-            if case % 1000 == 7 {
-                t[case % 3] = [Real::INFINITY, Real::NAN][case / 1000 % 2];
-            }
-            let beyond = [0.0, 0.05][case % 2];
-            let (a, b) = (
-                two_boxes(&ea, &eb, &c, &t, beyond),
-                two_boxes_full(&ea, &eb, &c, &t, beyond),
-            );
-            match (a, b) {
-                (Ok((va, na, xa)), Ok((vb, nb, xb))) => {
-                    assert_eq!(va.to_bits(), vb.to_bits(), "case {case}");
-                    assert_eq!(na, nb, "case {case}");
-                    match (xa, xb) {
-                        (Axis::Face1(p), Axis::Face1(q)) | (Axis::Face2(p), Axis::Face2(q)) => {
-                            assert_eq!(p, q, "case {case}");
-                            faces += 1;
-                        }
-                        (Axis::Edges(p), Axis::Edges(q)) => {
-                            assert_eq!(p.to_bits(), q.to_bits(), "case {case}");
-                            edges += 1;
-                        }
-                        _ => panic!("case {case}: {xa:?} {xb:?}"),
-                    }
-                }
-                (Err(ga), Err(gb)) => {
-                    assert_eq!(ga.to_bits(), gb.to_bits(), "case {case}");
-                    apart += 1;
-                }
-                _ => panic!("case {case}"),
-            }
-        }
-        assert!(
-            faces > 5_000 && edges > 2_000 && apart > 5_000,
-            "{faces} {edges} {apart}"
-        );
-    }
-
-    /// The support feature of an eight-vertex polytope (`support_eight`) is the listed path's,
-    /// to the last bit: random boxes (and random hulls of eight points) at random attitudes, along
-    /// random directions and along the body axes and face diagonals (where 2 and 4 vertices
-    /// tie), tolerances 0 to 1e-3, outputs of 3 and 48 slots.
-    #[test]
-    fn eight_vertices_are_the_listed_path() {
-        let mut r = lcg(0x5a7e1);
-        let (mut cases, mut sizes) = (0, [0usize; 9]);
-        for i in 0..6000 {
-            let shape = if i % 4 == 3 {
-                let pts: Vec<[Real; 3]> = (0..8)
-                    .map(|k| {
-                        let s = |b: usize| if k >> b & 1 == 1 { 1.0 } else { -1.0 };
-                        [s(0) + 0.3 * r(), s(1) + 0.3 * r(), s(2) + 0.3 * r()]
-                    })
-                    .collect();
-                Shape::convex_hull(&pts, 0.0).unwrap()
-            } else {
-                Shape::cuboid(0.6 + 0.5 * r(), 0.6 + 0.5 * r(), 0.6 + 0.5 * r()).unwrap()
-            };
-            let poly = shape.as_polytope().unwrap();
-            if poly.vertices().len() != 8 {
-                continue;
-            }
-            let pose = Pose::new([r(), r(), r()], [r(), r(), r(), r()]).unwrap();
-            let rot = pose.rotation();
-            let body = match i % 3 {
-                0 => Vec3::new(r(), r(), r()),
-                1 => Vec3::ith(i % 7 % 3, if r() < 0.0 { -1.0 } else { 1.0 }),
-                _ => {
-                    let (a, b) = (i % 3, (i + 1) % 3);
-                    (Vec3::ith(a, 1.0) + Vec3::ith(b, r().signum())) * 0.5_f64.sqrt()
-                }
-            };
-            let m = rot * body;
-            let tol = [0.0, 1e-12, 1e-9, 1e-3][i % 4];
-            let placed = Placed {
-                poly,
-                rot,
-                pos: *pose.position(),
-            };
-            for slots in [3, 48] {
-                let (mut a, mut b) = ([Vec3::zeros(); 48], [Vec3::zeros(); 48]);
-                let ka = support_feature(&placed, &m, tol, &mut a[..slots]);
-                let kb = support_listed(&placed, &rot.tr_mul(&m), tol, &mut b[..slots]);
-                assert_eq!(ka, kb, "case {i}");
-                for (p, q) in a[..ka].iter().zip(&b[..kb]) {
-                    let bits = |v: &Vec3| v.map(Real::to_bits);
-                    assert_eq!(bits(p), bits(q), "case {i}");
-                }
-                sizes[ka] += 1;
-            }
-            cases += 1;
-        }
-        assert!(cases > 5000, "{cases}");
-        // Vertices, edges and faces all met.
-        assert!(
-            sizes[1] > 1000 && sizes[2] > 1000 && sizes[3] > 500,
-            "{sizes:?}"
-        );
-    }
-}
+#[path = "sat_tests.rs"]
+mod tests;
