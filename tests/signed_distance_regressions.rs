@@ -225,3 +225,61 @@ fn shapes_of_aspect_1e11_answer() {
     // Measured: 7 of 200 converge (docs/failure-modes.md: thin shapes).
     println!("{converged} of {cases} converged");
 }
+
+/// Sphere and capsule cores that meet: two spheres at the same centre, a sphere centred on a
+/// capsule's segment, two capsules whose segments cross, two coaxial capsules; exactly and
+/// within 1e-300 to 1e-13 of it. EPA found no start there and `signed_distance` (and so
+/// `dcol_contacts`) returned `MaxIterations` after 4 000 iterations (from the review). The
+/// depth is `R₁ + R₂` less the cores' distance, along any normal of their flat difference: now
+/// answered in closed form, checked against the brute force as above and against that value.
+#[test]
+fn meeting_cores_answer() {
+    let (r1, r2, half) = (0.5, 0.3, 0.4);
+    let ball = Shape::sphere(r1).unwrap();
+    let caps = Shape::capsule(r2, 2.0 * half).unwrap();
+    let caps2 = Shape::capsule(r1, 1.2).unwrap();
+    let (ob, oc, oc2) = (
+        Oracle::Sphere(r1),
+        Oracle::Capsule(r2, 2.0 * half),
+        Oracle::Capsule(r1, 1.2),
+    );
+    let q1 = [0.9, 0.1, -0.3, 0.2];
+    let q2 = [0.3, -0.7, 0.2, 0.5];
+    let p1 = Pose::new([0.3, -1.2, 2.0], q1).unwrap();
+    // A point `t` along a pose's capsule axis (body x), in the world.
+    let on_axis = |p: &Pose, t: f64| p.position() + p.rotation() * dcol::Vec3::new(t, 0.0, 0.0);
+    let mut checked = 0;
+    for off in [0.0, 1e-300, 1e-100, 1e-20, 1e-13] {
+        let shift = dcol::Vec3::new(off, -0.5 * off, 0.25 * off);
+        let at = |c: dcol::Vec3, q: [f64; 4]| Pose::new((c + shift).into(), q).unwrap();
+        // (shape 1 at p1, shape 2 at its pose, depth): the same centre; a ball centred on the
+        // capsule's segment; a capsule crossing it (another attitude, its centre on the
+        // segment); a coaxial capsule.
+        let cases = [
+            (&ball, &ob, &ball, &ob, at(*p1.position(), q2), 2.0 * r1),
+            (&caps, &oc, &ball, &ob, at(on_axis(&p1, 0.17), q2), r1 + r2),
+            (
+                &caps,
+                &oc,
+                &caps2,
+                &oc2,
+                at(on_axis(&p1, -0.1), q2),
+                r1 + r2,
+            ),
+            (&caps, &oc, &caps2, &oc2, at(*p1.position(), q1), r1 + r2),
+        ];
+        for (s1, o1, s2, o2, p2, depth) in cases {
+            for (x, ox, px, y, oy, py) in [(s1, o1, &p1, s2, o2, &p2), (s2, o2, &p2, s1, o1, &p1)] {
+                let sd = signed_distance(x, px, y, py, &Options::default()).unwrap();
+                check(&sd, (x, ox, px), (y, oy, py));
+                assert!(
+                    (sd.distance + depth).abs() <= 1e-12,
+                    "offset {off:e}: sd {} against -{depth}",
+                    sd.distance
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, 40);
+}

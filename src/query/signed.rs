@@ -338,12 +338,65 @@ fn segments(pair: &Pair<'_, Shape>, d: &Vec3) -> Option<Penetration> {
     let len = diff.norm();
     // The normal's direction carries rounding ε/len.
     if !(len > 1e-6) {
-        return None;
+        return meeting_segments(&one, &two, x1, x2, d);
     }
     let n = diff / len;
     Some(Penetration {
         sd: len - one.radius - two.radius,
         upper: len - one.radius - two.radius,
+        normal: n,
+        a: x1 + n * one.radius,
+        b: x2 - d - n * two.radius,
+        polished: false,
+        supports: 0,
+    })
+}
+
+/// Sphere and capsule pairs whose core segments meet, or pass within 1e-12 (of ℓ) of each other
+/// (two spheres at the same centre, a sphere centred on a capsule's segment, crossing capsules):
+/// the cores' difference is flat (a point, a segment or a parallelogram), so K's depth at the
+/// origin is `R₁ + R₂` less the cores' distance, along any normal of that flat set; `sd = n·diff
+/// − R₁ − R₂` with such an `n` is exact to the cores' distance. (The general path's EPA found no
+/// start there and ran out of iterations.) `None` between 1e-12 and 1e-6, where the general path
+/// answers, and for capsules within 1e-6 rad of parallel but not parallel, whose plane is not
+/// known well enough.
+fn meeting_segments(
+    one: &RoundedSegment,
+    two: &RoundedSegment,
+    x1: Vec3,
+    x2: Vec3,
+    d: &Vec3,
+) -> Option<Penetration> {
+    let diff = x2 - x1;
+    if !(diff.norm() <= 1e-12) {
+        return None;
+    }
+    // A unit vector perpendicular to the unit `a`: `a` crossed with the axis it is least along.
+    let across = |a: &Vec3| {
+        let k = a.iamin();
+        a.cross(&Vec3::ith(k, 1.0)).normalize()
+    };
+    let n = match (one.half > 0.0, two.half > 0.0) {
+        (true, true) => {
+            let m = one.axis.cross(&two.axis);
+            let s = m.norm();
+            if s > 1e-6 {
+                m / s
+            } else if s <= 1e-12 {
+                across(&one.axis)
+            } else {
+                return None;
+            }
+        }
+        (true, false) => across(&one.axis),
+        (false, true) => across(&two.axis),
+        (false, false) => Vec3::x(),
+    };
+    let n = if n.dot(&diff) < 0.0 { -n } else { n };
+    let sd = n.dot(&diff) - one.radius - two.radius;
+    Some(Penetration {
+        sd,
+        upper: sd + diff.norm(),
         normal: n,
         a: x1 + n * one.radius,
         b: x2 - d - n * two.radius,
