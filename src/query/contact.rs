@@ -17,9 +17,10 @@
 use super::contact_boxes::End;
 use super::contact_halfspace::{box_on_halfspace, BoxOnPlane};
 use super::contact_reduce::{clip_polygon, clip_segment, reduce, segments, V2};
+use super::contact_sphere::SphereAnswer;
 use super::context::{Options, SignedDistance};
 use super::halfspace::HalfspacePair;
-use super::signed::{finite, not_representable, signed_distance_validated};
+use super::signed::{finite, not_representable, signed_distance_after};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind, SupportMap};
@@ -169,12 +170,17 @@ pub(crate) fn manifold(
     // the last bit, without its preamble (`super::contact_sphere`); one point, the witnesses'
     // midpoint, as below. Pairs apart take the signed distance (its distance query's status
     // is the C function's too).
-    if let Some(sd) = super::contact_sphere::sphere_pair(shape1, pose1, shape2, pose2) {
-        if sd.distance > margin || cap == 0 {
-            return finish(&sd, (&[], &[]), 0, out, (pose1, pose2));
+    let mut closed_apart = false;
+    match super::contact_sphere::sphere_pair(shape1, pose1, shape2, pose2) {
+        Some(SphereAnswer::Touching(sd)) => {
+            if sd.distance > margin || cap == 0 {
+                return finish(&sd, (&[], &[]), 0, out, (pose1, pose2));
+            }
+            let p = midpoint(&sd.closest1, &sd.closest2);
+            return finish(&sd, (&[p], &[-sd.distance]), cap, out, (pose1, pose2));
         }
-        let p = midpoint(&sd.closest1, &sd.closest2);
-        return finish(&sd, (&[p], &[-sd.distance]), cap, out, (pose1, pose2));
+        Some(SphereAnswer::Apart) => closed_apart = true,
+        None => {}
     }
     // Two boxes: the closed form (`super::contact_boxes`), or the signed distance of an
     // edge-pair overlap (the separating axes' answer, which `signed_distance` would compute
@@ -216,7 +222,7 @@ pub(crate) fn manifold(
     let sd = match known {
         Some(sd) => sd,
         // `options` validated by the caller.
-        None => signed_distance_validated(shape1, pose1, shape2, pose2, options)?,
+        None => signed_distance_after(shape1, pose1, shape2, pose2, options, closed_apart)?,
     };
     if sd.distance > margin || cap == 0 {
         return finish(&sd, (&[], &[]), 0, out, (pose1, pose2));

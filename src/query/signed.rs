@@ -77,6 +77,20 @@ pub(crate) fn signed_distance_validated(
     pose2: &Pose,
     options: &Options,
 ) -> Result<SignedDistance, Error> {
+    signed_distance_after(shape1, pose1, shape2, pose2, options, false)
+}
+
+/// [`signed_distance_validated`], told whether the pair's closed form (`closed_forms`) was
+/// computed already and found the shapes apart (`super::contact_sphere`): the early closed form
+/// is then skipped, which would find the same and be dropped. The same answer, bit for bit.
+pub(crate) fn signed_distance_after(
+    shape1: &Shape,
+    pose1: &Pose,
+    shape2: &Shape,
+    pose2: &Pose,
+    options: &Options,
+    closed_apart: bool,
+) -> Result<SignedDistance, Error> {
     // Every answer is checked at its return: the witnesses `r + ℓa` (a half-space's: the other's
     // projection onto the plane) pass the largest double when the shapes sit within their size
     // of it. (A wrapper around the whole function cost 50 instructions a query, moving the
@@ -154,7 +168,7 @@ pub(crate) fn signed_distance_validated(
     // resting on a box no longer runs GJK to learn that it overlaps (5 600 instructions a
     // contact call in ODE, 1 900 after).
     let closed = stages.has(Stage::ClosedForm);
-    let early = if !(inscribed || probed) && closed {
+    let early = if !(inscribed || probed || closed_apart) && closed {
         closed_forms(&pair, &d)
             .or_else(|| {
                 capsule_and_solid(&pair, &d, tol).map(|p| (p, Some(DistancePath::ClosedForm)))
