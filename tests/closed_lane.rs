@@ -10,6 +10,8 @@
 mod common;
 
 use common::xorshift::Rng;
+use dcol::ffi::cache::dcol_cache;
+use dcol::ffi::proximity::dcol_proximity_cached;
 use dcol::ffi::*;
 use dcol::{distance, proximity, Options, Pose, Shape};
 use std::ptr;
@@ -136,6 +138,20 @@ fn c_answers_are_the_full_querys() {
                     assert!(same3(&got.contact1, &want.contact1), "{what}");
                     assert!(same3(&got.contact2, &want.contact2), "{what}");
                     assert_eq!(got.iterations, want.iterations, "{what}");
+                    // The solver and derivative codes: the full C path's (a cold cache
+                    // bypasses the lane).
+                    let mut full = dcol_proximity_result::default();
+                    let mut cold = dcol_cache::default();
+                    // SAFETY: as above; a live cache.
+                    let st = unsafe {
+                        dcol_proximity_cached(one.c, &c1, two.c, &c2, opts, &mut cold, &mut full)
+                    };
+                    assert_eq!(st, dcol_status::DCOL_OK, "{what}");
+                    assert_eq!(
+                        (got.solver, got.derivatives),
+                        (full.solver, full.derivatives),
+                        "{what}"
+                    );
                     let want_d = distance(&one.rust, &p1, &two.rust, &p2, &rust_opts).unwrap();
                     let mut got_d = dcol_distance_result::default();
                     // SAFETY: as above.
@@ -145,6 +161,7 @@ fn c_answers_are_the_full_querys() {
                     assert!(same3(&got_d.closest1, &want_d.closest1), "{what}");
                     assert!(same3(&got_d.closest2, &want_d.closest2), "{what}");
                     assert_eq!(got_d.iterations, want_d.iterations, "{what}");
+                    assert!(same3(&got_d.normal, &want_d.normal), "{what}");
                     checked += 1;
                 }
             }
