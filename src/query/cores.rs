@@ -21,6 +21,11 @@ pub(crate) enum Core<'a> {
     /// The plane polygon of a padded polygon (its vertices, body frame, `z = 0`), with the
     /// shape for its gauge.
     Flat(&'a Shape, &'a [Vec3]),
+    /// An ellipsoid shrunk by `r`, no more than its least radius of curvature: the inner
+    /// parallel body `E ⊖ B_r`, whose support point is the ellipsoid's less `r` along the unit
+    /// direction, so that `E = (E ⊖ B_r) ⊕ B_r` exactly (a ball of radius `r` rolls freely
+    /// inside `E`; Blaschke's rolling theorem).
+    Shrunk(&'a Shape, Real),
 }
 
 impl<'a> Core<'a> {
@@ -45,12 +50,25 @@ impl<'a> Core<'a> {
         Core::of(shape)
     }
 
+    /// [`Core::with_polygon`], and an ellipsoid shrunk by [`ROLLING`] of its least radius of
+    /// curvature `c²/a` (semi-axes `a ≥ b ≥ c`) with that radius.
+    pub(crate) fn rolling(shape: &'a Shape) -> (Core<'a>, Real) {
+        if let Some((_, semi)) = shape.ellipsoid_principal() {
+            let r = ROLLING * semi.z * (semi.z / semi.x);
+            if r > 0.0 && r.is_finite() {
+                return (Core::Shrunk(shape, r), r);
+            }
+        }
+        Core::with_polygon(shape)
+    }
+
     /// Whether GJK on this core ends exactly (no curvature): a polytope, polygon, segment or
     /// point.
     pub(crate) fn polyhedral(&self) -> bool {
         match self {
             Core::Whole(s) => s.is_polytope(),
             Core::Segment(_) | Core::Flat(..) => true,
+            Core::Shrunk(..) => false,
         }
     }
 }
@@ -75,6 +93,12 @@ impl<'a> Cores<'a> {
     /// difference of cores: EPA on it finds no tetrahedron, and the caller uses the shapes.
     pub(crate) fn with_polygons(pair: &Pair<'a, Shape>) -> Option<Self> {
         Self::from(pair, Core::with_polygon)
+    }
+
+    /// The cores of [`Cores::with_polygons`] with ellipsoids shrunk too ([`Core::rolling`]);
+    /// `None` when no shape is padded or an ellipsoid.
+    pub(crate) fn rolling(pair: &Pair<'a, Shape>) -> Option<Self> {
+        Self::from(pair, Core::rolling)
     }
 
     fn from(pair: &Pair<'a, Shape>, core: fn(&'a Shape) -> (Core<'a>, Real)) -> Option<Self> {
@@ -118,6 +142,11 @@ impl<'a> Cores<'a> {
     }
 }
 
+/// The fraction of an ellipsoid's least radius of curvature taken off by [`Core::rolling`]:
+/// below 1, so that the core stays strictly convex (its support function's Hessian on the
+/// tangent plane, the ellipsoid's less `r`, positive definite), which the polish's Newton needs.
+pub(crate) const ROLLING: Real = 0.9;
+
 /// The end `id` (0: +h, 1: −h) of a segment.
 fn end(h: Real, id: u32) -> Vec3 {
     Vec3::new(if id == 0 { h } else { -h }, 0.0, 0.0)
@@ -158,6 +187,15 @@ impl SupportMap for Core<'_> {
                 }
                 (v[best], best as u32)
             }
+            Core::Shrunk(s, r) => {
+                let (x, id) = s.support(m);
+                let len = m.norm();
+                if len > 0.0 {
+                    (x - m * (*r / len), id)
+                } else {
+                    (x, id)
+                }
+            }
         }
     }
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
@@ -176,12 +214,27 @@ impl SupportMap for Core<'_> {
                 grad: *a,
                 hess: crate::math::Mat3::zeros(),
             }),
+            // `h(m) − r‖m‖`: its gradient less `r m̂`, its Hessian less `r (I − m̂m̂ᵀ)/‖m‖`.
+            Core::Shrunk(s, r) => {
+                let e = s.piece(id, m)?;
+                let len = m.norm();
+                if !(len > 0.0) {
+                    return None;
+                }
+                let u = m / len;
+                let proj = crate::math::Mat3::identity() - u * u.transpose();
+                Some(PieceEval {
+                    value: e.value - r * len,
+                    grad: e.grad - u * *r,
+                    hess: e.hess - proj * (*r / len),
+                })
+            }
         }
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
         match self {
             Core::Whole(s) => s.flat_face(m, cos_min),
-            Core::Segment(_) | Core::Flat(..) => None,
+            Core::Segment(_) | Core::Flat(..) | Core::Shrunk(..) => None,
         }
     }
     /// A segment or plane polygon has no interior: the gauge of a point on it is `|x|/h`, of any other point
@@ -206,12 +259,22 @@ impl SupportMap for Core<'_> {
                     Real::INFINITY
                 }
             }
+            // Not in closed form; the solvers ask a core's gauge only of a core with a flat
+            // face (to pull a point on it inside), which a shrunk ellipsoid has not. Infinite
+            // (outside) but at the origin: a test `gauge ≤ 1` never accepts a point wrongly.
+            Core::Shrunk(..) => {
+                if *p == Vec3::zeros() {
+                    0.0
+                } else {
+                    Real::INFINITY
+                }
+            }
         }
     }
     fn normal_at(&self, id: u32, p: &Vec3) -> Option<Vec3> {
         match self {
             Core::Whole(s) => s.normal_at(id, p),
-            Core::Segment(_) | Core::Flat(..) => None,
+            Core::Segment(_) | Core::Flat(..) | Core::Shrunk(..) => None,
         }
     }
     fn piece_count(&self) -> u32 {
@@ -225,12 +288,13 @@ impl SupportMap for Core<'_> {
                 }
             }
             Core::Flat(_, v) => v.len() as u32,
+            Core::Shrunk(s, _) => s.piece_count(),
         }
     }
     fn disc(&self, m: &Vec3, cos_min: Real) -> Option<(Vec3, Real)> {
         match self {
             Core::Whole(s) => s.disc(m, cos_min),
-            Core::Segment(_) | Core::Flat(..) => None,
+            Core::Segment(_) | Core::Flat(..) | Core::Shrunk(..) => None,
         }
     }
 }

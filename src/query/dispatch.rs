@@ -348,12 +348,12 @@ pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
         (Ellipsoid, Ellipsoid) => row(
             &[TwoEllipsoids, Newton, Cast, InteriorPoint],
             &[Newton, Gjk, InteriorPoint],
-            &[Probe, Distance, Epa],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Polytope) => row(
             &[EllipsoidPolytope, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
-            &[Probe, Distance, Epa],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Capsule) => row(
             &[Newton, Cast, InteriorPoint],
@@ -363,12 +363,12 @@ pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
         (Ellipsoid, Cylinder) => row(
             &[FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
-            &[Probe, Distance, Epa],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Cone) => row(
             &[FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
-            &[Probe, Distance, Epa],
+            &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Polygon) => row(
             &[Newton, Cast, InteriorPoint],

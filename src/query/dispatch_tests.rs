@@ -124,8 +124,8 @@ fn former(a: ShapeKind, b: ShapeKind) -> [Vec<Stage>; 3] {
         s.push(ClosedForm);
     }
     s.push(Distance);
-    // signed::cored: Cores::with_polygons.
-    if any(&padded) {
+    // signed::cored: Cores::rolling (padded shapes' cores, ellipsoids shrunk).
+    if any(&padded) || has(Ellipsoid) {
         s.push(CoredEpa);
     }
     s.push(if polytopes { ExactEpa } else { Epa });

@@ -419,11 +419,15 @@ fn meeting_segments(
     })
 }
 
-/// A sphere, capsule or padded polygon against another shape through the cores
-/// (`super::cores`, [`Cores::with_polygons`]): when the cores are apart, `sd = ‖cores‖ − R₁ − R₂`
-/// at their closest points (GJK, certified); when they overlap, the cores' penetration minus
-/// the radii (EPA on the cores: a point, segment or plane polygon against a polytope has no
-/// curvature to refine). K is the cores' difference padded by `R₁ + R₂`, so both are exact.
+/// A sphere, capsule, padded polygon or ellipsoid against another shape through the cores
+/// (`super::cores`, [`Cores::rolling`]: an ellipsoid's core is the ellipsoid less a ball that
+/// rolls freely inside it): when the cores are apart, `sd = ‖cores‖ − R₁ − R₂` at their
+/// closest points (GJK, certified); when they overlap, the cores' penetration minus the radii
+/// (EPA on the cores: a point, segment or plane polygon against a polytope has no curvature to
+/// refine, and a shrunk ellipsoid's difference with the other core bends less about the
+/// depth's optimum than the shapes' own, so fewer faces certify it: two ellipsoids 241 M ->
+/// 26 M instructions over 2 000 mostly overlapping poses). K is the cores' difference padded
+/// by `R₁ + R₂`, so both are exact.
 /// A gap proven positive with a polygon's core goes to the distance query (as before the
 /// polygon was cored, so that separated answers stay the distance's). `None` when no shape is padded,
 /// when GJK on the cores neither certifies a gap nor finds them overlapping, or when EPA on
@@ -435,7 +439,7 @@ fn cored(
     tol: Real,
     start: Option<Start>,
 ) -> Option<(EpaEnd, Option<DistancePath>)> {
-    let cores = Cores::with_polygons(pair)?;
+    let cores = Cores::rolling(pair)?;
     let pad = cores.pad();
     let polyhedral = cores.polyhedral();
     let padded = |p: Penetration| {
@@ -496,6 +500,12 @@ fn cored(
         GjkEnd::Separated(s) if cores.flat() && s.distance - tol.max(floor) - pad > floor => {
             Some((EpaEnd::Separated, None))
         }
+        // The cores apart: their distance less the radii, where the witnesses meet the
+        // identity `d + b − a = distance·n` to the tolerance (Newton on the sphere certifies
+        // the distance to `tol` but its normal only to about `√tol` where a core is sharply
+        // curved: a shrunk ellipsoid near its most curved point against a rim, 1.6e-8 ℓ
+        // measured); otherwise EPA on the shapes answers.
+        GjkEnd::Separated(s) if (d + s.b - s.a - s.normal * s.distance).norm() > tol => None,
         GjkEnd::Separated(s) => {
             let p = padded(Penetration {
                 sd: s.distance,

@@ -115,6 +115,10 @@ struct Run {
     upper: Real,
     supports: u32,
     polished_once: bool,
+    /// Whether the polish has run a second time: once more when the bracket closes on a face's
+    /// answer after the first polish found another stationary point (a worse one, from the
+    /// hand-over's face: two ellipsoids of aspect ratio 9 measured), from the closing face.
+    retried: bool,
     /// The bracket's width to reach, the rounding of `L`, and the insertion slack.
     tol: Real,
     floor: Real,
@@ -173,6 +177,7 @@ pub(crate) fn penetration<S: SupportMap>(
         upper: Real::INFINITY,
         supports: 0,
         polished_once: !curved,
+        retried: !curved,
         tol: tol.max(4.0 * floor),
         floor,
         eps: floor,
@@ -226,7 +231,17 @@ fn refine<P: SupportMap, S: Store>(
         let vtx = pair.support(&f.n);
         run.supports += 1;
         let lo = f.n.dot(&(d - vtx.w));
-        if lo > run.best.lower {
+        // After the polish a face's normal replaces its answer only where it does better by
+        // more than a tenth of the tolerance: otherwise it is the same optimum found less
+        // exactly (its witnesses the polytope's, 1e-7 off on an ellipsoid), and only its
+        // bound is taken (the polish stops within about 1e-12 of the optimum, and the bracket
+        // may need that to close).
+        let margin = if run.best.polished {
+            FINE * run.tol
+        } else {
+            0.0
+        };
+        if lo > run.best.lower + margin {
             run.best = Best {
                 lower: lo,
                 normal: f.n,
@@ -235,22 +250,32 @@ fn refine<P: SupportMap, S: Store>(
                 from: Source::Face(f),
                 polished: false,
             };
+        } else if lo > run.best.lower {
+            run.best.lower = lo;
         }
         if run.best.lower > run.floor {
             return Ended::Separated;
         }
-        if run.upper - run.best.lower <= run.tol {
+        // Closed: the answer, once the polish has run on curved pieces (a bracket that closes
+        // before the hand-over, as on the cores of an ellipsoid, bounds the depth but leaves
+        // the polytope's witnesses and normal only to about the square root of the
+        // tolerance: 1.5e-7 measured).
+        let closed = run.upper - run.best.lower <= run.tol;
+        let retry = closed && run.polished_once && !run.retried && !run.best.polished;
+        if closed && run.polished_once && !retry {
             return Ended::Closed;
         }
         // Hand over once the pieces are identified, or when EPA stops (the polish then still
         // makes the lower bound, the answer, exact where the bracket stays open).
         let (lower, upper) = (run.best.lower, run.upper);
-        let narrow = upper - lower <= HANDOVER * lower.abs().max(upper.abs()) + HANDOVER_ABS;
+        let narrow =
+            closed || upper - lower <= HANDOVER * lower.abs().max(upper.abs()) + HANDOVER_ABS;
         let mut stop = (run.supports >= budget).then_some(Ended::Budget);
         if stop.is_none() && !narrow {
             stop = stopped(poly.insert(vtx, run.eps, k));
         }
-        if !run.polished_once && (narrow || stop.is_some()) {
+        if retry || (!run.polished_once && (narrow || stop.is_some())) {
+            run.retried |= retry;
             run.polished_once = true;
             if let Some((n, a, b)) = polish(pair, poly, &f, run.best.lower, FINE * run.tol) {
                 let v = pair.support(&n);
@@ -274,10 +299,20 @@ fn refine<P: SupportMap, S: Store>(
                         polished: true,
                     };
                 }
+                // A bracket closed already needs no more points: its answer is now the
+                // polish's (inserting its support point, within the tolerance of the closest
+                // face's plane, would only cut slivers whose bound is worse: measured, an
+                // ellipsoid–hull pair left open at 2e-9).
+                if closed {
+                    return Ended::Closed;
+                }
                 if stop.is_none() && poly.insert(v, run.eps, k).is_ok() {
                     continue;
                 }
             }
+        }
+        if closed {
+            return Ended::Closed;
         }
         if stop.is_none() && narrow {
             stop = stopped(poly.insert(vtx, run.eps, k));

@@ -160,14 +160,28 @@ impl<S: Store> Poly<S> {
 
     /// The face of least `ρ_f` (the first of them).
     pub(super) fn closest(&self) -> usize {
-        let mut best = usize::MAX;
-        let mut rho = Real::INFINITY;
-        for (k, &r) in self.keys.iter().enumerate() {
-            if r < rho {
-                best = k;
-                rho = r;
+        // The least key in four lanes (`r < m` as a select: the compiler's vector minimum),
+        // then its first slot: the same face as a scan keeping the first strict minimum (NaN
+        // keys, which the polytope never holds, lose either way), for about half the work.
+        let keys: &[Real] = &self.keys;
+        let mut lanes = [Real::INFINITY; 4];
+        let mut chunks = keys.chunks_exact(4);
+        for c in &mut chunks {
+            for (m, &r) in lanes.iter_mut().zip(c) {
+                *m = if r < *m { r } else { *m };
             }
         }
+        for &r in chunks.remainder() {
+            lanes[0] = if r < lanes[0] { r } else { lanes[0] };
+        }
+        let least = lanes
+            .iter()
+            .fold(Real::INFINITY, |m, &r| if r < m { r } else { m });
+        let mut best = if least < Real::INFINITY {
+            keys.iter().position(|&r| r == least).unwrap_or(usize::MAX)
+        } else {
+            usize::MAX
+        };
         if best == usize::MAX {
             // No finite key: the first live face.
             best = self
@@ -266,23 +280,26 @@ impl<S: Store> Poly<S> {
         // The cone's faces, and for each horizon edge the one that starts where it ends
         // (`next`) and the one that ends where it starts (`prev`): each exactly one, so that
         // every horizon vertex starts and ends exactly one edge.
+        // (Exactly one edge starting where each ends, and no edge the successor of two: then
+        // `next` is a bijection and `prev` its inverse, which is the same as exactly one
+        // successor and one predecessor each, at half the comparisons.)
         let mut next = [0u8; MAX_HORIZON];
         let mut prev = [0u8; MAX_HORIZON];
+        let mut taken: u64 = 0;
         for (h, (e, _, _)) in horizon.iter().enumerate() {
-            let (mut nn, mut np) = (0, 0);
+            let mut nn = 0;
             for (g, (o, _, _)) in horizon.iter().enumerate() {
                 if o[0] == e[1] {
                     next[h] = g as u8;
                     nn += 1;
                 }
-                if o[1] == e[0] {
-                    prev[h] = g as u8;
-                    np += 1;
-                }
             }
-            if nn != 1 || np != 1 {
+            let bit = 1u64 << next[h];
+            if nn != 1 || taken & bit != 0 {
                 return Err(Refused::Degenerate);
             }
+            taken |= bit;
+            prev[next[h] as usize] = h as u8;
         }
         let new = self.verts.len() as u16;
         self.verts.push_slot(vtx);
