@@ -92,7 +92,8 @@ pub(crate) enum Stage {
     /// theirs.
     Distance,
     /// The signed distance: GJK, then EPA, on the cores (a sphere's centre, a capsule's segment,
-    /// a padded polygon's plane polygon, a padded hull's hull), the radii taken off.
+    /// a padded polygon's plane polygon, a padded hull's hull, an ellipsoid less the ball that
+    /// rolls inside it), the radii taken off.
     CoredEpa,
     /// EPA on the shapes with its polish on curved pieces, a slab where K is too thin.
     Epa,
