@@ -18,7 +18,7 @@ use crate::math::Vec3;
 use crate::math::{robust_norm, Pose, Real};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::closed_form::{closest_segment_points, sphere_solid, RoundedSegment};
-use crate::solver::gjk::{self as gjk, penetration, EpaEnd, GjkEnd, Penetration, Route};
+use crate::solver::gjk::{self as gjk, penetration, EpaEnd, GjkEnd, Penetration, Polish, Route};
 use crate::solver::raycast::{Pair, Vertex};
 use crate::solver::sat;
 use crate::solver::segment_solid::segment_solid;
@@ -193,6 +193,7 @@ pub(crate) fn signed_distance_after(
         }
     }
     let curved = stages.has(Stage::Epa);
+    let polish = epa_polish(curved, shape1, shape2);
     // The path, where it is not told by the penetration's own record.
     let late = || closed.then(|| closed_forms(&pair, &d)).flatten();
     let (end, path) = match early.or_else(late) {
@@ -211,7 +212,7 @@ pub(crate) fn signed_distance_after(
                         _ => None,
                     };
                     (
-                        penetration(&pair, &d, tol, BUDGET, curved, tet.as_ref(), true),
+                        penetration(&pair, &d, tol, BUDGET, polish, tet.as_ref(), true),
                         None,
                     )
                 }
@@ -464,19 +465,13 @@ fn cored(
     // The cores' EPA; polyhedral cores start from GJK's tetrahedron where there is one (on
     // curved pieces, measured, GJK's thin tetrahedron starts EPA no better than four fresh
     // support calls in the directions of a regular one).
-    let epa = |tet: Option<&[Vertex; 4]>| match penetration(
-        &posed,
-        d,
-        tol,
-        BUDGET,
-        !polyhedral,
-        tet,
-        false,
-    ) {
-        EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
-        EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
-        EpaEnd::Separated | EpaEnd::Failed => None,
-    };
+    let polish = epa_polish(!polyhedral, pair.one.shape, pair.two.shape);
+    let epa =
+        |tet: Option<&[Vertex; 4]>| match penetration(&posed, d, tol, BUDGET, polish, tet, false) {
+            EpaEnd::Closed(p) => Some((EpaEnd::Closed(padded(p)), None)),
+            EpaEnd::Open(p) => Some((EpaEnd::Open(padded(p)), None)),
+            EpaEnd::Separated | EpaEnd::Failed => None,
+        };
     // GJK on these cores (those of `Cores::of`: no polygon) certified their overlap already,
     // or found them apart by less than the radii (and the tolerance).
     let mut tet = [Vertex::default(); 4];
@@ -525,6 +520,17 @@ fn cored(
         GjkEnd::Overlap => epa(None),
         GjkEnd::Inside { .. } => epa(Some(&tet).filter(|_| polyhedral)),
         _ => None,
+    }
+}
+
+/// How EPA polishes: not at all on polytopes (`curved` false), at the hand-over on curved
+/// pieces, and also on a bracket that closes early where an ellipsoid takes part.
+fn epa_polish(curved: bool, shape1: &Shape, shape2: &Shape) -> Polish {
+    let smooth = |s: &Shape| s.solver_kind() == ShapeKind::Ellipsoid;
+    match (curved, smooth(shape1) || smooth(shape2)) {
+        (false, _) => Polish::Never,
+        (true, false) => Polish::HandOver,
+        (true, true) => Polish::Smooth,
     }
 }
 

@@ -28,7 +28,7 @@ mod polytope;
 mod simplex;
 mod slots;
 
-pub(crate) use epa::{penetration, EpaEnd, Penetration};
+pub(crate) use epa::{penetration, EpaEnd, Penetration, Polish};
 
 use super::raycast::{Pair, Vertex};
 use crate::math::{Real, Vec3};
