@@ -254,7 +254,11 @@ fn vertex_ties<S: SupportMap>(shape: &S, m: &Vec3, tol: Real, t: &mut Tied) -> b
     let mut best = Real::NEG_INFINITY;
     t.count = 0;
     for (id, v) in points.iter().enumerate() {
-        let d = if pad.is_some() { rn + v.dot(m) } else { v.dot(m) };
+        let d = if pad.is_some() {
+            rn + v.dot(m)
+        } else {
+            v.dot(m)
+        };
         if !(d >= best - tol) {
             continue;
         }
