@@ -222,24 +222,57 @@ pub(crate) fn sphere_jacobian(
     let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
     let m = projection_jacobian(shapes[b], poses[b], &n, &w, radius, ell)?;
     let v = w - m * y;
-    let (cs, cb) = (7 * s, 7 * b);
-    // The sphere's rotation columns are zero.
+    let parts = Parts {
+        m: &m,
+        v: &v,
+        w: &w,
+        y: &y,
+        alpha,
+        g,
+        axes: &axes[b],
+    };
+    // The columns at constant offsets (each order its own copy: no bounds checks, unrolled).
+    if s == 0 {
+        fill::<0, 7>(&parts, j);
+    } else {
+        fill::<7, 0>(&parts, j);
+    }
+    block_finite(j).then_some(())
+}
+
+/// What [`fill`] writes the Jacobian from: `M`, `v = w − My`, `w`, `y`, α*, the gradient and
+/// `B`'s rotation axes.
+struct Parts<'a> {
+    m: &'a Mat3,
+    v: &'a Vec3,
+    w: &'a Vec3,
+    y: &'a Vec3,
+    alpha: Real,
+    g: &'a [Real; 14],
+    axes: &'a [Vec3; 4],
+}
+
+/// The Jacobian's every entry, the sphere's columns from `CS`, `B`'s from `CB`:
+/// `M + v gᵀ` (sphere's position), `I − M + v gᵀ` (`B`'s), zero (the sphere's rotation),
+/// `α*(ω × w − M(ω × y)) + v g` (`B`'s rotation), the gradient as the α row.
+#[inline(always)]
+fn fill<const CS: usize, const CB: usize>(p: &Parts<'_>, j: &mut [[Real; 14]; 4]) {
+    let (m, v, g) = (p.m, p.v, p.g);
     for row in j.iter_mut().take(3) {
-        row[cs + 3..cs + 7].fill(0.0);
+        row[CS + 3..CS + 7].fill(0.0);
     }
     for c in 0..3 {
         for i in 0..3 {
             let id = if i == c { 1.0 } else { 0.0 };
-            j[i][cs + c] = m[(i, c)] + v[i] * g[cs + c];
-            j[i][cb + c] = id - m[(i, c)] + v[i] * g[cb + c];
+            j[i][CS + c] = m[(i, c)] + v[i] * g[CS + c];
+            j[i][CB + c] = id - m[(i, c)] + v[i] * g[CB + c];
         }
     }
-    for (k, omega) in axes[b].iter().enumerate() {
-        let dx = (omega.cross(&w) - m * omega.cross(&y)) * alpha + v * g[cb + 3 + k];
+    for (k, omega) in p.axes.iter().enumerate() {
+        let dx = (omega.cross(p.w) - m * omega.cross(p.y)) * p.alpha + v * g[CB + 3 + k];
         for i in 0..3 {
-            j[i][cb + 3 + k] = dx[i];
+            j[i][CB + 3 + k] = dx[i];
         }
     }
     j[3] = *g;
-    block_finite(j).then_some(())
 }

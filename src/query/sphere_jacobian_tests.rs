@@ -228,3 +228,84 @@ fn sphere_ellipsoid_closed_form_matches_the_feature_solve() {
         }
     }
 }
+
+/// The closed form's entries written at constant column offsets (`fill`, one copy per order)
+/// are the loop over runtime offsets it replaced, bit for bit: the former loop, kept here,
+/// from the same `M` (`projection_jacobian`), on 2 000 poses per shape and order (a box, a
+/// capsule, a cylinder, a cone, an ellipsoid, a polytope and a padded polygon).
+#[test]
+fn constant_offsets_are_the_former_loop_bit_for_bit() {
+    use super::sphere_jacobian::projection_jacobian;
+    let others = [
+        Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
+        Shape::capsule(0.25, 0.8).unwrap(),
+        Shape::cylinder(0.3, 0.9).unwrap(),
+        Shape::cone(1.0, 0.5).unwrap(),
+        Shape::ellipsoid([[4.0, 0.0, 0.0], [0.0, 9.0, 0.0], [0.0, 0.0, 16.0]]).unwrap(),
+        super::test_support::random_polytope(&mut Rng(0x1234_5678_9abc_def1)),
+        Shape::polygon(
+            &super::test_support::pentagon(),
+            &[0.4, 0.3, 0.5, 0.35, 0.45],
+            0.08,
+        )
+        .unwrap(),
+    ];
+    let mut rng = Rng(0x0dd5_eed5_1234_abcd);
+    let mut compared = 0;
+    for other in &others {
+        for order in 0..2 {
+            for _ in 0..2000 {
+                let ball = Shape::sphere(rng.uniform(0.05, 1.5)).unwrap();
+                let (p1, p2) = (rng.pose(1.0), rng.pose(1.0));
+                let (s, p) = if order == 0 {
+                    ([&ball, other], [&p1, &p2])
+                } else {
+                    ([other, &ball], [&p1, &p2])
+                };
+                let Some((prox, dad, g)) = geometric_answer(s, p) else {
+                    continue;
+                };
+                let axes = pair_axes(s, p);
+                let mut j = [[0.0; 14]; 4];
+                if sphere_jacobian(&prox, &g, &dad, s, p, &axes, &mut j).is_none() {
+                    continue;
+                }
+                // The former body, from the same inputs.
+                let (sb, b) = if order == 0 { (0, 1) } else { (1, 0) };
+                let (_, radius) = s[sb].rounded_segment().unwrap();
+                let alpha = prox.alpha;
+                let rb = p[b].position();
+                let y = (p[sb].position() - rb) / alpha;
+                let w = [prox.contact1, prox.contact2][b] - rb;
+                let sign = if sb == 0 { -1.0 } else { 1.0 };
+                let n = dad * (sign / dad.norm());
+                let ell = s[0].bounding_radius().max(s[1].bounding_radius());
+                let m = projection_jacobian(s[b], p[b], &n, &w, radius, ell).unwrap();
+                let v = w - m * y;
+                let (cs, cb) = (7 * sb, 7 * b);
+                let mut r = [[Real::NAN; 14]; 4];
+                for row in r.iter_mut().take(3) {
+                    row[cs + 3..cs + 7].fill(0.0);
+                }
+                for c in 0..3 {
+                    for i in 0..3 {
+                        let id = if i == c { 1.0 } else { 0.0 };
+                        r[i][cs + c] = m[(i, c)] + v[i] * g[cs + c];
+                        r[i][cb + c] = id - m[(i, c)] + v[i] * g[cb + c];
+                    }
+                }
+                for (k, omega) in axes[b].iter().enumerate() {
+                    let dx = (omega.cross(&w) - m * omega.cross(&y)) * alpha + v * g[cb + 3 + k];
+                    for i in 0..3 {
+                        r[i][cb + 3 + k] = dx[i];
+                    }
+                }
+                r[3] = g;
+                let bits = |a: &[[Real; 14]; 4]| a.map(|row| row.map(Real::to_bits));
+                assert_eq!(bits(&j), bits(&r), "{:?} order {order}", other.kind());
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 14 * 2000 / 2, "{compared}");
+}
