@@ -17,7 +17,7 @@
 //! the last bits, or edges that are nearly parallel deciding the depth), the caller takes EPA.
 
 use crate::math::{Mat3, Real, Vec3};
-use crate::shapes::{Polytope, SupportMap};
+use crate::shapes::Polytope;
 use arrayvec::ArrayVec;
 
 /// Candidate edge cross products shorter than this (their edges parallel to rounding) are left
@@ -360,57 +360,6 @@ fn support_feature(s: &Placed<'_>, m: &Vec3, tol: Real, out: &mut [Vec3]) -> usi
     }
 }
 
-/// [`support_feature`] of a centred box whose feature along `m` is clearly an edge, in closed
-/// form: `Some(2)` and the edge's two corners written as [`support_eight`] writes them (the
-/// same vertices, in the vertex list's order, placed by the same product), without the eight
-/// dot products. A corner and its neighbour along body axis `k` differ by `w_k = 2·h_k·|m_k|`
-/// along `m`; the edge along `k` is what `support_eight` selects when `w_k` is within the
-/// tolerance and the two other spreads are beyond it. Decided here only with a factor of four
-/// to spare on each side, beyond the dot products' rounding (`w_k = 0` exactly: the edge's two
-/// values are equal); `None` otherwise (not a box, a corner or a face, a spread near the tolerance,
-/// a number that is not finite): the scan decides. Unit test `box_edge_is_the_scan`.
-#[inline]
-fn box_edge(s: &Placed<'_>, m: &Vec3, tol: Real, out: &mut [Vec3]) -> Option<usize> {
-    let h = s.poly.half_extents()?;
-    if out.len() < 2 {
-        return None;
-    }
-    let mb = s.rot.tr_mul(m);
-    let w = [
-        2.0 * h.x * mb.x.abs(),
-        2.0 * h.y * mb.y.abs(),
-        2.0 * h.z * mb.z.abs(),
-    ];
-    let k = if w[0] <= w[1] && w[0] <= w[2] {
-        0
-    } else if w[1] <= w[2] {
-        1
-    } else {
-        2
-    };
-    let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-    // The dot products' rounding: a few ulps of the support value (at most half the spreads'
-    // sum), bounded here with a factor of ten to spare.
-    let round = 1e-14 * (w[0] + w[1] + w[2]);
-    let inside = w[k] == 0.0 || w[k] + round <= 0.25 * tol;
-    let outside = |x: Real| x > 0.0 && x >= 4.0 * tol + 2.0 * round;
-    if !(inside && outside(w[k1]) && outside(w[k2])) {
-        return None;
-    }
-    // The two corners: the signs of m off axis k, both signs along it.
-    let mut d = mb;
-    d[k] = 1.0;
-    let (_, i) = s.poly.support(&d);
-    d[k] = -1.0;
-    let (_, j) = s.poly.support(&d);
-    let verts = s.poly.vertices();
-    let (first, second) = if i < j { (i, j) } else { (j, i) };
-    let (p, q) = (verts.get(first as usize)?, verts.get(second as usize)?);
-    out[0] = s.world(p);
-    out[1] = s.world(q);
-    Some(2)
-}
-
 /// [`support_feature`] of a polytope of eight vertices `v8` (a box: the pyramid's and the
 /// stack's edge pairs; `mb` the direction in its body frame): the same values and choice as
 /// [`support_listed`], in fixed-size loops the compiler unrolls (no buffer to fill, no bounds
@@ -559,10 +508,7 @@ fn edge_witness(a: &Placed<'_>, b: &Placed<'_>, n: &Vec3, tol: Real) -> Option<V
     // Three slots tell an edge (two points) from a face (more): no zeroed 48-point buffers.
     let mut ea = [Vec3::zeros(); 3];
     let mut eb = [Vec3::zeros(); 3];
-    let ka = box_edge(a, n, tol, &mut ea).unwrap_or_else(|| support_feature(a, n, tol, &mut ea));
-    let m = -n;
-    let kb = box_edge(b, &m, tol, &mut eb).unwrap_or_else(|| support_feature(b, &m, tol, &mut eb));
-    if ka != 2 || kb != 2 {
+    if support_feature(a, n, tol, &mut ea) != 2 || support_feature(b, &-n, tol, &mut eb) != 2 {
         return None;
     }
     let (p, u) = (ea[0], ea[1] - ea[0]);
