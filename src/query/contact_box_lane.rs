@@ -15,7 +15,7 @@
 //! `tests/box_contacts_lane.rs`: the C function's answers against Rust's manifold, bit for bit.
 
 use super::contact::MAX_CONTACTS;
-use super::contact_boxes::{boxes, End};
+use super::contact_boxes::{boxes, Boxes, End};
 use super::contact_reduce::reduce;
 use super::warm::Cache;
 use crate::math::{Pose, Real, Vec3};
@@ -42,7 +42,8 @@ pub(crate) fn box_contacts(
         return None;
     }
     let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-    let End::Closed(b) = boxes(shape1, &h1, pose1, shape2, &h2, pose2, margin, ell) else {
+    let mut b = Boxes::new();
+    let End::Closed = boxes(shape1, &h1, pose1, shape2, &h2, pose2, margin, ell, &mut b) else {
         return None;
     };
     // As `super::contact::finish`: every point when they fit, else the reduction's choice;
