@@ -11,8 +11,9 @@
 //! untouched) everywhere else: another pair, a margin the manifold rejects, an answer the closed
 //! form leaves to the general path (an edge pair whose points it does not find, a clipping
 //! that misses the depth), a number that is not finite, a cache holding a separating normal to
-//! try. The caller then runs the full query, which also reports every error. Test
-//! `tests/box_contacts_lane.rs`: the C function's answers against Rust's manifold, bit for bit.
+//! try. The caller then runs the full query, which also reports every error. Unit tests
+//! (`contact_box_lane_tests.rs`): the lane's points against `manifold`'s (`exact_distance`
+//! false) and, with a cache, its points and cache against `manifold_cached`'s, bit for bit.
 
 use super::contact::MAX_CONTACTS;
 use super::contact_boxes::{boxes, Boxes, End};
