@@ -7,6 +7,7 @@ use super::pose::dcol_pose;
 use super::proximity::{check_inputs, read_inputs};
 use super::shape::dcol_shape;
 use super::status::dcol_status;
+use crate::math::Vec3;
 use crate::query::{self, Contact};
 
 /// One contact point of a manifold.
@@ -148,6 +149,28 @@ unsafe fn contacts_in(
         let warm = unsafe { cache_mut(cache) }?;
         // SAFETY: forwarded from this function's contract; pose pointers are non-NULL.
         let q = unsafe { read_inputs(shapes, pose1, pose2, options) }?;
+        let mut warm = warm;
+        // Two boxes: their closed form's points written straight here, where it answers
+        // (`query::box_contacts`: the same points as below, the cache updated alike).
+        let (s1, p1, s2, p2) = (q.shape1, &q.pose1, q.shape2, &q.pose2);
+        let lane = query::box_contacts(s1, p1, s2, p2, margin, capacity, warm.as_deref_mut(), {
+            |i, p: &Vec3, n: &Vec3, depth| {
+                let c = dcol_contact {
+                    position: [p.x, p.y, p.z],
+                    normal: [n.x, n.y, n.z],
+                    depth,
+                };
+                // SAFETY: `i` < the count written below, at most `capacity`; `contacts` is
+                // non-NULL when capacity > 0 (checked) and valid for writing `capacity`
+                // elements (contract).
+                unsafe { contacts.add(i).write(c) };
+            }
+        });
+        if let Some(k) = lane {
+            // SAFETY: `count` is non-NULL (checked) and valid for writes (contract).
+            unsafe { count.write(k) };
+            return Ok(());
+        }
         // Only the points leave: a pair apart by more than the margin need not know by how
         // much (`exact_distance` false).
         let mut m = query::Manifold::empty();

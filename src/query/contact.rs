@@ -14,7 +14,7 @@
 //! Against a half-space, the other shape's feature facing the plane is not clipped: each of its
 //! points within the margin is a contact (a box resting on a floor gives its four corners).
 
-use super::contact_boxes::End;
+use super::contact_boxes::{Boxes, End};
 use super::contact_halfspace::{box_on_halfspace, BoxOnPlane};
 use super::contact_reduce::{clip_polygon, clip_segment, reduce, segments, V2};
 use super::contact_sphere::SphereAnswer;
@@ -188,11 +188,15 @@ pub(crate) fn manifold(
     let mut known = None;
     if let (Some(h1), Some(h2)) = (shape1.centred_box(), shape2.centred_box()) {
         let ell = shape1.bounding_radius().max(shape2.bounding_radius());
-        match super::contact_boxes::boxes(shape1, &h1, pose1, shape2, &h2, pose2, margin, ell) {
+        let mut b = Boxes::new();
+        let end = super::contact_boxes::boxes(
+            shape1, &h1, pose1, shape2, &h2, pose2, margin, ell, &mut b,
+        );
+        match end {
             // Boxes apart (by more than the margin, or less) take the distance query's answer
             // in Rust's manifold, whose signed distance is that query's to the last bit; the
             // C function reads only the points.
-            End::Closed(b) if (b.sd.distance <= 0.0 && !b.pos.is_empty()) || !exact_distance => {
+            End::Closed if (b.sd.distance <= 0.0 && !b.pos.is_empty()) || !exact_distance => {
                 return finish(&b.sd, (&b.pos, &b.depth), cap, out, (pose1, pose2));
             }
             // As `signed_distance` checks its answers.

@@ -41,12 +41,18 @@ pub(crate) struct Boxes {
     pub depth: ArrayVec<Real, MAX>,
 }
 
-/// What [`boxes`] found (on the stack: the hot path does not allocate, so the closed form's
-/// points are not boxed).
-#[allow(clippy::large_enum_variant)]
+impl Boxes {
+    /// No points yet (filled by [`boxes`]).
+    pub(crate) fn new() -> Boxes {
+        apart(0.0)
+    }
+}
+
+/// What [`boxes`] found.
 pub(crate) enum End {
-    /// The closed-form manifold.
-    Closed(Boxes),
+    /// The closed-form manifold (written to `boxes`' `out`: the points are not moved between
+    /// the layers, which cost 125 instructions a pyramid call in copies).
+    Closed,
     /// Overlapping boxes whose least axis is an edge pair: the signed distance the general path
     /// computes for them (its points are the general path's to find).
     Edges(SignedDistance),
@@ -55,8 +61,8 @@ pub(crate) enum End {
 }
 
 /// Two centred boxes `shape1`, `shape2` of half extents `h1`, `h2` at `pose1`, `pose2`: their
-/// manifold within `margin`, the signed distance of an edge-pair overlap, or the general path
-/// (`scale`: the boxes' size).
+/// manifold within `margin` (in `out`), the signed distance of an edge-pair overlap, or the
+/// general path (`scale`: the boxes' size; `out` is then partly written, to be ignored).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn boxes(
     shape1: &Shape,
@@ -67,14 +73,20 @@ pub(crate) fn boxes(
     pose2: &Pose,
     margin: Real,
     scale: Real,
+    out: &mut Boxes,
 ) -> End {
+    out.pos.clear();
+    out.depth.clear();
     let (r1, r2) = (pose1.rotation(), pose2.rotation());
     let c = r1.tr_mul(r2);
     let t = r1.tr_mul(&(pose2.position() - pose1.position()));
     let (depth, n, axis) = match two_boxes(h1, h2, &c, &t, margin) {
         Ok(best) => best,
         // Separated along an axis by more than the margin: no contact at all.
-        Err(gap) => return End::Closed(apart(gap)),
+        Err(gap) => {
+            out.sd = apart(gap).sd;
+            return End::Closed;
+        }
     };
     // The reference facet's box, frame and facet, and the incident box in that frame.
     let (k, s, first) = match axis {
@@ -84,12 +96,9 @@ pub(crate) fn boxes(
             let end = edges(shape1, pose1, shape2, pose2, (depth, n, len), scale);
             if let End::Edges(sd) = &end {
                 let pair = ((h1, pose1), (h2, pose2), (&c, &t));
-                if let Some((pos, depth)) = edge_pair(pair, &n, sd, margin, scale) {
-                    return End::Closed(Boxes {
-                        sd: *sd,
-                        pos,
-                        depth,
-                    });
+                if edge_pair(pair, &n, sd, margin, scale, out) {
+                    out.sd = *sd;
+                    return End::Closed;
                 }
             }
             return end;
@@ -129,7 +138,7 @@ pub(crate) fn boxes(
     let facet = rot.column(k) * s;
     let normal = if first { facet } else { -facet };
     let world = |p: &Vec3| pref.position() + rot * p;
-    let (mut pos, mut dep) = (ArrayVec::new(), ArrayVec::new());
+    let (pos, dep) = (&mut out.pos, &mut out.depth);
     // The last point as deep as `deepest` gives the witnesses.
     let mut at = 0;
     for (i, (p, d)) in inc.iter().zip(depths).enumerate() {
@@ -151,19 +160,16 @@ pub(crate) fn boxes(
     if !((closest2 - closest1 + normal * depth).norm() <= 1e-9 * scale) {
         return End::General;
     }
-    End::Closed(Boxes {
-        sd: SignedDistance {
-            distance: -depth,
-            normal,
-            closest1,
-            closest2: closest1 - normal * depth,
-            iterations: 0,
-            status: SolveStatus::Converged,
-            path: DistancePath::SeparatingAxes,
-        },
-        pos,
-        depth: dep,
-    })
+    out.sd = SignedDistance {
+        distance: -depth,
+        normal,
+        closest1,
+        closest2: closest1 - normal * depth,
+        iterations: 0,
+        status: SolveStatus::Converged,
+        path: DistancePath::SeparatingAxes,
+    };
+    End::Closed
 }
 
 /// Overlapping boxes (`depth ≥ 0`: every axis overlaps) whose least axis is the edge pair of
@@ -339,15 +345,29 @@ type BoxPair<'a> = (
 /// along `n` onto both faces). Computed in the reference box's frame: the incident face moved
 /// along `n` onto the reference facet's plane (an affine image of the plane orthogonal to `n`,
 /// so the same clipping), clipped to its rectangle, and lifted along `n` onto the incident
-/// face. `None` (the general path answers) when a face is more than about 72 degrees from `n`
-/// or no point is as deep as `sd` (the general path then adds the witness).
+/// face; written to `out`'s points). False (the general path answers) when a face is more
+/// than about 72 degrees from `n` or no point is as deep as `sd` (the general path then adds
+/// the witness).
 fn edge_pair(
+    pair: BoxPair<'_>,
+    n: &Vec3,
+    sd: &SignedDistance,
+    margin: Real,
+    scale: Real,
+    out: &mut Boxes,
+) -> bool {
+    edge_points(pair, n, sd, margin, scale, out).is_some()
+}
+
+/// [`edge_pair`], `None` for false.
+fn edge_points(
     ((h1, pose1), (h2, pose2), (c, t)): BoxPair<'_>,
     n: &Vec3,
     sd: &SignedDistance,
     margin: Real,
     scale: Real,
-) -> Option<(ArrayVec<Vec3, MAX>, ArrayVec<Real, MAX>)> {
+    out: &mut Boxes,
+) -> Option<()> {
     let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
     if !(sd.distance <= 0.0 && finite(&sd.closest1) && finite(&sd.closest2)) {
         return None;
@@ -395,7 +415,7 @@ fn edge_pair(
     let rot = pref.rotation();
     let world = |p: &Vec3| pref.position() + rot * p;
     let keep = margin + SEP_TOL * scale;
-    let (mut pos, mut depth) = (ArrayVec::new(), ArrayVec::new());
+    let (pos, depth) = (&mut out.pos, &mut out.depth);
     let mut deepest = Real::NEG_INFINITY;
     for q in &poly {
         // `q` on the reference face, `b` on the incident face's plane along d.
@@ -410,7 +430,7 @@ fn edge_pair(
     if !(deepest >= -sd.distance - SEP_TOL * scale) {
         return None;
     }
-    Some((pos, depth))
+    Some(())
 }
 
 #[cfg(test)]

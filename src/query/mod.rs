@@ -11,6 +11,7 @@ mod capsule_jacobian;
 mod capsule_jacobian_tests;
 pub(crate) mod closed_lane;
 mod contact;
+mod contact_box_lane;
 mod contact_boxes;
 mod contact_halfspace;
 mod contact_reduce;
@@ -64,6 +65,7 @@ pub use cached::{
 };
 pub(crate) use contact::manifold;
 pub use contact::{contact_manifold, Contact, Manifold, MAX_CONTACTS};
+pub(crate) use contact_box_lane::box_contacts;
 pub(crate) use context::Want;
 pub use context::{Distance, DistancePath, Options, Proximity, SignedDistance};
 pub(crate) use differentiate::derivatives_into;
