@@ -32,6 +32,8 @@ pub(super) struct Face {
     pub(super) rho: Real,
     /// The face across each edge `(v[e], v[e + 1])`.
     adj: [u16; 3],
+    /// The index of that edge in the face across it (its twin, `(v[e + 1], v[e])` there).
+    twin: [u8; 3],
     /// Visit stamp of an insertion's search (`Poly::stamp` the current one).
     mark: u32,
     pub(super) alive: bool,
@@ -153,6 +155,7 @@ impl<S: Store> Poly<S> {
             n,
             rho,
             adj: [0; 3],
+            twin: [0; 3],
             mark: 0,
             alive: true,
         })
@@ -199,12 +202,17 @@ impl<S: Store> Poly<S> {
         for k in 0..nf {
             for e in 0..3 {
                 let (i, j) = (self.faces[k].v[e], self.faces[k].v[(e + 1) % 3]);
-                let twin = (0..nf).find(|&m| {
+                let twin = (0..nf).find_map(|m| {
                     let u = self.faces[m].v;
-                    (0..3).any(|t| u[t] == j && u[(t + 1) % 3] == i)
+                    (0..3)
+                        .find(|&t| u[t] == j && u[(t + 1) % 3] == i)
+                        .map(|t| (m, t))
                 });
                 match twin {
-                    Some(m) => self.faces[k].adj[e] = m as u16,
+                    Some((m, t)) => {
+                        self.faces[k].adj[e] = m as u16;
+                        self.faces[k].twin[e] = t as u8;
+                    }
                     None => return false,
                 }
             }
@@ -232,44 +240,40 @@ impl<S: Store> Poly<S> {
                 None => return Err(Refused::Degenerate),
             }
         };
-        // The visible faces: a walk over neighbours from the seed.
+        // The visible faces: a walk over neighbours from the seed; each edge of a visible face
+        // whose neighbour does not see the point is a horizon edge, with that neighbour and the
+        // index of the twin edge in it (in the order of the faces taken off the stack, then of
+        // their edges).
         self.stamp = self.stamp.wrapping_add(1);
         let stamp = self.stamp;
         let mut seen = ArrayVec::<u16, MAX_VISIBLE>::new();
         let mut stack = ArrayVec::<u16, MAX_VISIBLE>::new();
+        let mut horizon = ArrayVec::<([u16; 2], u16, u8), MAX_HORIZON>::new();
         stack.push(seed as u16);
         self.faces[seed].mark = stamp;
         while let Some(k) = stack.pop() {
             if seen.try_push(k).is_err() {
                 return Err(Refused::Full);
             }
+            let (v, adj, twin) = {
+                let f = &self.faces[k as usize];
+                (f.v, f.adj, f.twin)
+            };
             for e in 0..3 {
-                let m = self.faces[k as usize].adj[e] as usize;
-                if self.faces[m].mark != stamp && sees(&self.faces[m]) {
+                let m = adj[e] as usize;
+                if self.faces[m].mark == stamp {
+                    continue;
+                }
+                if sees(&self.faces[m]) {
                     self.faces[m].mark = stamp;
                     if stack.try_push(m as u16).is_err() {
                         return Err(Refused::Full);
                     }
-                }
-            }
-        }
-        // The horizon: edges of visible faces whose neighbour is not visible, with that
-        // neighbour and the index of the twin edge in it.
-        let mut horizon = ArrayVec::<([u16; 2], u16, u8), MAX_HORIZON>::new();
-        for &k in &seen {
-            let f = self.faces[k as usize];
-            for e in 0..3 {
-                let m = f.adj[e] as usize;
-                if self.faces[m].mark == stamp {
-                    continue;
-                }
-                let (i, j) = (f.v[e], f.v[(e + 1) % 3]);
-                let u = self.faces[m].v;
-                let Some(t) = (0..3).find(|&t| u[t] == j && u[(t + 1) % 3] == i) else {
-                    return Err(Refused::Degenerate);
-                };
-                if horizon.try_push(([i, j], m as u16, t as u8)).is_err() {
-                    return Err(Refused::Full);
+                } else {
+                    let edge = [v[e], v[if e == 2 { 0 } else { e + 1 }]];
+                    if horizon.try_push((edge, m as u16, twin[e])).is_err() {
+                        return Err(Refused::Full);
+                    }
                 }
             }
         }
@@ -330,12 +334,18 @@ impl<S: Store> Poly<S> {
                 }
             };
         }
+        // Face h is (e₀, e₁, new): across its edge 0 the horizon's neighbour (at the twin's
+        // index), across edge 1 (e₁, new) the next cone face's edge 2 (new, its e₀ = e₁), across
+        // edge 2 the previous cone face's edge 1.
         for (h, (_, m, t)) in horizon.iter().enumerate() {
             let mut f = fresh[h];
             f.adj = [*m, slot[next[h] as usize], slot[prev[h] as usize]];
+            f.twin = [*t, 2, 1];
             self.faces[slot[h] as usize] = f;
             self.keys[slot[h] as usize] = f.rho;
-            self.faces[*m as usize].adj[*t as usize] = slot[h];
+            let across = &mut self.faces[*m as usize];
+            across.adj[*t as usize] = slot[h];
+            across.twin[*t as usize] = 0;
         }
         Ok(())
     }
