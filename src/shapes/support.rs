@@ -126,6 +126,77 @@ impl Round<'_> {
     }
 }
 
+impl Round<'_> {
+    /// [`Round::eval`] with the gradient kept and the Hessian reduced to the two directions
+    /// `b` (`[b₀ᵀ∇²b₀, b₀ᵀ∇²b₁, b₁ᵀ∇²b₁]`), without forming it: a circle's Hessian is
+    /// `(r/n) w wᵀ` with `w = (0, −u_z, u_y)`, a ball's `(r/n)(I − u uᵀ)`. The same numbers as
+    /// reducing `eval`'s Hessian, up to rounding.
+    #[inline(always)]
+    pub(crate) fn eval_reduced(&self, a: &Vec3, m: &Vec3, b: &[Vec3; 2]) -> Option<Reduced> {
+        let (value, grad, hess) = match *self {
+            Round::Flat => (0.0, Vec3::zeros(), [0.0; 3]),
+            Round::Ball(r) => {
+                let n = m.norm();
+                if !(n > ROUND_EPS) {
+                    return None;
+                }
+                let u = m / n;
+                let s = r / n;
+                let (u0, u1) = (b[0].dot(&u), b[1].dot(&u));
+                (
+                    r * n,
+                    u * r,
+                    [
+                        (b[0].dot(&b[0]) - u0 * u0) * s,
+                        (b[0].dot(&b[1]) - u0 * u1) * s,
+                        (b[1].dot(&b[1]) - u1 * u1) * s,
+                    ],
+                )
+            }
+            Round::Circle(r) => {
+                let n = (m.y * m.y + m.z * m.z).sqrt();
+                if !(n > ROUND_EPS * m.norm().max(ROUND_EPS)) {
+                    return None;
+                }
+                let (uy, uz) = (m.y / n, m.z / n);
+                let s = r / n;
+                let (w0, w1) = (b[0].z * uy - b[0].y * uz, b[1].z * uy - b[1].y * uz);
+                (
+                    r * n,
+                    Vec3::new(0.0, uy * r, uz * r),
+                    [w0 * w0 * s, w0 * w1 * s, w1 * w1 * s],
+                )
+            }
+            Round::Quadric(_) => {
+                let e = self.eval(&Vec3::zeros(), m)?;
+                let (h0, h1) = (e.hess * b[0], e.hess * b[1]);
+                (
+                    e.value,
+                    e.grad,
+                    [b[0].dot(&h0), b[0].dot(&h1), b[1].dot(&h1)],
+                )
+            }
+        };
+        Some(Reduced {
+            value: value + a.dot(m),
+            grad: grad + a,
+            hess,
+        })
+    }
+}
+
+/// A piece's value and support point at `m` and its Hessian reduced to two directions
+/// ([`SupportMap::piece_reduced`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Reduced {
+    /// `p(m)`.
+    pub value: Real,
+    /// `∇p(m)`: the piece's support point (body frame).
+    pub grad: Vec3,
+    /// `[b₀ᵀ∇²p b₀, b₀ᵀ∇²p b₁, b₁ᵀ∇²p b₁]`.
+    pub hess: [Real; 3],
+}
+
 /// What the geometric solvers need of a shape: its support map, its pieces, its flat faces.
 /// Everything is in the body frame and in the shape's own units.
 /// `rot · support(rotᵀn)`: the support point of a shape turned by `rot`, in world axes.
@@ -148,6 +219,19 @@ pub(crate) trait SupportMap {
     }
     /// Piece `id` evaluated at `m` (`None` where it is not differentiable or `id` is unknown).
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval>;
+    /// [`SupportMap::piece`] with its Hessian reduced to the two body directions `b`
+    /// (Newton's method in a plane of normals needs no more). Shapes whose pieces are
+    /// [`Round`]s may skip forming the Hessian ([`Round::eval_reduced`]).
+    #[inline(always)]
+    fn piece_reduced(&self, id: u32, m: &Vec3, b: &[Vec3; 2]) -> Option<Reduced> {
+        let e = self.piece(id, m)?;
+        let (h0, h1) = (e.hess * b[0], e.hess * b[1]);
+        Some(Reduced {
+            value: e.value,
+            grad: e.grad,
+            hess: [b[0].dot(&h0), b[0].dot(&h1), b[1].dot(&h1)],
+        })
+    }
     /// [`SupportMap::piece`]'s value and support point only (the same numbers), for searches
     /// that never use the Hessian: inlined, the Hessian is not formed.
     #[inline(always)]

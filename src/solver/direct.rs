@@ -76,13 +76,12 @@ fn reduced<S: SupportMap>(
 ) -> Option<Reduced> {
     let (posed, sign) = pair.side(act.shape);
     let m = posed.rot.tr_mul(n) * sign;
-    let e = posed.shape.piece(act.id, &m)?;
+    let e = posed.shape.piece_reduced(act.id, &m, b)?;
     let s = posed.inv_scale;
-    let (h0, h1) = (e.hess * b[0], e.hess * b[1]);
     Some(Reduced {
         value: e.value * s,
         grad: [b[0].dot(&e.grad) * s * sign, b[1].dot(&e.grad) * s * sign],
-        hess: [b[0].dot(&h0) * s, b[0].dot(&h1) * s, b[1].dot(&h1) * s],
+        hess: e.hess.map(|h| h * s),
     })
 }
 
@@ -189,6 +188,9 @@ pub(crate) fn direct<S: SupportMap>(
                 break;
             }
             trial = vt.id;
+            if QUICK && vt.id != v.id {
+                break;
+            }
             t *= 0.5;
         }
         if !accepted {
@@ -210,6 +212,7 @@ pub(crate) fn direct<S: SupportMap>(
     kink(pair, r, (t1, t2), &n, &seen, iota, rel_tol)
 }
 
+const QUICK: bool = true;
 /// Tie solves after the first on corrected pieces ([`tied_rounds`]).
 const TIE_ROUNDS: usize = 1;
 
