@@ -15,7 +15,7 @@ use super::{certify_candidate, Route, Separation};
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
 use crate::solver::direct::{plane_basis, tie_step};
-use crate::solver::polish::{eval, Active, WorldPiece};
+use crate::solver::polish::{point, Active};
 use crate::solver::raycast::Pair;
 
 /// Newton steps before handing over to GJK.
@@ -274,7 +274,7 @@ fn tied<S: SupportMap>(
             for shape in 0..2 {
                 let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n).ok_or(None)?;
                 let w = nu[shape].clamp(0.0, 1.0);
-                wit[shape] = k.map_or(f.grad, |k| f.grad * (1.0 - w) + k.grad * w);
+                wit[shape] = k.map_or(f, |k| f * (1.0 - w) + k * w);
             }
             // Shape 1's point is its gradient; shape 2's gradient is minus its point.
             return certify_candidate(pair, d, tol, &n, wit[0], -wit[1])
@@ -316,15 +316,16 @@ fn tangent<S: SupportMap>(
     })
 }
 
-/// Shape `shape`'s first piece at `n` and, when it is tied, its second.
+/// Shape `shape`'s first piece's point (its world gradient) at `n` and, when it is tied, its
+/// second's.
 fn shape_pieces<S: SupportMap>(
     pair: &Pair<'_, S>,
     shape: usize,
     pieces: [[u32; 2]; 2],
     ties: &Vec2Ties,
     n: &Vec3,
-) -> Option<(WorldPiece, Option<WorldPiece>)> {
-    let first = eval(
+) -> Option<(Vec3, Option<Vec3>)> {
+    let first = point(
         pair,
         Active {
             shape,
@@ -333,7 +334,7 @@ fn shape_pieces<S: SupportMap>(
         n,
     )?;
     let second = match ties[shape] {
-        Some(p) => Some(eval(pair, Active { shape, id: p[1] }, n)?),
+        Some(p) => Some(point(pair, Active { shape, id: p[1] }, n)?),
         None => None,
     };
     Some((first, second))
