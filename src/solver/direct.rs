@@ -218,7 +218,7 @@ const TIE_ROUNDS: usize = 1;
 
 /// The first step's length (relative to ‖n‖) along a flat direction of the pieces' reduced
 /// Hessian (see [`valley_step`]).
-const VALLEY_STEP: Real = 0.25;
+const VALLEY_STEP: Real = 0.5;
 
 /// A step where the pieces' reduced Hessian `[a, b, c]` is singular (a rim, whose Hessian has
 /// rank one, against a vertex or a cone's apex, whose Hessian is zero; or two rims seen along
@@ -403,6 +403,7 @@ fn tied<S: SupportMap>(
         let posed = if i == 0 { &pair.one } else { &pair.two };
         [posed.rot.tr_mul(&t1), posed.rot.tr_mul(&t2)]
     });
+    let converged = (0.5 * rel_tol.sqrt()).clamp(CONVERGED_STEP, 1e-3);
     let mut nu = [0.5; 2];
     for _ in 0..MAX_STEPS {
         // Reduced gradient and Hessian of the Lagrangian; the objective's gradient alone (the
@@ -447,7 +448,7 @@ fn tied<S: SupportMap>(
                 mm += 1;
             }
         }
-        if step <= CONVERGED_STEP {
+        if step <= converged {
             let mut lam = [0.0; 4];
             for s in 0..2 {
                 if second[s] == usize::MAX {
@@ -460,8 +461,13 @@ fn tied<S: SupportMap>(
             if lam[..act.len()].iter().any(|l| *l < -1e-9) {
                 return Err(Some((n, lam)));
             }
-            return certify(pair, r, act, &n, &lam[..act.len()], iota, rel_tol)
-                .ok_or(Some((n, lam)));
+            // As in `direct`: a step of `converged` leaves the iterate within about its square,
+            // which the certificate decides; a smaller tolerance than it closes goes on.
+            match certify(pair, r, act, &n, &lam[..act.len()], iota, rel_tol) {
+                Some(out) => return Ok(out),
+                None if step <= CONVERGED_STEP => return Err(Some((n, lam))),
+                None => {}
+            }
         }
     }
     Err(None)
