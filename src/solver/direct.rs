@@ -655,4 +655,86 @@ mod tests {
             "{d:?}"
         );
     }
+
+    #[test]
+    fn valley_step_is_newton_across_and_a_fixed_step_along_the_flat_direction() {
+        // Curved along the first coordinate only (a rim against an apex): Newton there, and
+        // VALLEY_STEP·‖n‖ downhill along the second, scaled by its share of the gradient.
+        let y = valley_step([2.0, 0.0, 0.0], [1.0, 1.0], 1.5).unwrap();
+        let share = 1.0 / 2.0_f64.sqrt();
+        assert!((y[0] + 0.5).abs() < 1e-15, "{y:?}");
+        assert!((y[1] + VALLEY_STEP * 1.5 * share).abs() < 1e-15, "{y:?}");
+        // The same turned by 30°: the step turns with it.
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let h = [2.0 * c * c, 2.0 * c * s, 2.0 * s * s];
+        let g = [c - s, s + c];
+        let z = valley_step(h, g, 1.5).unwrap();
+        let back = [c * z[0] + s * z[1], -s * z[0] + c * z[1]];
+        assert!(
+            (back[0] - y[0]).abs() < 1e-12 && (back[1] - y[1]).abs() < 1e-12,
+            "{z:?}"
+        );
+        // No curvature at all (an apex against a vertex): a plain descent step.
+        let w = valley_step([0.0; 3], [0.0, -2.0], 1.0).unwrap();
+        assert!(
+            w[0].abs() < 1e-15 && (w[1] - VALLEY_STEP).abs() < 1e-15,
+            "{w:?}"
+        );
+        assert!(valley_step([1.0, 0.0, 0.0], [0.0, 0.0], 1.0).is_none());
+    }
+
+    /// Cylinders and cones against each other, where a rim meets an apex or a rim seen along
+    /// its plane (the reduced Hessian singular at the start) and where a side meets a rim (a
+    /// kink): over 600 random attitudes and rays, every answer `direct` gives lies in a bracket
+    /// of relative width 1e-11 recomputed from the shapes' own support values and gauges (the
+    /// ray cast does not close to 1e-14 on some of these) with `a − b` on the ray, and `direct`
+    /// answers at least 75 % of them (measured 494 of 600; before the flat-direction step it
+    /// gave up on every singular start, and the rest went to the ray cast).
+    #[test]
+    fn cylinders_and_cones_are_answered_by_newton_within_their_bracket() {
+        let y = Shape::cylinder(0.4, 0.9).unwrap();
+        let k = Shape::cone(0.9, 0.5).unwrap();
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / 9_007_199_254_740_992.0 - 0.5
+        };
+        let (mut answered, mut total) = (0, 0);
+        for (a, b) in [(&y, &k), (&k, &k), (&y, &y), (&k, &y)] {
+            for _ in 0..150 {
+                let qa = [next(), next(), next(), next()];
+                let qb = [next(), next(), next(), next()];
+                let r = Vec3::new(next(), next(), next()).normalize();
+                let (ra, rb) = (rot(qa), rot(qb));
+                let pair = Pair::new([a, b], [&ra, &rb], 1.0 / 0.75);
+                let iota = (a.inscribed_radius() + b.inscribed_radius()) / 0.75;
+                total += 1;
+                let Some(d) = direct(&pair, &r, iota, 1e-12) else {
+                    continue;
+                };
+                answered += 1;
+                // The bracket recomputed from the shapes themselves: below, the normal's
+                // support values; above, the gauges of the two points (in each body frame, in
+                // the shapes' units), whose difference lies on the ray.
+                let lo = d.normal.dot(&r) / pair.support(&d.normal).w.dot(&d.normal);
+                let w = d.a - d.b;
+                assert!((w - r * w.dot(&r)).norm() <= 1e-10 * w.norm(), "{w:?}");
+                let ga = a.gauge(&(ra.transpose() * d.a * 0.75));
+                let gb = b.gauge(&(rb.transpose() * d.b * 0.75));
+                let hi = ga.max(gb) / w.dot(&r);
+                assert!(
+                    hi - lo <= 1e-11 * lo
+                        && d.alpha_lo >= lo * (1.0 - 1e-12)
+                        && d.alpha_lo <= hi * (1.0 + 1e-12),
+                    "{:?}-{:?} {qa:?} {qb:?} {r:?}: direct {} in [{lo}, {hi}]?",
+                    a.kind(),
+                    b.kind(),
+                    d.alpha_lo
+                );
+            }
+        }
+        assert!(answered * 4 >= total * 3, "{answered} of {total}");
+    }
 }
