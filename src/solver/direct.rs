@@ -274,7 +274,7 @@ pub(crate) fn after_cast<S: SupportMap>(
         seen.add(v.id);
     }
     let (t1, t2) = plane_basis(r);
-    let out = tied_rounds(
+    tied_rounds(
         pair,
         r,
         (t1, t2),
@@ -282,8 +282,7 @@ pub(crate) fn after_cast<S: SupportMap>(
         &top_pieces(pair, &n, &seen),
         iota,
         rel_tol,
-    );
-    out
+    )
 }
 
 /// Each shape's (at most) two pieces of `seen` with the highest values at `n`.
