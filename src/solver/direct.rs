@@ -12,12 +12,14 @@
 //! pieces' Hessians: a few hundred nanoseconds in all, where the ray cast needs a dozen
 //! portal refinements before its polish.
 //!
-//! Where the optimum sits on a kink of `h_K` (an edge or a flat face of a shape, a capsule's
-//! side, a cylinder's side: two or more pieces of a shape tie there), the pieces named by the
-//! support alternate between steps, or the reduced Hessian is singular. A flat face near the
-//! current normal is then tried outright, and else Newton's method again with the ties between
-//! the pieces seen as equality constraints. Every answer ends in the polish's certificate;
-//! `None` sends the caller to the ray cast.
+//! Where the reduced Hessian is singular (a rim, of rank one, against a cone's apex or a
+//! vertex, of rank zero), the step is Newton's across the flat direction and a fixed one along
+//! it ([`valley_step`]), which leads to the kink the optimum lies on. Where the optimum sits on
+//! a kink of `h_K` (an edge or a flat face of a shape, a capsule's, cylinder's or cone's side:
+//! two or more pieces of a shape tie there), the pieces named by the support change. A flat
+//! face near the current normal is then tried outright, and else Newton's method again with
+//! the ties between the pieces seen as equality constraints ([`tied_rounds`]). Every answer
+//! ends in the polish's certificate; `None` sends the caller to the ray cast.
 
 use super::polish::{certify, snap_to_face, Active, Polished, MAX_PIECES, SNAP_COS};
 use super::raycast::Cast;
