@@ -8,7 +8,7 @@
 //! sphere or capsule against a polytope ends exactly, in a few iterations, as two polytopes do.
 
 use crate::math::{Real, Vec3};
-use crate::shapes::{turned, PieceEval, Shape, ShapeKind, SupportMap};
+use crate::shapes::{turned, PieceEval, Reduced, Shape, ShapeKind, SupportMap};
 use crate::solver::raycast::Pair;
 
 /// A shape for GJK: whole, or the core of a padded one.
@@ -229,6 +229,22 @@ impl SupportMap for Core<'_> {
                     hess: e.hess - proj * (*r / len),
                 })
             }
+        }
+    }
+    /// A whole shape's own (its rims' and rounds' reduced Hessians in closed form); the other
+    /// cores' from [`SupportMap::piece`].
+    #[inline]
+    fn piece_reduced(&self, id: u32, m: &Vec3, b: &[Vec3; 2]) -> Option<Reduced> {
+        match self {
+            Core::Whole(s) => s.piece_reduced(id, m, b),
+            _ => self.piece(id, m).map(|e| e.reduced(b)),
+        }
+    }
+    #[inline]
+    fn piece_point(&self, id: u32, m: &Vec3) -> Option<(Real, Vec3)> {
+        match self {
+            Core::Whole(s) => s.piece_point(id, m),
+            _ => self.piece(id, m).map(|e| (e.value, e.grad)),
         }
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {

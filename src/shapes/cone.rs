@@ -1,7 +1,7 @@
 //! Cone: height `H`, half angle β, apex at `−3H/4 e_x`, base disc of radius `H tan β` at
 //! `+H/4 e_x`. Scaled: the cone `[tan β (u_x + α 3H/4); u_y; u_z]` and the row `αH/4 − u_x ≥ 0`.
 
-use super::support::{nearest_normal, PieceEval, Round, SupportMap};
+use super::support::{nearest_normal, PieceEval, Reduced, Round, SupportMap};
 use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
@@ -139,6 +139,15 @@ impl SupportMap for Cone {
         match id {
             0 => Round::Flat.eval(&apex, m),
             1 => Round::Circle(rho).eval(&base, m),
+            _ => None,
+        }
+    }
+    #[inline]
+    fn piece_reduced(&self, id: u32, m: &Vec3, b: &[Vec3; 2]) -> Option<Reduced> {
+        let (apex, base, rho) = self.apex_and_rim();
+        match id {
+            0 => Round::Flat.eval_reduced(&apex, m, b),
+            1 => Round::Circle(rho).eval_reduced(&base, m, b),
             _ => None,
         }
     }

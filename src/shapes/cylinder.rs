@@ -1,7 +1,9 @@
 //! Cylinder: radius `R`, length `L`, axis `e_x`. Scaled: the cone `[αR; u_y; u_z]` and the rows
 //! `αL/2 ∓ u_x ≥ 0`.
 
-use super::support::{nearest_normal, two_ends_set, PieceEval, Round, SupportMap, ROUND_EPS};
+use super::support::{
+    nearest_normal, two_ends_set, PieceEval, Reduced, Round, SupportMap, ROUND_EPS,
+};
 use super::{positive_finite, BodyRow, ConicShape, RowPoint, RowSink};
 use crate::error::Error;
 use crate::math::{Real, Vec3};
@@ -78,6 +80,10 @@ impl SupportMap for Cylinder {
     #[inline]
     fn piece(&self, id: u32, m: &Vec3) -> Option<PieceEval> {
         (id < 2).then(|| Round::Circle(self.radius).eval(&self.cap(id), m))?
+    }
+    #[inline]
+    fn piece_reduced(&self, id: u32, m: &Vec3, b: &[Vec3; 2]) -> Option<Reduced> {
+        (id < 2).then(|| Round::Circle(self.radius).eval_reduced(&self.cap(id), m, b))?
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
         nearest_normal(&CAP_NORMALS, m, cos_min)

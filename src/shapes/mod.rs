@@ -31,7 +31,7 @@ pub use hull::ConvexHull;
 pub use polygon::Polygon;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
-pub(crate) use support::{turned, PieceEval, SupportMap, ROUND_EPS};
+pub(crate) use support::{turned, PieceEval, Reduced, SupportMap, ROUND_EPS};
 
 use crate::error::{Error, ErrorDetail};
 use crate::math::{Real, Vec3};
@@ -568,6 +568,9 @@ impl SupportMap for Shape {
     }
     fn piece_point(&self, id: u32, m: &Vec3) -> Option<(Real, Vec3)> {
         dispatch!(self, s => s.piece_point(id, m))
+    }
+    fn piece_reduced(&self, id: u32, m: &Vec3, b: &[Vec3; 2]) -> Option<support::Reduced> {
+        dispatch!(self, s => s.piece_reduced(id, m, b))
     }
     fn flat_face(&self, m: &Vec3, cos_min: Real) -> Option<Vec3> {
         dispatch!(self, s => s.flat_face(m, cos_min))

@@ -12,14 +12,16 @@
 //! pieces' Hessians: a few hundred nanoseconds in all, where the ray cast needs a dozen
 //! portal refinements before its polish.
 //!
-//! Where the optimum sits on a kink of `h_K` (an edge or a flat face of a shape, a capsule's
-//! side, a cylinder's side: two or more pieces of a shape tie there), the pieces named by the
-//! support alternate between steps, or the reduced Hessian is singular. A flat face near the
-//! current normal is then tried outright, and else Newton's method again with the ties between
-//! the pieces seen as equality constraints. Every answer ends in the polish's certificate;
-//! `None` sends the caller to the ray cast.
+//! Where the reduced Hessian is singular (a rim, of rank one, against a cone's apex or a
+//! vertex, of rank zero), the step is Newton's across the flat direction and a fixed one along
+//! it ([`valley_step`]), which leads to the kink the optimum lies on. Where the optimum sits on
+//! a kink of `h_K` (an edge or a flat face of a shape, a capsule's, cylinder's or cone's side:
+//! two or more pieces of a shape tie there), the pieces named by the support change. A flat
+//! face near the current normal is then tried outright, and else Newton's method again with
+//! the ties between the pieces seen as equality constraints ([`tied_rounds`]). Every answer
+//! ends in the polish's certificate; `None` sends the caller to the ray cast.
 
-use super::polish::{certify, eval, snap_to_face, Active, Polished, MAX_PIECES, SNAP_COS};
+use super::polish::{certify, snap_to_face, Active, Polished, MAX_PIECES, SNAP_COS};
 use super::raycast::Cast;
 use super::raycast::Pair;
 use crate::math::{Real, Vec3};
@@ -59,6 +61,8 @@ pub(crate) fn plane_basis(r: &Vec3) -> (Vec3, Vec3) {
 
 /// A piece's gradient and Hessian in the plane's coordinates (normalised units).
 struct Reduced {
+    /// The piece's value `F(n)`.
+    value: Real,
     grad: [Real; 2],
     /// `[h₁₁, h₁₂, h₂₂]`.
     hess: [Real; 3],
@@ -74,12 +78,12 @@ fn reduced<S: SupportMap>(
 ) -> Option<Reduced> {
     let (posed, sign) = pair.side(act.shape);
     let m = posed.rot.tr_mul(n) * sign;
-    let e = posed.shape.piece(act.id, &m)?;
+    let e = posed.shape.piece_reduced(act.id, &m, b)?;
     let s = posed.inv_scale;
-    let (h0, h1) = (e.hess * b[0], e.hess * b[1]);
     Some(Reduced {
+        value: e.value * s,
         grad: [b[0].dot(&e.grad) * s * sign, b[1].dot(&e.grad) * s * sign],
-        hess: [b[0].dot(&h0) * s, b[0].dot(&h1) * s, b[1].dot(&h1) * s],
+        hess: e.hess.map(|h| h * s),
     })
 }
 
@@ -119,7 +123,6 @@ pub(crate) fn direct<S: SupportMap>(
     let mut f = v.w.dot(&n);
     let mut seen = Seen::default();
     seen.add(v.id);
-    let mut previous = [u32::MAX; 2];
     // The plane's basis in each body frame: the reduced gradient and Hessian of a piece are
     // its body ones against these (no world-frame Hessian is formed).
     let bases = [0, 1].map(|i| {
@@ -146,17 +149,21 @@ pub(crate) fn direct<S: SupportMap>(
         let (g1, g2) = (e1.grad[0] + e2.grad[0], e1.grad[1] + e2.grad[1]);
         let [a, b, c] = [0, 1, 2].map(|k| e1.hess[k] + e2.hess[k]);
         let det = a * c - b * b;
-        if !(a > 0.0 && c > 0.0 && det > SINGULAR * a * c) {
-            break;
-        }
-        let y1 = -(c * g1 - b * g2) / det;
-        let y2 = -(a * g2 - b * g1) / det;
+        let regular = a > 0.0 && c > 0.0 && det > SINGULAR * a * c;
+        let (y1, y2) = if regular {
+            (-(c * g1 - b * g2) / det, -(a * g2 - b * g1) / det)
+        } else {
+            match valley_step([a, b, c], [g1, g2], n.norm()) {
+                Some(y) => (y[0], y[1]),
+                None => break,
+            }
+        };
         let dn = t1 * y1 + t2 * y2;
         let step = dn.norm() / n.norm();
         if !step.is_finite() {
             break;
         }
-        if step <= converged {
+        if regular && step <= converged {
             let nt = n + dn;
             let out = certify(pair, r, &act, &nt, &[1.0, 1.0], iota, rel_tol);
             if out.is_some() || step <= CONVERGED_STEP {
@@ -170,6 +177,7 @@ pub(crate) fn direct<S: SupportMap>(
         }
         let mut t = 1.0;
         let mut accepted = false;
+        let mut trial = v.id;
         for _ in 0..=MAX_HALVINGS {
             let nt = n + dn * t;
             let vt = pair.support(&nt);
@@ -181,21 +189,72 @@ pub(crate) fn direct<S: SupportMap>(
                 accepted = true;
                 break;
             }
+            trial = vt.id;
+            if QUICK && vt.id != v.id {
+                break;
+            }
             t *= 0.5;
         }
         if !accepted {
+            // Every trial met a kink next to the iterate: the pieces across it (of the
+            // shortest trial) go to the tie solve.
+            seen.add(trial);
             break;
         }
-        // Pieces returning to those of two steps back: the optimum is on a kink between them.
-        let ids = act.map(|a| a.id);
-        let back = v.id != ids && v.id == previous;
-        previous = ids;
+        // The support moved to other pieces: a kink lies in the way or at the optimum. The tie
+        // solve goes there at once (waiting for the pieces to return, as before, cost a Newton
+        // step and its line search on most cylinder and cone pairs: cylinder–cone 15.0k →
+        // 13.6k instructions a call); where the kink was only in the way, its multipliers say
+        // so and [`tied_rounds`] corrects the pieces.
         seen.add(v.id);
-        if back {
+        if v.id != act.map(|a| a.id) {
             break;
         }
     }
     kink(pair, r, (t1, t2), &n, &seen, iota, rel_tol)
+}
+
+const QUICK: bool = true;
+/// Tie solves after the first on corrected pieces ([`tied_rounds`]).
+const TIE_ROUNDS: usize = 1;
+
+/// The first step's length (relative to ‖n‖) along a flat direction of the pieces' reduced
+/// Hessian (see [`valley_step`]).
+const VALLEY_STEP: Real = 0.5;
+
+/// A step where the pieces' reduced Hessian `[a, b, c]` is singular (a rim, whose Hessian has
+/// rank one, against a vertex or a cone's apex, whose Hessian is zero; or two rims seen along
+/// parallel directions): Newton's step along the curved eigendirection, and along the flat one,
+/// where the pieces are linear and `h_K` falls until another piece takes over (the kink the
+/// optimum lies on), a step of [`VALLEY_STEP`]·‖n‖ downhill, scaled by that direction's share
+/// of the gradient. The line search then finds the kink's other piece, which the tie solve
+/// needs. `None` when the gradient vanishes.
+fn valley_step([a, b, c]: [Real; 3], g: [Real; 2], norm: Real) -> Option<[Real; 2]> {
+    let gn = g[0].hypot(g[1]);
+    if !(gn > 0.0 && gn.is_finite()) {
+        return None;
+    }
+    let half = 0.5 * (a - c);
+    let lambda = 0.5 * (a + c) + half.hypot(b);
+    // The curved eigendirection e (for `lambda`), the flat one f ⊥ e.
+    let (u, w) = if a >= c {
+        (lambda - c, b)
+    } else {
+        (b, lambda - a)
+    };
+    let un = u.hypot(w);
+    let e = if un > 0.0 && lambda > 0.0 {
+        [u / un, w / un]
+    } else {
+        [1.0, 0.0]
+    };
+    let f = [-e[1], e[0]];
+    let ge = g[0] * e[0] + g[1] * e[1];
+    let gf = g[0] * f[0] + g[1] * f[1];
+    let se = if lambda > 0.0 { -ge / lambda } else { 0.0 };
+    let sf = -VALLEY_STEP * norm * gf / gn;
+    let y = [se * e[0] + sf * f[0], se * e[1] + sf * f[1]];
+    (y[0].is_finite() && y[1].is_finite()).then_some(y)
 }
 
 /// After a ray cast: its normal and the pieces of its portal, solved by [`tied`] (two pieces
@@ -217,7 +276,7 @@ pub(crate) fn after_cast<S: SupportMap>(
         seen.add(v.id);
     }
     let (t1, t2) = plane_basis(r);
-    tied(
+    tied_rounds(
         pair,
         r,
         (t1, t2),
@@ -234,7 +293,12 @@ fn top_pieces<S: SupportMap>(pair: &Pair<'_, S>, n: &Vec3, seen: &Seen) -> Array
     for s in 0..2 {
         let mut best = [(Real::NEG_INFINITY, u32::MAX); 2];
         for &id in &seen.ids[s][..seen.len[s]] {
-            let v = eval(pair, Active { shape: s, id }, n).map_or(Real::NEG_INFINITY, |e| e.value);
+            let (posed, sign) = pair.side(s);
+            let m = posed.rot.tr_mul(n) * sign;
+            let v = posed
+                .shape
+                .piece_point(id, &m)
+                .map_or(Real::NEG_INFINITY, |(value, _)| value * posed.inv_scale);
             if v > best[0].0 {
                 best[1] = best[0];
                 best[0] = (v, id);
@@ -294,7 +358,7 @@ fn kink<S: SupportMap>(
     if seen.len[0] + seen.len[1] <= 2 {
         return None;
     }
-    tied(
+    tied_rounds(
         pair,
         r,
         basis,
@@ -319,7 +383,7 @@ fn tied<S: SupportMap>(
     act: &[Active],
     iota: Real,
     rel_tol: Real,
-) -> Option<Polished> {
+) -> Result<Polished, Option<(Vec3, [Real; 4])>> {
     // Per shape: its first piece and, if tied, its second.
     let mut first = [usize::MAX; 2];
     let mut second = [usize::MAX; 2];
@@ -331,54 +395,51 @@ fn tied<S: SupportMap>(
         }
     }
     if first.contains(&usize::MAX) {
-        return None;
+        return Err(None);
     }
     let ties: usize = second.iter().filter(|&&k| k != usize::MAX).count();
+    // The plane's basis in each body frame: every piece is reduced to the plane's two
+    // coordinates in its own body frame (no world-frame Hessian is formed).
+    let bases = [0, 1].map(|i| {
+        let posed = if i == 0 { &pair.one } else { &pair.two };
+        [posed.rot.tr_mul(&t1), posed.rot.tr_mul(&t2)]
+    });
+    let converged = (0.5 * rel_tol.sqrt()).clamp(CONVERGED_STEP, 1e-3);
     let mut nu = [0.5; 2];
     for _ in 0..MAX_STEPS {
-        // Gradient and Hessian of the Lagrangian, the ties' values and gradients.
-        let mut g = Vec3::zeros();
-        let mut h = crate::math::Mat3::zeros();
+        // Reduced gradient and Hessian of the Lagrangian; the objective's gradient alone (the
+        // first pieces), so that the step solves for the new multipliers outright; the ties'
+        // values and reduced gradients.
+        let mut gy = [0.0; 2];
+        let mut hy = [0.0; 3];
         let mut cval = [0.0; 2];
-        let mut cgrad = [Vec3::zeros(); 2];
+        let mut cy = [[0.0; 2]; 2];
         let mut m = 0;
         for s in 0..2 {
-            let ef = eval(pair, act[first[s]], &n)?;
+            let ef = reduced(pair, act[first[s]], &n, &bases[s]).ok_or(None)?;
+            gy[0] += ef.grad[0];
+            gy[1] += ef.grad[1];
             if second[s] == usize::MAX {
-                g += ef.grad;
-                h += ef.hess;
+                for (h, e) in hy.iter_mut().zip(ef.hess) {
+                    *h += e;
+                }
                 continue;
             }
-            let ek = eval(pair, act[second[s]], &n)?;
+            let ek = reduced(pair, act[second[s]], &n, &bases[s]).ok_or(None)?;
             let w = nu[s];
-            g += ef.grad * (1.0 - w) + ek.grad * w;
-            h += ef.hess * (1.0 - w) + ek.hess * w;
+            for ((h, f), k) in hy.iter_mut().zip(ef.hess).zip(ek.hess) {
+                *h += f * (1.0 - w) + k * w;
+            }
             cval[m] = ek.value - ef.value;
-            cgrad[m] = ek.grad - ef.grad;
+            cy[m] = [ek.grad[0] - ef.grad[0], ek.grad[1] - ef.grad[1]];
             m += 1;
         }
-        let (h1, h2) = (h * t1, h * t2);
-        let (a11, a12, a22) = (t1.dot(&h1), t1.dot(&h2), t2.dot(&h2));
-        // The gradient of the objective alone (the first pieces): the Lagrangian's minus the
-        // ties' multiplier terms, so that the step solves for the new multipliers outright.
-        let mut gf = g;
-        let mut mm = 0;
-        for s in 0..2 {
-            if second[s] != usize::MAX {
-                gf -= cgrad[mm] * nu[s];
-                mm += 1;
-            }
-        }
-        let gy = [t1.dot(&gf), t2.dot(&gf)];
-        let cy = [
-            [t1.dot(&cgrad[0]), t2.dot(&cgrad[0])],
-            [t1.dot(&cgrad[1]), t2.dot(&cgrad[1])],
-        ];
-        let (dy, new_nu) = tie_step([a11, a12, a22], gy, cval, cy, ties)?;
+        let [a11, a12, a22] = hy;
+        let (dy, new_nu) = tie_step([a11, a12, a22], gy, cval, cy, ties).ok_or(None)?;
         let dn = t1 * dy[0] + t2 * dy[1];
         let step = dn.norm() / n.norm();
         if !step.is_finite() {
-            return None;
+            return Err(None);
         }
         n += dn;
         let mut mm = 0;
@@ -388,7 +449,7 @@ fn tied<S: SupportMap>(
                 mm += 1;
             }
         }
-        if step <= CONVERGED_STEP {
+        if step <= converged {
             let mut lam = [0.0; 4];
             for s in 0..2 {
                 if second[s] == usize::MAX {
@@ -399,10 +460,71 @@ fn tied<S: SupportMap>(
                 }
             }
             if lam[..act.len()].iter().any(|l| *l < -1e-9) {
-                return None;
+                return Err(Some((n, lam)));
             }
-            return certify(pair, r, act, &n, &lam[..act.len()], iota, rel_tol);
+            // As in `direct`: a step of `converged` leaves the iterate within about its square,
+            // which the certificate decides; a smaller tolerance than it closes goes on.
+            match certify(pair, r, act, &n, &lam[..act.len()], iota, rel_tol) {
+                Some(out) => return Ok(out),
+                None if step <= CONVERGED_STEP => return Err(Some((n, lam))),
+                None => {}
+            }
         }
+    }
+    Err(None)
+}
+
+/// Tie solves that end (converged) on the wrong pieces try again from where they ended, at
+/// most [`TIE_ROUNDS`] times: a piece whose weight came out negative is dropped, and a piece
+/// the support names at the final normal that is not among them is added (a shape's side
+/// tied as well: the cast and the polish answered these before).
+#[allow(clippy::too_many_arguments)]
+fn tied_rounds<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    r: &Vec3,
+    basis: (Vec3, Vec3),
+    mut n: Vec3,
+    act: &[Active],
+    iota: Real,
+    rel_tol: Real,
+) -> Option<Polished> {
+    let mut cur = ArrayPieces::default();
+    cur.act[..act.len()].copy_from_slice(act);
+    cur.len = act.len();
+    for round in 0..=TIE_ROUNDS {
+        let (m, lam) = match tied(pair, r, basis, n, &cur, iota, rel_tol) {
+            Ok(out) => return Some(out),
+            Err(None) => return None,
+            Err(Some(end)) => end,
+        };
+        if round == TIE_ROUNDS {
+            break;
+        }
+        let ids = pair.support(&m).id;
+        let mut next = ArrayPieces::default();
+        for s in 0..2 {
+            let mut kept = 0;
+            for (k, a) in cur.iter().enumerate() {
+                if a.shape == s && lam[k] >= -1e-9 {
+                    next.act[next.len] = *a;
+                    next.len += 1;
+                    kept += 1;
+                }
+            }
+            let named = cur.iter().any(|a| a.shape == s && a.id == ids[s]);
+            if !named && kept < 2 {
+                next.act[next.len] = Active {
+                    shape: s,
+                    id: ids[s],
+                };
+                next.len += 1;
+            }
+        }
+        if next[..] == cur[..] {
+            break;
+        }
+        cur = next;
+        n = m;
     }
     None
 }
@@ -533,5 +655,87 @@ mod tests {
             d.a.x.abs() < 1.0 - 1e-3 && d.b.y.abs() < 1.0 - 1e-3,
             "{d:?}"
         );
+    }
+
+    #[test]
+    fn valley_step_is_newton_across_and_a_fixed_step_along_the_flat_direction() {
+        // Curved along the first coordinate only (a rim against an apex): Newton there, and
+        // VALLEY_STEP·‖n‖ downhill along the second, scaled by its share of the gradient.
+        let y = valley_step([2.0, 0.0, 0.0], [1.0, 1.0], 1.5).unwrap();
+        let share = 1.0 / 2.0_f64.sqrt();
+        assert!((y[0] + 0.5).abs() < 1e-15, "{y:?}");
+        assert!((y[1] + VALLEY_STEP * 1.5 * share).abs() < 1e-15, "{y:?}");
+        // The same turned by 30°: the step turns with it.
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let h = [2.0 * c * c, 2.0 * c * s, 2.0 * s * s];
+        let g = [c - s, s + c];
+        let z = valley_step(h, g, 1.5).unwrap();
+        let back = [c * z[0] + s * z[1], -s * z[0] + c * z[1]];
+        assert!(
+            (back[0] - y[0]).abs() < 1e-12 && (back[1] - y[1]).abs() < 1e-12,
+            "{z:?}"
+        );
+        // No curvature at all (an apex against a vertex): a plain descent step.
+        let w = valley_step([0.0; 3], [0.0, -2.0], 1.0).unwrap();
+        assert!(
+            w[0].abs() < 1e-15 && (w[1] - VALLEY_STEP).abs() < 1e-15,
+            "{w:?}"
+        );
+        assert!(valley_step([1.0, 0.0, 0.0], [0.0, 0.0], 1.0).is_none());
+    }
+
+    /// Cylinders and cones against each other, where a rim meets an apex or a rim seen along
+    /// its plane (the reduced Hessian singular at the start) and where a side meets a rim (a
+    /// kink): over 600 random attitudes and rays, every answer `direct` gives lies in a bracket
+    /// of relative width 1e-11 recomputed from the shapes' own support values and gauges (the
+    /// ray cast does not close to 1e-14 on some of these) with `a − b` on the ray, and `direct`
+    /// answers at least 75 % of them (measured 494 of 600; before the flat-direction step it
+    /// gave up on every singular start, and the rest went to the ray cast).
+    #[test]
+    fn cylinders_and_cones_are_answered_by_newton_within_their_bracket() {
+        let y = Shape::cylinder(0.4, 0.9).unwrap();
+        let k = Shape::cone(0.9, 0.5).unwrap();
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / 9_007_199_254_740_992.0 - 0.5
+        };
+        let (mut answered, mut total) = (0, 0);
+        for (a, b) in [(&y, &k), (&k, &k), (&y, &y), (&k, &y)] {
+            for _ in 0..150 {
+                let qa = [next(), next(), next(), next()];
+                let qb = [next(), next(), next(), next()];
+                let r = Vec3::new(next(), next(), next()).normalize();
+                let (ra, rb) = (rot(qa), rot(qb));
+                let pair = Pair::new([a, b], [&ra, &rb], 1.0 / 0.75);
+                let iota = (a.inscribed_radius() + b.inscribed_radius()) / 0.75;
+                total += 1;
+                let Some(d) = direct(&pair, &r, iota, 1e-12) else {
+                    continue;
+                };
+                answered += 1;
+                // The bracket recomputed from the shapes themselves: below, the normal's
+                // support values; above, the gauges of the two points (in each body frame, in
+                // the shapes' units), whose difference lies on the ray.
+                let lo = d.normal.dot(&r) / pair.support(&d.normal).w.dot(&d.normal);
+                let w = d.a - d.b;
+                assert!((w - r * w.dot(&r)).norm() <= 1e-10 * w.norm(), "{w:?}");
+                let ga = a.gauge(&(ra.transpose() * d.a * 0.75));
+                let gb = b.gauge(&(rb.transpose() * d.b * 0.75));
+                let hi = ga.max(gb) / w.dot(&r);
+                assert!(
+                    hi - lo <= 1e-11 * lo
+                        && d.alpha_lo >= lo * (1.0 - 1e-12)
+                        && d.alpha_lo <= hi * (1.0 + 1e-12),
+                    "{:?}-{:?} {qa:?} {qb:?} {r:?}: direct {} in [{lo}, {hi}]?",
+                    a.kind(),
+                    b.kind(),
+                    d.alpha_lo
+                );
+            }
+        }
+        assert!(answered * 4 >= total * 3, "{answered} of {total}");
     }
 }

@@ -77,6 +77,16 @@ pub(crate) fn eval<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> 
     })
 }
 
+/// [`eval`]'s gradient alone (the piece's support point in world axes, normalised units), the
+/// same numbers without forming the Hessian.
+#[inline]
+pub(crate) fn point<S: SupportMap>(pair: &Pair<'_, S>, act: Active, n: &Vec3) -> Option<Vec3> {
+    let (posed, sign) = pair.side(act.shape);
+    let m = posed.rot.tr_mul(n) * sign;
+    let (_, g) = posed.shape.piece_point(act.id, &m)?;
+    Some(posed.rot * g * (posed.inv_scale * sign))
+}
+
 /// The cosine of the largest angle between a cast's normal and a flat face's that the polish
 /// tries snapping to.
 pub(crate) const SNAP_COS: Real = 1.0 - 1e-3;
@@ -565,7 +575,7 @@ pub(crate) fn certify<S: SupportMap>(
     let mut sums = [0.0; 2];
     for (k, piece) in act.iter().enumerate() {
         let l = lam[k].max(0.0);
-        let g = eval(pair, *piece, n)?.grad;
+        let g = point(pair, *piece, n)?;
         sums[piece.shape] += l;
         if piece.shape == 0 {
             a += g * l;

@@ -15,7 +15,7 @@ use super::{certify_candidate, Route, Separation};
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
 use crate::solver::direct::{plane_basis, tie_step};
-use crate::solver::polish::{eval, Active, WorldPiece};
+use crate::solver::polish::{point, Active};
 use crate::solver::raycast::Pair;
 
 /// Newton steps before handing over to GJK.
@@ -70,15 +70,14 @@ pub(crate) fn distance<S: SupportMap>(
         for shape in 0..2 {
             let (posed, sign) = pair.side(shape);
             let m = posed.rot.tr_mul(&n) * sign;
-            let e = posed.shape.piece(v.id[shape], &m)?;
-            let s = posed.inv_scale;
             let (b1, b2) = (posed.rot.tr_mul(&t1) * sign, posed.rot.tr_mul(&t2) * sign);
-            let (h1, h2) = (e.hess * b1, e.hess * b2);
+            let e = posed.shape.piece_reduced(v.id[shape], &m, &[b1, b2])?;
+            let s = posed.inv_scale;
             grad[0] += b1.dot(&e.grad) * s;
             grad[1] += b2.dot(&e.grad) * s;
-            hess[0] += b1.dot(&h1) * s;
-            hess[1] += b1.dot(&h2) * s;
-            hess[2] += b2.dot(&h2) * s;
+            for (h, e) in hess.iter_mut().zip(e.hess) {
+                *h += e * s;
+            }
         }
         // Maximise g = n·d − h_K: ascent direction from −(∇h_K − d) projected, Hessian
         // ∇²h_K + g·I (the sphere's curvature) for the minimisation of −g.
@@ -215,43 +214,40 @@ fn tied<S: SupportMap>(
     let mut nu = [0.5; 2];
     for _ in 0..MAX_STEPS {
         let (t1, t2) = plane_basis(&n);
-        // The Lagrangian's value, gradient and Hessian (of Σ weighted pieces), and the ties'
-        // values and gradients.
-        let (mut value, mut grad, mut hess) = (0.0, Vec3::zeros(), crate::math::Mat3::zeros());
-        let mut objective = Vec3::zeros();
-        let (mut cval, mut cgrad) = ([0.0; 2], [Vec3::zeros(); 2]);
+        // The Lagrangian's value and reduced Hessian (of Σ weighted pieces), the objective's
+        // reduced gradient (the first pieces), and the ties' values and reduced gradients: each
+        // piece reduced to the tangent plane in its own body frame (no world Hessian formed).
+        let (mut value, mut hy, mut go) = (0.0, [0.0; 3], [0.0; 2]);
+        let (mut cval, mut cy) = ([0.0; 2], [[0.0; 2]; 2]);
         let mut m = 0;
         for shape in 0..2 {
-            let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n).ok_or(None)?;
-            match k {
+            let f = tangent(pair, shape, pieces[shape][0], &n, &t1, &t2).ok_or(None)?;
+            go[0] += f.grad[0];
+            go[1] += f.grad[1];
+            match ties[shape] {
                 None => {
                     value += f.value;
-                    grad += f.grad;
-                    hess += f.hess;
-                    objective += f.grad;
+                    for (h, e) in hy.iter_mut().zip(f.hess) {
+                        *h += e;
+                    }
                 }
-                Some(k) => {
+                Some(p) => {
+                    let k = tangent(pair, shape, p[1], &n, &t1, &t2).ok_or(None)?;
                     let w = nu[shape];
                     value += f.value * (1.0 - w) + k.value * w;
-                    grad += f.grad * (1.0 - w) + k.grad * w;
-                    hess += f.hess * (1.0 - w) + k.hess * w;
-                    objective += f.grad;
+                    for ((h, a), b) in hy.iter_mut().zip(f.hess).zip(k.hess) {
+                        *h += a * (1.0 - w) + b * w;
+                    }
                     cval[m] = k.value - f.value;
-                    cgrad[m] = k.grad - f.grad;
+                    cy[m] = [k.grad[0] - f.grad[0], k.grad[1] - f.grad[1]];
                     m += 1;
                 }
             }
         }
         // Minimise Φ = h(n) − n·d on the sphere: Riemannian Hessian P∇²L P − (n·∇L)·I.
         let curv = value - n.dot(d);
-        let (h1, h2) = (hess * t1, hess * t2);
-        let (a11, a12, a22) = (t1.dot(&h1) - curv, t1.dot(&h2), t2.dot(&h2) - curv);
-        let go = objective - d;
-        let gy = [t1.dot(&go), t2.dot(&go)];
-        let cy = [
-            [t1.dot(&cgrad[0]), t2.dot(&cgrad[0])],
-            [t1.dot(&cgrad[1]), t2.dot(&cgrad[1])],
-        ];
+        let (a11, a12, a22) = (hy[0] - curv, hy[1], hy[2] - curv);
+        let gy = [go[0] - t1.dot(d), go[1] - t2.dot(d)];
         let (dy, new_nu) = tie_step([a11, a12, a22], gy, cval, cy, count).ok_or(None)?;
         let step = dy[0].hypot(dy[1]);
         if !step.is_finite() {
@@ -278,7 +274,7 @@ fn tied<S: SupportMap>(
             for shape in 0..2 {
                 let (f, k) = shape_pieces(pair, shape, pieces, &ties, &n).ok_or(None)?;
                 let w = nu[shape].clamp(0.0, 1.0);
-                wit[shape] = k.map_or(f.grad, |k| f.grad * (1.0 - w) + k.grad * w);
+                wit[shape] = k.map_or(f, |k| f * (1.0 - w) + k * w);
             }
             // Shape 1's point is its gradient; shape 2's gradient is minus its point.
             return certify_candidate(pair, d, tol, &n, wit[0], -wit[1])
@@ -292,15 +288,44 @@ fn tied<S: SupportMap>(
     Err(None)
 }
 
-/// Shape `shape`'s first piece at `n` and, when it is tied, its second.
+/// A piece at the unit normal `n` in the tangent coordinates `(t1, t2)` (normalised units).
+struct Tangent {
+    value: Real,
+    grad: [Real; 2],
+    hess: [Real; 3],
+}
+
+/// Piece `id` of shape `shape` at `n`, reduced to the tangent plane in the shape's body frame.
+fn tangent<S: SupportMap>(
+    pair: &Pair<'_, S>,
+    shape: usize,
+    id: u32,
+    n: &Vec3,
+    t1: &Vec3,
+    t2: &Vec3,
+) -> Option<Tangent> {
+    let (posed, sign) = pair.side(shape);
+    let m = posed.rot.tr_mul(n) * sign;
+    let b = [posed.rot.tr_mul(t1) * sign, posed.rot.tr_mul(t2) * sign];
+    let e = posed.shape.piece_reduced(id, &m, &b)?;
+    let s = posed.inv_scale;
+    Some(Tangent {
+        value: e.value * s,
+        grad: [b[0].dot(&e.grad) * s, b[1].dot(&e.grad) * s],
+        hess: e.hess.map(|h| h * s),
+    })
+}
+
+/// Shape `shape`'s first piece's point (its world gradient) at `n` and, when it is tied, its
+/// second's.
 fn shape_pieces<S: SupportMap>(
     pair: &Pair<'_, S>,
     shape: usize,
     pieces: [[u32; 2]; 2],
     ties: &Vec2Ties,
     n: &Vec3,
-) -> Option<(WorldPiece, Option<WorldPiece>)> {
-    let first = eval(
+) -> Option<(Vec3, Option<Vec3>)> {
+    let first = point(
         pair,
         Active {
             shape,
@@ -309,7 +334,7 @@ fn shape_pieces<S: SupportMap>(
         n,
     )?;
     let second = match ties[shape] {
-        Some(p) => Some(eval(pair, Active { shape, id: p[1] }, n)?),
+        Some(p) => Some(point(pair, Active { shape, id: p[1] }, n)?),
         None => None,
     };
     Some((first, second))
