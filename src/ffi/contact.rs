@@ -160,6 +160,7 @@ unsafe fn contacts_in(
                     normal: [n.x, n.y, n.z],
                     depth,
                 };
+                debug_assert!(i < capacity);
                 // SAFETY: `i` < the count written below, at most `capacity`; `contacts` is
                 // non-NULL when capacity > 0 (checked) and valid for writing `capacity`
                 // elements (contract).

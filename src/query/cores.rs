@@ -7,7 +7,7 @@
 //! Coal and FCL do for spheres and capsules. GJK then meets no curvature from the padding: a
 //! sphere or capsule against a polytope ends exactly, in a few iterations, as two polytopes do.
 
-use crate::math::{Real, Vec3};
+use crate::math::{robust_norm, Real, Vec3};
 use crate::shapes::{turned, PieceEval, Reduced, Shape, ShapeKind, SupportMap};
 use crate::solver::raycast::Pair;
 
@@ -120,6 +120,11 @@ impl<'a> Cores<'a> {
         )
     }
 
+    /// Whether an ellipsoid is taken shrunk ([`Core::rolling`]).
+    pub(crate) fn shrunk(&self) -> bool {
+        self.cores.iter().any(|c| matches!(c, Core::Shrunk(..)))
+    }
+
     /// Whether a padded polygon is taken as its plane polygon.
     pub(crate) fn flat(&self) -> bool {
         self.cores.iter().any(|c| matches!(c, Core::Flat(..)))
@@ -187,13 +192,16 @@ impl SupportMap for Core<'_> {
                 }
                 (v[best], best as u32)
             }
+            // On the unit direction (a direction of length 1e-160 would lose the ellipsoid's
+            // support point to underflow while `r m̂` kept its size).
             Core::Shrunk(s, r) => {
-                let (x, id) = s.support(m);
-                let len = m.norm();
-                if len > 0.0 {
-                    (x - m * (*r / len), id)
+                let len = robust_norm(m);
+                if len > 0.0 && len.is_finite() {
+                    let u = m / len;
+                    let (x, id) = s.support(&u);
+                    (x - u * *r, id)
                 } else {
-                    (x, id)
+                    s.support(m)
                 }
             }
         }
@@ -217,8 +225,8 @@ impl SupportMap for Core<'_> {
             // `h(m) − r‖m‖`: its gradient less `r m̂`, its Hessian less `r (I − m̂m̂ᵀ)/‖m‖`.
             Core::Shrunk(s, r) => {
                 let e = s.piece(id, m)?;
-                let len = m.norm();
-                if !(len > 0.0) {
+                let len = robust_norm(m);
+                if !(len > 0.0 && len.is_finite()) {
                     return None;
                 }
                 let u = m / len;

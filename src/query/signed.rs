@@ -476,8 +476,12 @@ fn cored(
     // or found them apart by less than the radii (and the tolerance).
     let mut tet = [Vertex::default(); 4];
     let end = match start.filter(|_| !cores.flat()) {
-        Some(Start::Tet { cored: true, tet }) => return epa(Some(&tet).filter(|_| polyhedral)),
-        Some(Start::CoresApart(s)) => GjkEnd::Separated(s),
+        // The distance query's cores (`Cores::of`) are these but for a shrunk ellipsoid, which
+        // it takes whole: its overlap or separation is theirs only without one.
+        Some(Start::Tet { cored: true, tet }) if !cores.shrunk() => {
+            return epa(Some(&tet).filter(|_| polyhedral))
+        }
+        Some(Start::CoresApart(s)) if !cores.shrunk() => GjkEnd::Separated(s),
         _ => match smooth
             .then(|| gjk::direct::distance(&posed, d, tol))
             .flatten()

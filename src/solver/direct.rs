@@ -190,14 +190,16 @@ pub(crate) fn direct<S: SupportMap>(
                 break;
             }
             trial = vt.id;
-            if QUICK && vt.id != v.id {
+            // A trial on other pieces ends the search: the kink lies within the step
+            // (measured: cylinder–cone 16.9k -> 15.0k instructions a call with the rest).
+            if vt.id != v.id {
                 break;
             }
             t *= 0.5;
         }
         if !accepted {
-            // Every trial met a kink next to the iterate: the pieces across it (of the
-            // shortest trial) go to the tie solve.
+            // The search met a kink within the step: the pieces across it (of the trial
+            // that met them) go to the tie solve.
             seen.add(trial);
             break;
         }
@@ -214,7 +216,6 @@ pub(crate) fn direct<S: SupportMap>(
     kink(pair, r, (t1, t2), &n, &seen, iota, rel_tol)
 }
 
-const QUICK: bool = true;
 /// Tie solves after the first on corrected pieces ([`tied_rounds`]).
 const TIE_ROUNDS: usize = 1;
 

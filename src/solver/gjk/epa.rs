@@ -73,7 +73,9 @@ pub(crate) enum Polish {
 /// A penetration answer (normalised units).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Penetration {
-    /// The lower bound `L(n)` at the best normal: the signed distance reported.
+    /// The best lower bound found, the signed distance reported: `L(n)` at the reported
+    /// normal, or (after the polish) up to a tenth of the tolerance above it where a face's
+    /// normal did that much better without replacing the polished answer.
     pub sd: Real,
     /// The certified upper bound.
     #[allow(dead_code)]
@@ -139,6 +141,8 @@ struct Run {
     retried: bool,
     /// Whether the first polish found a stationary point worse than a face's answer.
     rejected: bool,
+    /// The lower bound at the polished normal (while the best answer is the polish's).
+    polished: Real,
     /// [`Polish::Smooth`]: polish a bracket that closes before the hand-over too.
     smooth: bool,
     /// The bracket's width to reach, the rounding of `L`, and the insertion slack.
@@ -202,6 +206,7 @@ pub(crate) fn penetration<S: SupportMap>(
         retried: polish != Polish::Smooth,
         smooth: polish == Polish::Smooth,
         rejected: false,
+        polished: Real::NEG_INFINITY,
         tol: tol.max(4.0 * floor),
         floor,
         eps: floor,
@@ -260,12 +265,14 @@ fn refine<P: SupportMap, S: Store>(
         // exactly (its witnesses the polytope's, 1e-7 off on an ellipsoid), and only its
         // bound is taken (the polish stops within about 1e-12 of the optimum, and the bracket
         // may need that to close).
-        let margin = if run.best.polished {
-            FINE * run.tol
+        // (Measured from the polished value itself, so that raises of the bound cannot add up
+        // to more than the margin between the answer's normal and its value.)
+        let beats = if run.best.polished {
+            lo > run.polished + FINE * run.tol
         } else {
-            0.0
+            lo > run.best.lower
         };
-        if lo > run.best.lower + margin {
+        if beats {
             run.best = Best {
                 lower: lo,
                 normal: f.n,
@@ -307,6 +314,7 @@ fn refine<P: SupportMap, S: Store>(
                 let lo = n.dot(&(d - v.w));
                 run.rejected = lo < run.best.lower;
                 if lo >= run.best.lower {
+                    run.polished = lo;
                     run.best = Best {
                         lower: lo,
                         normal: n,
