@@ -138,20 +138,50 @@ fn c_answers_are_the_full_querys() {
                     assert!(same3(&got.contact1, &want.contact1), "{what}");
                     assert!(same3(&got.contact2, &want.contact2), "{what}");
                     assert_eq!(got.iterations, want.iterations, "{what}");
-                    // The solver and derivative codes: the full C path's (a cold cache
-                    // bypasses the lane).
-                    let mut full = dcol_proximity_result::default();
-                    let mut cold = dcol_cache::default();
-                    // SAFETY: as above; a live cache.
-                    let st = unsafe {
-                        dcol_proximity_cached(one.c, &c1, two.c, &c2, opts, &mut cold, &mut full)
-                    };
-                    assert_eq!(st, dcol_status::DCOL_OK, "{what}");
+                    // The solver and derivative codes: the full path's (its result as the C
+                    // boundary converts it).
+                    let full = dcol_proximity_result::from(&want);
                     assert_eq!(
                         (got.solver, got.derivatives),
                         (full.solver, full.derivatives),
                         "{what}"
                     );
+                    // The cached call: the same answer, bit for bit, from a cache of any bits,
+                    // which the lane leaves as it was (a closed form keeps nothing).
+                    let mut junk = dcol_cache::default();
+                    // SAFETY: `dcol_cache` is plain old data; any bits are a valid cache.
+                    unsafe {
+                        let bytes = &mut junk as *mut dcol_cache as *mut u8;
+                        for k in 0..std::mem::size_of::<dcol_cache>() {
+                            *bytes.add(k) = (rng.range(0.0, 256.0) as u8) ^ (k as u8);
+                        }
+                    }
+                    let bytes = |c: &dcol_cache| {
+                        // SAFETY: a live cache read as its bytes.
+                        unsafe {
+                            std::slice::from_raw_parts(
+                                c as *const dcol_cache as *const u8,
+                                std::mem::size_of::<dcol_cache>(),
+                            )
+                        }
+                        .to_vec()
+                    };
+                    let before = bytes(&junk);
+                    let mut cached = dcol_proximity_result::default();
+                    // SAFETY: as above; a live cache.
+                    let st = unsafe {
+                        dcol_proximity_cached(one.c, &c1, two.c, &c2, opts, &mut junk, &mut cached)
+                    };
+                    assert_eq!(st, dcol_status::DCOL_OK, "{what}");
+                    assert_eq!(cached.alpha.to_bits(), got.alpha.to_bits(), "{what}");
+                    assert_eq!(cached.point, got.point, "{what}");
+                    assert_eq!(
+                        (cached.solver, cached.derivatives),
+                        (got.solver, got.derivatives)
+                    );
+                    if one.name.contains("sphere") && two.name.contains("sphere") {
+                        assert_eq!(before, bytes(&junk), "{what}: the lane left the cache");
+                    }
                     let want_d = distance(&one.rust, &p1, &two.rust, &p2, &rust_opts).unwrap();
                     let mut got_d = dcol_distance_result::default();
                     // SAFETY: as above.
