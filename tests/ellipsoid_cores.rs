@@ -7,44 +7,34 @@
 //! ellipsoid's own at its witness, `closest2 − closest1 = sd·normal`) and the definition
 //! `sd = max over unit n of n·d − h₁(n) − h₂(−n)` on 2 000 sampled normals.
 
+mod common;
+
+use common::random::Rng;
 use dcol::math::rotation_from_quaternion;
 use dcol::{signed_distance, DistancePath, Options, Pose, Shape, SolveStatus, Vec3};
 
 type Mat3 = nalgebra::Matrix3<f64>;
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn unif(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.unif()
-    }
-    fn dir(&mut self) -> Vec3 {
-        loop {
-            let v = Vec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let n = v.norm();
-            if n > 0.1 && n <= 1.0 {
-                return v / n;
-            }
+/// A uniformly random unit vector (rejection from the cube).
+fn dir(rng: &mut Rng) -> Vec3 {
+    loop {
+        let v = Vec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        let n = v.norm();
+        if n > 0.1 && n <= 1.0 {
+            return v / n;
         }
     }
-    fn quat(&mut self) -> [f64; 4] {
-        let d = self.dir();
-        let a = self.range(0.0, std::f64::consts::PI);
-        [a.cos(), a.sin() * d.x, a.sin() * d.y, a.sin() * d.z]
-    }
+}
+
+/// A unit quaternion: a random axis and a half-angle uniform in [0, π).
+fn quat(rng: &mut Rng) -> [f64; 4] {
+    let d = dir(rng);
+    let a = rng.range(0.0, std::f64::consts::PI);
+    [a.cos(), a.sin() * d.x, a.sin() * d.y, a.sin() * d.z]
 }
 
 /// An ellipsoid of semi-axes `ax` turned by `rot`: the shape, `P` and `P⁻¹` (body frame).
@@ -71,8 +61,11 @@ fn spheres_given_as_ellipsoids() {
         let (b, _, _) = ellipsoid([r2; 3], &id);
         // From just touching to nearly concentric (the smaller well inside the larger).
         let len = rng.range(0.02, 1.0) * (r1 + r2);
-        let u = rng.dir();
-        let (p1, p2) = (at(Vec3::zeros(), rng.quat()), at(u * len, rng.quat()));
+        let u = dir(&mut rng);
+        let (p1, p2) = (
+            at(Vec3::zeros(), quat(&mut rng)),
+            at(u * len, quat(&mut rng)),
+        );
         let sd = signed_distance(&a, &p1, &b, &p2, &o).unwrap();
         let expect = len - r1 - r2;
         assert_eq!(sd.status, SolveStatus::Converged, "{sd:?}");
@@ -92,7 +85,7 @@ fn ellipsoid_sunk_into_a_box_face() {
     let mut rng = Rng(12);
     for _ in 0..2000 {
         let ax = [0; 3].map(|_| rng.range(0.05, 1.0) * 10f64.powf(rng.range(0.0, 1.0)));
-        let q = rng.quat();
+        let q = quat(&mut rng);
         let rot = rotation_from_quaternion(q);
         let (e, _, inv) = ellipsoid(ax, &Mat3::identity());
         // The lowest point of the turned ellipsoid is `h(−z)` below its centre.
@@ -150,18 +143,18 @@ impl Support {
 fn random_overlaps_meet_the_optimality_conditions() {
     let o = Options::default();
     let mut rng = Rng(13);
-    let normals: Vec<Vec3> = (0..2000).map(|_| rng.dir()).collect();
+    let normals: Vec<Vec3> = (0..2000).map(|_| dir(&mut rng)).collect();
     let mut checked = 0;
     let mut unpolished = 0;
     let mut worst_unpolished: f64 = 0.0;
     for case in 0..1200 {
         // An ellipsoid of aspect ratio up to 100 against an ellipsoid, box, cylinder or capsule.
         let ax = [0; 3].map(|_| 0.1 * 10f64.powf(rng.range(0.0, 2.0)));
-        let (e, p, inv) = ellipsoid(ax, &rotation_from_quaternion(rng.quat()));
+        let (e, p, inv) = ellipsoid(ax, &rotation_from_quaternion(quat(&mut rng)));
         let (other, sup) = match case % 4 {
             0 => {
                 let ax = [0; 3].map(|_| rng.range(0.2, 1.5));
-                let (s, _, q) = ellipsoid(ax, &rotation_from_quaternion(rng.quat()));
+                let (s, _, q) = ellipsoid(ax, &rotation_from_quaternion(quat(&mut rng)));
                 (s, Support::Ellipsoid(q))
             }
             1 => {
@@ -181,9 +174,9 @@ fn random_overlaps_meet_the_optimality_conditions() {
                 (Shape::capsule(r, l).unwrap(), Support::Capsule(r, l))
             }
         };
-        let (q1, q2) = (rng.quat(), rng.quat());
+        let (q1, q2) = (quat(&mut rng), quat(&mut rng));
         let (r1, r2) = (rotation_from_quaternion(q1), rotation_from_quaternion(q2));
-        let d = rng.dir() * rng.range(0.0, 1.2);
+        let d = dir(&mut rng) * rng.range(0.0, 1.2);
         let (p1, p2) = (at(Vec3::zeros(), q1), at(d, q2));
         let sd = signed_distance(&e, &p1, &other, &p2, &o).unwrap();
         if sd.distance >= 0.0 {

@@ -555,9 +555,9 @@ pub(crate) mod tests {
         }
     }
 
-    #[test]
-    fn every_primitive_support_map_is_maximal_and_pieces_match() {
-        let shapes = [
+    /// One of each primitive, the padded polygon last.
+    fn primitives() -> [Shape; 7] {
+        [
             Shape::sphere(0.7).unwrap(),
             Shape::ellipsoid([[1.0, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap(),
             Shape::cuboid(1.0, 0.5, 0.25).unwrap(),
@@ -570,8 +570,12 @@ pub(crate) mod tests {
                 0.1,
             )
             .unwrap(),
-        ];
-        for s in &shapes {
+        ]
+    }
+
+    #[test]
+    fn every_primitive_support_map_is_maximal_and_pieces_match() {
+        for s in &primitives() {
             check_support(s);
         }
     }
@@ -582,17 +586,11 @@ pub(crate) mod tests {
     /// 1e-12 of its scale, over 400 directions and two arbitrary (not orthonormal) directions.
     #[test]
     fn reduced_pieces_equal_the_reduced_hessians() {
-        let shapes = [
-            Shape::sphere(0.7).unwrap(),
-            Shape::ellipsoid([[1.0, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 9.0]]).unwrap(),
-            Shape::cuboid(1.0, 0.5, 0.25).unwrap(),
-            Shape::capsule(0.3, 1.2).unwrap(),
-            Shape::cylinder(0.4, 1.0).unwrap(),
-            Shape::cone(1.5, 0.4).unwrap(),
-        ];
+        let all = primitives();
+        let shapes = &all[..6];
         let b = [Vec3::new(0.3, -1.2, 0.5), Vec3::new(-0.7, 0.2, 1.1)];
         let mut checked = 0;
-        for shape in &shapes {
+        for shape in shapes {
             for i in 0..400 {
                 let t = i as Real * 0.618_033_988_75 * std::f64::consts::TAU;
                 let z = 1.0 - 2.0 * ((i as Real + 0.5) / 400.0);
