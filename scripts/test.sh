@@ -23,6 +23,23 @@ if [[ ${DCOL_ALLOW_SKIP:-0} == 1 ]]; then
   echo "(DCOL_ALLOW_SKIP=1: a missing Bullet, ODE or Ipopt skips its tests instead of failing)"
 fi
 
+# Disk: a CI machine can have little of it (a run once stopped at "No space left on device").
+# The tests need no debug info (Cargo.toml keeps it in release builds for profilers), so it is
+# left out here unless CARGO_PROFILE_RELEASE_DEBUG / CARGO_PROFILE_BENCH_DEBUG say otherwise. With
+# DCOL_TEST_FREE_DISK=1 (the default when CI is set) each build directory is removed once the
+# steps that use it are done, and pip keeps no download cache.
+export CARGO_PROFILE_RELEASE_DEBUG=${CARGO_PROFILE_RELEASE_DEBUG:-0}
+export CARGO_PROFILE_BENCH_DEBUG=${CARGO_PROFILE_BENCH_DEBUG:-0}
+free_disk=${DCOL_TEST_FREE_DISK:-}
+if [[ -z $free_disk && -n ${CI:-} ]]; then free_disk=1; fi
+if [[ $free_disk == 1 ]]; then export PIP_NO_CACHE_DIR=1; fi
+done_with() {
+  if [[ $free_disk == 1 ]]; then
+    echo "(DCOL_TEST_FREE_DISK=1: removing $*)"
+    rm -rf "$@"
+  fi
+}
+
 echo "== lints: rustfmt, clippy and rustdoc, warnings as errors"
 # rustfmt and clippy are rustup components a minimal toolchain may lack; rustdoc never is.
 if cargo fmt --version >/dev/null 2>&1; then
@@ -52,6 +69,7 @@ fi
 if [[ $levels == *"x86-64-v3 (supported"* ]]; then
   RUSTFLAGS="${RUSTFLAGS:-} -C target-cpu=x86-64-v3" cargo test --release --tests \
     --target-dir build/cargo-target-x86-64-v3
+  done_with build/cargo-target-x86-64-v3
 else
   echo "(this machine does not report x86-64-v3 support: skipped)"
 fi
@@ -59,10 +77,13 @@ fi
 echo "== fuzz smoke (the deterministic, fixed-seed random driver: a test run must not go red on a"
 echo "   coverage-guided fuzzer's fresh find; run ./scripts/fuzz_smoke.sh with libFuzzer for that)"
 FUZZ_ENGINE=random ./scripts/fuzz_smoke.sh
+done_with fuzz/target
 
 echo "== benchmark smoke runs (a few poses each, so the benchmarks cannot rot)"
 cargo bench --bench proximity -- --test
 cargo bench --bench scene -- --test
+# (Everything below builds the Rust library in build/cargo-target*.)
+done_with target
 
 for config in normal sanitize; do
   dir=build/cmake-$config
@@ -73,6 +94,7 @@ for config in normal sanitize; do
     -DDCOL_CARGO_TARGET_DIR="$cargo_target" -DDCOL_REQUIRE_INTEGRATIONS=$require_integrations
   cmake --build "$dir" -j "$jobs"
   (cd "$dir" && ctest --output-on-failure -j "$jobs")
+  if [[ $config == sanitize ]]; then done_with "$dir"; fi
 done
 
 echo "== comparison suite against FCL 0.7 and libccd 2.1 (c_tests/compare), against installed dcol"
@@ -81,6 +103,7 @@ cmake --install build/cmake-normal --prefix "$prefix"
 cmake -S c_tests/compare -B build/compare -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix"
 cmake --build build/compare -j "$jobs"
 (cd build/compare && ctest -V -j "$jobs")
+done_with build/compare
 
 echo "== time-vs-error benchmark against FCL and libccd: smoke run (benches/compare)"
 ./benches/compare/run.sh --smoke
@@ -89,6 +112,7 @@ if [[ -f build/cmake-normal/dcol-bullet.cmake ]]; then
   echo "== Bullet with dcol as its narrow phase: benchmark smoke run (benches/engines/bullet)"
   ./benches/engines/bullet/run.sh --smoke
 fi
+done_with build/bench-compare build/bench-dcol build/bench-prefix build/coal build/bench-smoke
 
 echo "== Python package (python/): lints, pip install into a venv under build/ (with the jax"
 echo "   extra), pytest (against tests/data and the C library built above), benchmark smoke run"
@@ -123,6 +147,7 @@ if python_env; then
   # What the README says, `pip install ./python` (maturin builds it in an isolated environment).
   CARGO_TARGET_DIR=$py_target "$py_venv/bin/pip" install --quiet --force-reinstall --no-deps \
     ./python
+  done_with "$py_target"
   # pytest from build/ (not python/, whose dcol/ folder is the uninstalled source), against the
   # C library the CMake build made; the JAX tests must run, not skip.
   py_lib=$PWD/build/cargo-target/release/libdcol.so

@@ -73,6 +73,7 @@ for whl in sorted(glob.glob(os.path.join(out, "wheels", "*.whl"))):
 PY
   then
     touch "$coal_dir/unpacked"
+    rm -rf "$coal_dir/wheels"   # (unpacked: never read again)
     coal_prefix="$coal_dir/cmeel.prefix"
   else
     coal_reason="downloading or unpacking the libcoal wheel failed, see build/coal/pip.log"
