@@ -90,9 +90,10 @@ struct PlaneFrame {
 
 struct State {
   std::unordered_map<Key, dcol_shape *, KeyHash> shapes;  // nullptr: sizes dcol rejects
-  // The shape each geom found last, in a table indexed by the geom's address (a geom keeps its
-  // sizes from call to call): looked at before the map, whose hash and probe cost 80
-  // instructions a call. An entry answers only for its geom and the same key, so a geom whose
+  // The shape each geom found last, in a table indexed by a Fibonacci hash of the geom's address
+  // (a geom keeps its sizes from call to call): looked at before the map, whose hash and probe
+  // cost 80 instructions a call (the address's bits 4-11 let a few of the pyramid's 56 geoms
+  // share an entry and miss it on every call: 14 instructions a call on average). An entry answers only for its geom and the same key, so a geom whose
   // sizes changed, or a new geom at a freed address, finds the shape of its own key.
   struct Recent {
     dGeomID geom = nullptr;
@@ -103,7 +104,7 @@ struct State {
     bool has_radius = false;
     double radius = 0;
   };
-  static constexpr std::size_t kRecent = 256;
+  static constexpr std::size_t kRecent = 1024;
   Recent recent[kRecent];
   std::unordered_map<std::pair<dGeomID, dGeomID>, PairHint, PairHash> pairs;
   // The hint each pair found last, in a table indexed by a hash of the two addresses and checked
@@ -194,7 +195,8 @@ __attribute__((noinline)) const dcol_shape *cached_shape_miss(dGeomID geom, cons
 }
 
 State::Recent &recent_entry(dGeomID geom) {
-  return g.recent[(reinterpret_cast<std::uintptr_t>(geom) >> 4) % State::kRecent];
+  static_assert(State::kRecent == 1024, "the index takes the hash's top 10 bits");
+  return g.recent[(static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(geom)) * 0x9E3779B97F4A7C15ull) >> 54];
 }
 
 // The dcol shape of the primitive `geom` with key `k` (nullptr: sizes dcol rejects): its entry in
