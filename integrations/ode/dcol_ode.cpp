@@ -93,8 +93,9 @@ struct State {
   // The shape each geom found last, in a table indexed by a Fibonacci hash of the geom's address
   // (a geom keeps its sizes from call to call): looked at before the map, whose hash and probe
   // cost 80 instructions a call (the address's bits 4-11 let a few of the pyramid's 56 geoms
-  // share an entry and miss it on every call: 14 instructions a call on average). An entry answers only for its geom and the same key, so a geom whose
-  // sizes changed, or a new geom at a freed address, finds the shape of its own key.
+  // share an entry and miss it on every call: 14 instructions a call on average). An entry
+  // answers only for its geom and the same key, so a geom whose sizes changed, or a new geom at a
+  // freed address, finds the shape of its own key.
   struct Recent {
     dGeomID geom = nullptr;
     Key key = {};
