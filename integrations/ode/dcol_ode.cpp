@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "dcol_ode_internal.hpp"
@@ -89,18 +90,34 @@ struct PlaneFrame {
 
 struct State {
   std::unordered_map<Key, dcol_shape *, KeyHash> shapes;  // nullptr: sizes dcol rejects
-  // The shape each geom found last, in a table indexed by the geom's address (a geom keeps its
-  // sizes from call to call): looked at before the map, whose hash and probe cost 80
-  // instructions a call. An entry answers only for its geom and the same key, so a geom whose
-  // sizes changed, or a new geom at a freed address, finds the shape of its own key.
+  // The shape each geom found last, in a table indexed by a Fibonacci hash of the geom's address
+  // (a geom keeps its sizes from call to call): looked at before the map, whose hash and probe
+  // cost 80 instructions a call (the address's bits 4-11 let a few of the pyramid's 56 geoms
+  // share an entry and miss it on every call: 14 instructions a call on average). An entry
+  // answers only for its geom and the same key, so a geom whose sizes changed, or a new geom at a
+  // freed address, finds the shape of its own key.
   struct Recent {
     dGeomID geom = nullptr;
     Key key = {};
     const dcol_shape *shape = nullptr;
+    // The geom's bounding radius as resolve() computed it for this key (a box's or cylinder's
+    // square root, kept), when has_radius.
+    bool has_radius = false;
+    double radius = 0;
   };
-  static constexpr std::size_t kRecent = 256;
+  static constexpr std::size_t kRecent = 1024;
   Recent recent[kRecent];
   std::unordered_map<std::pair<dGeomID, dGeomID>, PairHint, PairHash> pairs;
+  // The hint each pair found last, in a table indexed by a hash of the two addresses and checked
+  // against them: looked at before the map, whose hash, bucket division and probe cost about 60
+  // instructions a call. An entry points into `pairs` (whose elements do not move when it
+  // grows); the table is emptied whenever pairs leave the map.
+  struct RecentPair {
+    dGeomID a = nullptr, b = nullptr;
+    PairHint *hint = nullptr;
+  };
+  static constexpr std::size_t kRecentPairs = 1024;
+  RecentPair recent_pairs[kRecentPairs];
   unsigned long pair_clock = 0;  // collider calls, for PairHint::seen
   std::unordered_map<dGeomID, ConvexRecord> convexes;
   dcol_shape *halfspace = nullptr;  // ODE's planes: a half-space of depth 1
@@ -116,6 +133,7 @@ struct State {
     for (auto &c : convexes) dcol_shape_free(c.second.shape);
     convexes.clear();
     pairs.clear();
+    for (RecentPair &r : recent_pairs) r = RecentPair();
   }
   ~State() {
     clear();
@@ -154,12 +172,13 @@ dcol_shape *make_shape(const Key &k) {
   return s;  // nullptr when dcol rejects the sizes (its status and message are not needed)
 }
 
-const dcol_shape *cached_shape(dGeomID geom, const Key &k) {
+// cached_shape() when the geom's entry of the recent table does not answer: the shape of `k` from
+// the map (made when new), written to the entry `r`.
+__attribute__((noinline)) const dcol_shape *cached_shape_miss(dGeomID geom, const Key &k, State::Recent &r) {
   // A NaN size never equals itself: it would miss the cache and add an entry on every call.
-  // Sizes that are not finite are no shape (the pair is rejected), and are not kept.
+  // Sizes that are not finite are no shape (the pair is rejected), and are not kept (so an entry
+  // of the recent table, whose key was finite, answers only finite sizes: the test comes after it).
   if (!(std::isfinite(k.a) && std::isfinite(k.b) && std::isfinite(k.c))) return nullptr;
-  State::Recent &r = g.recent[(reinterpret_cast<std::uintptr_t>(geom) >> 4) % State::kRecent];
-  if (r.geom == geom && r.key == k) return r.shape;
   auto it = g.shapes.find(k);
   const dcol_shape *s = nullptr;
   if (it != g.shapes.end()) {
@@ -172,7 +191,43 @@ const dcol_shape *cached_shape(dGeomID geom, const Key &k) {
   r.geom = geom;
   r.key = k;
   r.shape = s;
+  r.has_radius = false;
   return s;
+}
+
+State::Recent &recent_entry(dGeomID geom) {
+  static_assert(State::kRecent == 1024, "the index takes the hash's top 10 bits");
+  return g.recent[(static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(geom)) * 0x9E3779B97F4A7C15ull) >> 54];
+}
+
+// The dcol shape of the primitive `geom` with key `k` (nullptr: sizes dcol rejects): its entry in
+// the recent table when that entry is for this geom and key, else the map's.
+inline const dcol_shape *cached_shape(dGeomID geom, const Key &k) {
+  State::Recent &r = recent_entry(geom);
+  if (r.geom == geom && r.key == k) return r.shape;
+  return cached_shape_miss(geom, k, r);
+}
+
+// cached_shape(), with the bounding radius `radius()` (of the same sizes) computed only the first
+// time the entry answers for this geom and key, then kept in it.
+template <class F>
+inline const dcol_shape *cached_shape(dGeomID geom, const Key &k, double *radius, F compute) {
+  State::Recent &r = recent_entry(geom);
+  if (!(r.geom == geom && r.key == k)) {
+    const dcol_shape *s = cached_shape_miss(geom, k, r);
+    *radius = compute();
+    if (r.geom == geom && r.key == k) {  // the entry was written (not for sizes not finite)
+      r.radius = *radius;
+      r.has_radius = true;
+    }
+    return s;
+  }
+  if (!r.has_radius) {  // written by the other cached_shape()
+    r.radius = compute();
+    r.has_radius = true;
+  }
+  *radius = r.radius;
+  return r.shape;
 }
 
 void geom_pose(dGeomID geom, dcol_pose *pose) {
@@ -208,8 +263,8 @@ Res resolve(dGeomID geom, int cls, Resolved *r) {
     case dBoxClass: {
       dVector3 l;
       dGeomBoxGetLengths(geom, l);  // full side lengths
-      r->shape = cached_shape(geom, Key{kBox, 0.5 * l[0], 0.5 * l[1], 0.5 * l[2]});
-      r->radius = 0.5 * std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+      r->shape = cached_shape(geom, Key{kBox, 0.5 * l[0], 0.5 * l[1], 0.5 * l[2]}, &r->radius,
+                              [&l] { return 0.5 * std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]); });
       geom_pose(geom, &r->pose);
       break;
     }
@@ -326,6 +381,7 @@ PairHint &pair_hint(dGeomID a, dGeomID b) {
   const unsigned long now = ++g.pair_clock;
   const unsigned long kWindow = 1ul << 16;
   if (now % kWindow == 0) {
+    for (State::RecentPair &r : g.recent_pairs) r = State::RecentPair();
     for (auto it = g.pairs.begin(); it != g.pairs.end();) {
       if (now - it->second.seen > kWindow)
         it = g.pairs.erase(it);
@@ -333,9 +389,17 @@ PairHint &pair_hint(dGeomID a, dGeomID b) {
         ++it;
     }
   }
-  PairHint &h = g.pairs[a < b ? std::make_pair(a, b) : std::make_pair(b, a)];
-  h.seen = now;
-  return h;
+  if (b < a) std::swap(a, b);
+  const std::uint64_t ua = reinterpret_cast<std::uintptr_t>(a), ub = reinterpret_cast<std::uintptr_t>(b);
+  State::RecentPair &r = g.recent_pairs[((ua ^ (ub >> 3)) * 0x9E3779B97F4A7C15ull) >> 54];
+  static_assert(State::kRecentPairs == 1024, "the index takes the hash's top 10 bits");
+  if (r.a != a || r.b != b) {
+    r.a = a;
+    r.b = b;
+    r.hint = &g.pairs[std::make_pair(a, b)];
+  }
+  r.hint->seen = now;
+  return *r.hint;
 }
 
 std::size_t capacity(int flags) {

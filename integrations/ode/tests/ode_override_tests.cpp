@@ -12,6 +12,8 @@
 //   - dGeomBoxSetLengths after the shape was cached; a capsule of length 0;
 //   - pairs dcol cannot take (NaN pose, zero size): no contacts, counted, nothing on stderr;
 //   - convexes: ode_convex_tests.cpp;
+//   - many box pairs (more than the collider's tables hold, past the hint map's pruning; lengths
+//     changing): every call's contacts dcol_contacts' (to 1e-12, most bit for bit);
 //   - the dcol geom class against ODE's box.
 #include <unistd.h>
 
@@ -509,6 +511,81 @@ void near_touching() {
   expect(cases > 800 && agree == cases, "the alpha_below shortcut never changes dcol_contacts' answer");
 }
 
+// Many box pairs through the collider's per-pair and per-geom tables (1024 entries each, indexed
+// by hashes: more pairs and geoms than entries, so entries are shared and replaced; past 2^16
+// calls, when old pairs leave the hint map and the pair table is emptied): every call's contacts
+// are dcol_contacts' (no cache) on shape_of's shapes and poses (normal turned into o1): the same
+// count, every number within 1e-12 (the pair's warm cache may move the general path's answers by
+// rounding; a shape, radius or hint of another geom or pair moves them by the sizes, 0.1 and
+// more), most of them bit for bit (the boxes' closed form, the same with or without a cache).
+// Every fourth geom changes its lengths between rounds (0.15 <-> 0.6 a side), so a bounding
+// radius kept for its old sizes would drop contacts its new sizes make, or keep the small shape.
+void many_pairs() {
+  const int kGeoms = 1200, kPairs = 2400, kRounds = 30;  // 72 000 calls
+  std::vector<dGeomID> geoms;
+  for (int i = 0; i < kGeoms; ++i) {
+    const double side = i % 4 == 0 ? 0.15 : unif(0.3, 0.8);
+    dGeomID g = dCreateBox(0, side, unif(0.3, 0.8), unif(0.3, 0.8));
+    random_attitude(g);
+    geoms.push_back(g);
+  }
+  std::vector<std::pair<int, int>> pairs;
+  for (int k = 0; k < kPairs; ++k) {
+    const int a = static_cast<int>(unif() * kGeoms) % kGeoms;
+    int b = static_cast<int>(unif() * kGeoms) % kGeoms;
+    if (b == a) b = (a + 1) % kGeoms;
+    pairs.emplace_back(a, b);
+  }
+  long calls = 0, with_contacts = 0, same = 0, bitwise = 0, grown = 0;
+  for (int round = 0; round < kRounds; ++round) {
+    for (int i = 0; i < kGeoms; i += 4) {  // the small side 0.15 in even rounds, 0.6 in odd ones
+      dVector3 l;
+      dGeomBoxGetLengths(geoms[i], l);
+      dGeomBoxSetLengths(geoms[i], round % 2 ? 0.6 : 0.15, l[1], l[2]);
+    }
+    for (const auto &pr : pairs) {
+      dGeomID a = geoms[pr.first], b = geoms[pr.second];
+      // b placed about a within the reach of their sizes (some pairs apart, most overlapping).
+      const dReal *pa = dGeomGetPosition(a);
+      const double r = unif(0.1, 0.7);
+      double d[3] = {unif(-1, 1), unif(-1, 1), unif(-1, 1)};
+      const double dl = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 1e-12;
+      dGeomSetPosition(b, pa[0] + r * d[0] / dl, pa[1] + r * d[1] / dl, pa[2] + r * d[2] / dl);
+      if (round % 3 == 0) random_attitude(b);
+      dContactGeom c[8];
+      const int n = dCollide(a, b, 8, c, sizeof(dContactGeom));
+      ++calls;
+      dcol_pose p1, p2;
+      const dcol_shape *s1 = dcol_ode::shape_of(a, &p1), *s2 = dcol_ode::shape_of(b, &p2);
+      dcol_contact cs[8];
+      std::size_t m = 0;
+      const dcol_status st = dcol_contacts(s1, &p1, s2, &p2, 0.0, nullptr, cs, 8, &m);
+      bool ok = s1 && s2 && (st == DCOL_OK || st == DCOL_ERROR_NOT_CONVERGED) && static_cast<std::size_t>(n) == m;
+      bool exact = ok;
+      for (int i = 0; ok && i < n; ++i) {
+        ok = ok && c[i].g1 == a && c[i].g2 == b;
+        for (int k = 0; k < 3; ++k) {
+          const double e[3] = {c[i].pos[k] - cs[i].position[k], c[i].normal[k] + cs[i].normal[k], c[i].depth - cs[i].depth};
+          for (double x : e) {
+            ok = ok && std::fabs(x) <= 1e-12;
+            exact = exact && x == 0;
+          }
+        }
+      }
+      same += ok;
+      bitwise += ok && exact;
+      with_contacts += n > 0;
+      grown += n > 0 && (pr.first % 4 == 0 || pr.second % 4 == 0) && round % 2 == 1;
+    }
+  }
+  std::printf("many pairs: %ld calls (%d geoms, %d pairs), %ld with contacts (%ld of a grown box), %ld as "
+              "dcol_contacts (%ld bit for bit)\n",
+              calls, kGeoms, kPairs, with_contacts, grown, same, bitwise);
+  expect(calls == static_cast<long>(kPairs) * kRounds && same == calls && with_contacts > calls / 2 && grown > 1000,
+         "many pairs through the collider's tables: dcol_contacts' contacts");
+  for (dGeomID g : geoms) destroy(g);
+}
+
 // The dcol geom class against ODE's own box (through the same collider).
 void user_class() {
   dcol_shape *ball = nullptr;
@@ -556,6 +633,7 @@ int main() {
   parameters_change();
   rejected_pairs();
   near_touching();
+  many_pairs();
   user_class();
   const dcol_ode::Stats s = dcol_ode::stats();
   std::printf("stats: %lu dcol calls, %lu contacts, %lu rejected, %lu handed to ODE (%lu without a collider), "
