@@ -16,30 +16,13 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // The adapter's state (one per process; see "Threads" in dcol_ode.hpp).
 
-enum Kind { kSphere, kBox, kCapsule, kCylinder };
-
-// A primitive's dcol shape is keyed by its kind and parameters (as ODE reports them), so geoms of
-// the same size share one shape, a geom whose sizes change (dGeomBoxSetLengths) finds the shape of
-// its new sizes, and no record has to follow a geom's lifetime.
-struct Key {
-  int kind;
-  double a, b;
-  double c;
-  bool operator==(const Key &o) const { return kind == o.kind && a == o.a && b == o.b && c == o.c; }
-};
-
-struct KeyHash {
-  std::size_t operator()(const Key &k) const {
-    std::uint64_t h = static_cast<std::uint64_t>(k.kind) * 0x9E3779B97F4A7C15ull;
-    const double v[3] = {k.a, k.b, k.c};
-    for (double x : v) {
-      std::uint64_t bits;
-      std::memcpy(&bits, &x, sizeof bits);
-      h ^= bits + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
-    }
-    return static_cast<std::size_t>(h);
-  }
-};
+using detail::Key;
+using detail::KeyHash;
+using detail::PairHash;
+using detail::kBox;
+using detail::kCapsule;
+using detail::kCylinder;
+using detail::kSphere;
 
 // A convex made by create_convex: its hull (about `shift`, a point strictly inside it, when the
 // geom's origin is not), its points (to check the record against ODE's bounding box of the geom)
@@ -69,13 +52,6 @@ struct PairHint {
   // The pair's warm-start cache (docs/warm-starts.md): a geom id reused by another geom only
   // makes one call cold.
   dcol_cache cache = DCOL_CACHE_INIT;
-};
-
-struct PairHash {
-  std::size_t operator()(const std::pair<dGeomID, dGeomID> &p) const {
-    const std::uint64_t a = reinterpret_cast<std::uintptr_t>(p.first), b = reinterpret_cast<std::uintptr_t>(p.second);
-    return static_cast<std::size_t>((a * 0x9E3779B97F4A7C15ull) ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2)));
-  }
 };
 
 // The last ODE plane's parameters (a, b, c, d) and what collide_plane derives from them.
