@@ -307,8 +307,18 @@ pub(crate) fn unique_contact(
     if !general_only() && capsules_not_parallel(shapes, poses) {
         return true;
     }
-    let (pair, sol, _) = normalised(prox, dalpha_dd, shapes, poses);
-    contact_is_unique(&pair, &sol)
+    // The normal of [`normalised`]'s solution, the same operations, without its other fields
+    // (the test reads the normal only).
+    let (r1, r2) = (*poses[0].position(), *poses[1].position());
+    let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
+    let inv = 1.0 / ell;
+    let alpha_n = prox.alpha / ((r2 - r1).norm() * inv);
+    let pair = Pair::new(
+        [shapes[0], shapes[1]],
+        [poses[0].rotation(), poses[1].rotation()],
+        inv,
+    );
+    contact_is_unique(&pair, &(dalpha_dd * (ell / alpha_n)))
 }
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` (4×14, rows x₁, x₂, x₃, α) from the geometric solution and

@@ -645,11 +645,6 @@ pub(crate) fn plain_derivatives(
         return None;
     };
     let (shapes, poses) = ([shape1, shape2], [pose1, pose2]);
-    // The rotation axes are formed for a Jacobian only (the gradient takes their dot products
-    // without forming them).
-    let axes = jacobian
-        .as_ref()
-        .map(|_| geometric::pair_axes(shapes, poses));
     *grad = geometric::gradient(&prox, &dalpha_dd, shapes, pose1, pose2);
     let g = &*grad;
     // One sum instead of fourteen tests: any infinity or NaN makes it non-finite (a finite
@@ -657,18 +652,20 @@ pub(crate) fn plain_derivatives(
     if !g.iter().sum::<Real>().is_finite() {
         return None;
     }
-    let exact = match (jacobian, &axes) {
-        (Some(out), Some(axes)) => {
+    let exact = match jacobian {
+        Some(out) => {
+            // The rotation axes are formed for a Jacobian only (the gradient takes their dot
+            // products without forming them), here rather than kept in an `Option` beside it.
+            let axes = geometric::pair_axes(shapes, poses);
             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
             // The closed forms hold the identities `consistent` checks by construction.
-            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, axes, out) {
+            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, &axes, out) {
                 Some(geometric::Formed::Closed) => true,
                 Some(geometric::Formed::Solved) => derivatives::consistent(out, g, ell),
                 None => false,
             }
         }
-        // No Jacobian asked for (the axes are formed exactly when it is).
-        _ => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
+        None => geometric::unique_contact(&prox, &dalpha_dd, shapes, poses),
     };
     if !exact {
         return None;

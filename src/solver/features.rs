@@ -399,13 +399,14 @@ fn pins(found: [Found; 2]) -> Option<[Found; 2]> {
     Some(found)
 }
 
-/// Whether the contact points of the geometric solution are unique (see [`features`]).
-pub(crate) fn contact_is_unique<S: SupportMap>(pair: &Pair<'_, S>, sol: &Solution) -> bool {
+/// Whether the contact points of the geometric solution are unique (see [`features`]), from
+/// its normal `n` alone (`Solution::normal`: the other fields are not needed, and not formed
+/// by the gradient's caller).
+pub(crate) fn contact_is_unique<S: SupportMap>(pair: &Pair<'_, S>, n: &Vec3) -> bool {
     // Boxes, capsules and cylinders answer in closed form (a search of their pieces costs
     // about 500 instructions a shape), each shape on its own: a box against a hull searches
     // the hull's pieces only. Only the dimensions and directions are needed here, so one
     // buffer of tied pieces serves both searches.
-    let n = &sol.normal;
     let (q0, q1) = (quick(&pair.one, 1.0, n), quick(&pair.two, -1.0, n));
     let (f0, f1) = match (q0, q1) {
         (Some(f0), Some(f1)) => (f0, f1),
