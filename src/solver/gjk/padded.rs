@@ -26,7 +26,7 @@
 //! the α reported; otherwise the simplex and each of its faces are solved exactly and
 //! certified in turn (`settle_faces`).
 
-use super::simplex::reduce;
+use super::simplex::{keep, masked_point, nearest, reduce};
 use super::Pt;
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
@@ -146,18 +146,18 @@ pub(crate) fn padded_cast<S: SupportMap>(
             if vv - v.dot(&c) <= 1e-14 * vv {
                 break;
             }
-            let (old, old_w, old_k) = (simplex, wts, k);
+            // The new point goes in slot k, past the simplex: the simplex changes only once
+            // the step is known to make progress (no copy to restore).
             simplex[k] = Pt { c, v: vtx };
-            let Some(nk) = reduce(&mut simplex, &mut wts, k + 1) else {
+            let Some((mask, wk)) = nearest(&simplex, k + 1) else {
                 return PaddedEnd::Failed;
             };
-            k = nk;
-            let nv = combine(&simplex[..k], &wts[..k]);
+            let nv = masked_point(&simplex, k + 1, mask, &wk);
             if !(nv.norm_squared() < vv) {
                 // Rounding: GJK stalls here, its point possibly off the contact feature.
-                (simplex, wts, k) = (old, old_w, old_k);
                 break;
             }
+            k = keep(&mut simplex, &mut wts, k + 1, mask, &wk);
             v = nv;
             gap = Real::INFINITY;
             if stop.is_some() {
