@@ -436,4 +436,74 @@ mod tests {
             PaddedEnd::Decided(true, _, _)
         ));
     }
+
+    /// A point padded by a thin ball against a box, along random rays: every cast certifies
+    /// (none falls back to the ray cast; with thin padding the ray often misses the ball about
+    /// GJK's first points, which left the first round without an upper bound or a step) and
+    /// agrees with α' found by bisection on the exact distance to the box (clamping).
+    #[test]
+    fn thin_padding_certifies_on_every_ray() {
+        let (hx, hy, hz) = (1.0, 2.0, 3.0);
+        let bx = Shape::cuboid(hx, hy, hz).unwrap();
+        let pt = Shape::sphere(1e-300).unwrap();
+        let id = Mat3::identity();
+        let pair = Pair::new([&bx, &pt], [&id, &id], 1.0);
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as Real / (1_u64 << 53) as Real
+        };
+        let mut checked = 0;
+        for rho in [1e-4, 1e-3, 1e-2, 0.1] {
+            for _ in 0..500 {
+                let r = Vec3::new(
+                    2.0 * uniform() - 1.0,
+                    2.0 * uniform() - 1.0,
+                    2.0 * uniform() - 1.0,
+                );
+                let Some(r) = r.try_normalize(1e-3) else {
+                    continue;
+                };
+                let end = padded_cast(&pair, &r, rho, 1e-12, None);
+                let PaddedEnd::Hit(h) = end else {
+                    panic!("rho {rho}, r {r:?}: {end:?}");
+                };
+                // t* = sup { t : dist(t r, box) <= rho }, and alpha' = 1/t*.
+                let dist = |t: Real| {
+                    let p = r * t;
+                    let c = Vec3::new(p.x.clamp(-hx, hx), p.y.clamp(-hy, hy), p.z.clamp(-hz, hz));
+                    (p - c).norm()
+                };
+                let (mut lo, mut hi) = (0.0, 10.0);
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if dist(mid) <= rho {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let truth = 1.0 / lo;
+                assert!(
+                    (h.alpha - truth).abs() <= 2e-12 * truth,
+                    "rho {rho}, r {r:?}: {} against {truth}",
+                    h.alpha
+                );
+                // The witness is a point of the box and the normal points from it to r/alpha.
+                assert!(
+                    h.a.x.abs() <= hx + 1e-12
+                        && h.a.y.abs() <= hy + 1e-12
+                        && h.a.z.abs() <= hz + 1e-12
+                );
+                let e = r / h.alpha - (h.a - h.b);
+                assert!(
+                    (e.norm() - rho).abs() <= 1e-11 && (e.normalize() - h.normal).norm() <= 1e-6
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 1900, "{checked}");
+    }
 }
