@@ -34,7 +34,7 @@ use super::raycast::{Pair, Vertex};
 use crate::math::{Real, Vec3};
 use crate::shapes::SupportMap;
 use newton::polish;
-use simplex::reduce;
+use simplex::{keep, masked_point, nearest};
 
 /// Within this relative width (or [`HANDOVER_ABS`]) of the bracket a curved pair's GJK hands
 /// over to the polish: the pieces in contact are identified.
@@ -258,25 +258,22 @@ pub(crate) fn distance<S: SupportMap>(
             if vv - v.dot(&c) <= 1e-14 * vv {
                 break;
             }
-            let (old, old_w, old_k) = (simplex, w, k);
+            // The new point goes in slot k, past the simplex: the simplex itself changes only
+            // once the step is known to make progress.
             simplex[k] = Pt { c, v: vtx };
-            k += 1;
-            let Some(nk) = reduce(&mut simplex, &mut w, k) else {
+            let Some((mask, wk)) = nearest(&simplex, k + 1) else {
                 let end = inside(&simplex);
                 if let (GjkEnd::Inside { .. }, Some(t)) = (end, tet) {
                     *t = simplex.map(|p| p.v);
                 }
                 return end;
             };
-            k = nk;
-            let (nv, a, b) = combine(&simplex[..k], &w[..k]);
-            if !(nv.norm_squared() < vv) {
+            if !(masked_point(&simplex, k + 1, mask, &wk).norm_squared() < vv) {
                 // No progress (rounding): keep the previous simplex.
-                simplex = old;
-                w = old_w;
-                k = old_k;
                 break;
             }
+            k = keep(&mut simplex, &mut w, k + 1, mask, &wk);
+            let (nv, a, b) = combine(&simplex[..k], &w[..k]);
             v = nv;
             cert.try_points(a, b);
         }

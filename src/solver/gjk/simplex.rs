@@ -9,6 +9,16 @@ use crate::math::{Real, Vec3};
 /// the point nearest the origin, with that point's barycentric weights; `None` when the
 /// origin lies inside the tetrahedron.
 pub(super) fn reduce(s: &mut [Pt; 4], w: &mut [Real; 4], k: usize) -> Option<usize> {
+    let (mask, wk) = nearest(s, k)?;
+    Some(keep(s, w, k, mask, &wk))
+}
+
+/// The point of the simplex `s[..k]` nearest the origin, `s` unchanged: the points of the
+/// smallest sub-simplex that holds it (a bit mask over `s[..k]`) and its weights (zero off the
+/// mask); `None` when the origin lies inside the tetrahedron. [`keep`] then makes that
+/// sub-simplex the simplex: a GJK step that makes no progress leaves `s` as it was without a
+/// copy of it (the copies of the simplex were ~3 % of a padded polygon's proximity).
+pub(super) fn nearest(s: &[Pt; 4], k: usize) -> Option<(u8, [Real; 4])> {
     let mut wk = [0.0; 4];
     let mask = match k {
         1 => {
@@ -31,6 +41,30 @@ pub(super) fn reduce(s: &mut [Pt; 4], w: &mut [Real; 4], k: usize) -> Option<usi
             m
         }
     };
+    Some((mask, wk))
+}
+
+/// `Σ wkᵢ cᵢ` over the points of `mask` in `s[..k]`, in their order: the nearest point
+/// [`nearest`] found, bit for bit as it is after [`keep`] (the same sum in the same order).
+pub(super) fn masked_point(s: &[Pt; 4], k: usize, mask: u8, wk: &[Real; 4]) -> Vec3 {
+    let mut v = Vec3::zeros();
+    for (i, (p, wi)) in s[..k].iter().zip(wk).enumerate() {
+        if mask & (1 << i) != 0 {
+            v += p.c * *wi;
+        }
+    }
+    v
+}
+
+/// Keeps the points of `mask` in `s[..k]`, in their order, with their weights `wk`: the
+/// number kept.
+pub(super) fn keep(
+    s: &mut [Pt; 4],
+    w: &mut [Real; 4],
+    k: usize,
+    mask: u8,
+    wk: &[Real; 4],
+) -> usize {
     let mut n = 0;
     for i in 0..k {
         if mask & (1 << i) != 0 {
@@ -39,7 +73,7 @@ pub(super) fn reduce(s: &mut [Pt; 4], w: &mut [Real; 4], k: usize) -> Option<usi
             n += 1;
         }
     }
-    Some(n)
+    n
 }
 
 /// The point of segment `ab` nearest the origin: the vertices used (bit mask) and weights.
