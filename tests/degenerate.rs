@@ -238,3 +238,26 @@ fn huge_polytope_from_planes_is_accepted() {
     let p = Shape::polytope(&a, &b).unwrap();
     assert!((p.bounding_radius() / 8e307 - 0.8771716136936852).abs() < 1e-12);
 }
+
+/// Open defect (docs/failure-modes.md): a sphere far smaller than the box it touches (radius
+/// 1e-8 against a unit cube) gets α* up to ~1e-8 off: the closed form's ball-exit root forms
+/// its discriminant as a difference of two products of the cube's size that cancel down to ρ².
+#[test]
+#[ignore = "open defect: closed forms' root for radii far below the other shape's size (docs/failure-modes.md)"]
+fn tiny_sphere_on_a_cube_face() {
+    let cube = Shape::cuboid(1.0, 1.0, 1.0).unwrap();
+    for rho in [1e-6, 1e-7, 1e-8] {
+        let ball = Shape::sphere(rho).unwrap();
+        for (x, y) in [(0.13, -0.41), (0.37, 0.29), (-0.22, 0.05), (0.61, -0.17)] {
+            // Face contact: the scaled cube's face z = α meets the scaled ball, 2 − α = αρ.
+            check(
+                "tiny sphere",
+                &cube,
+                [0.0; 3],
+                &ball,
+                [x, y, 2.0],
+                2.0 / (1.0 + rho),
+            );
+        }
+    }
+}
