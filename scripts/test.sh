@@ -31,7 +31,7 @@ fi
 export CARGO_PROFILE_RELEASE_DEBUG=${CARGO_PROFILE_RELEASE_DEBUG:-0}
 export CARGO_PROFILE_BENCH_DEBUG=${CARGO_PROFILE_BENCH_DEBUG:-0}
 free_disk=${DCOL_TEST_FREE_DISK:-}
-if [[ -z $free_disk && -n ${CI:-} ]]; then free_disk=1; fi
+if [[ -z $free_disk && -n ${CI:-} && ${CI:-} != false && ${CI:-} != 0 ]]; then free_disk=1; fi
 if [[ $free_disk == 1 ]]; then export PIP_NO_CACHE_DIR=1; fi
 done_with() {
   if [[ $free_disk == 1 ]]; then
