@@ -239,11 +239,11 @@ fn huge_polytope_from_planes_is_accepted() {
     assert!((p.bounding_radius() / 8e307 - 0.8771716136936852).abs() < 1e-12);
 }
 
-/// Open defect (docs/failure-modes.md): a sphere far smaller than the box it touches (radius
-/// 1e-8 against a unit cube) gets α* up to ~1e-8 off: the closed form's ball-exit root forms
-/// its discriminant as a difference of two products of the cube's size that cancel down to ρ².
+/// A sphere far smaller than the box it touches (radius down to 1e-8 against a unit cube):
+/// the closed form's ball-exit root once formed its discriminant as a difference of two
+/// products of the cube's size that cancel down to ρ² (α* up to 1.2e-8 off); it now takes the
+/// cross term from Lagrange's identity (`closed_form::vertex_root`).
 #[test]
-#[ignore = "open defect: closed forms' root for radii far below the other shape's size (docs/failure-modes.md)"]
 fn tiny_sphere_on_a_cube_face() {
     let cube = Shape::cuboid(1.0, 1.0, 1.0).unwrap();
     for rho in [1e-6, 1e-7, 1e-8] {

@@ -9,7 +9,8 @@
 //! values, each in closed form:
 //!
 //! - a vertex `c`: `‖d − αc‖ = αρ`, a quadratic whose least positive root is
-//!   `‖d‖² / (d·c + √D)`, `D = (d·c)² − (‖c‖² − ρ²)‖d‖²`;
+//!   `‖d‖² / (d·c + √D)`, `D = ρ²‖d‖² − ‖d × c‖²` (the cross product's form, see
+//!   [`vertex_root`]);
 //! - an edge `c + τe` (`|τ| ≤ h`): the same with `d` and `c` projected off `e`, valid when the
 //!   closest τ lies in `[−h, h]`;
 //! - the face: `α = |d·m̂|/ρ` (`m̂ ∥ a₁ × a₂`), valid when the projection of `d` lies in `αP`.
@@ -61,10 +62,18 @@ pub(crate) struct SegmentHit {
     pub normal: Vec3,
 }
 
-/// Least positive α with `‖d − αc‖ = αρ` (`d2 = ‖d‖²`, `dc = d·c`, `c2 = ‖c‖²`), or ∞.
+/// Least positive α with `‖d − αc‖ = αρ`, given `d2 = ‖d‖²`, `dc = d·c` and the cross term
+/// `cross2 = ‖d × c‖²` (in the plane, `(d₁c₂ − d₂c₁)²`; in general `‖d‖²‖c‖² − (d·c)²`), or ∞.
+///
+/// The root is `‖d‖² / (d·c + √D)` with `D = ρ²‖d‖² − ‖d × c‖²`. Callers form `cross2` from
+/// the cross product itself, never as `‖d‖²‖c‖² − (d·c)²`: near the root `‖d × c‖ ≈ ρ‖d‖`,
+/// and the difference of products loses `ε‖c‖²/ρ²` of D to cancellation (a sphere of radius
+/// 1e-8 on a unit cube's face was 1.2e-8 off), while the cross product's components are
+/// accurate to `ε‖d‖‖c‖`: √D then carries a relative error `ε‖c‖/ρ`, which the sum
+/// `d·c + √D` (`d·c ≈ ‖d‖‖c‖ ≫ √D`) damps by `ρ/‖c‖` to ε in α.
 #[inline]
-pub(crate) fn vertex_root(d2: Real, dc: Real, c2: Real, rho: Real) -> Real {
-    let disc = dc * dc - (c2 - rho * rho) * d2;
+pub(crate) fn vertex_root(d2: Real, dc: Real, cross2: Real, rho: Real) -> Real {
+    let disc = rho * rho * d2 - cross2;
     if !(disc >= 0.0) {
         return Real::INFINITY;
     }
@@ -120,7 +129,8 @@ pub(crate) fn rounded_segments(
         }
     }
     // Best so far: (α, s, t) with the point s a₁ − t a₂ of P (unscaled). Every feature's
-    // value is written with the scalars g = a₁·a₂, p = d·a₁, q = d·a₂ (no vector arithmetic).
+    // value is written with the scalars g = a₁·a₂, p = d·a₁, q = d·a₂ and the cross products
+    // u = d × a₁, v = d × a₂, w = det[d, a₁, a₂] = u·a₂ (see `Cross`).
     let mut best = (Real::INFINITY, 0.0, 0.0);
     let mut consider = |alpha: Real, s: Real, t: Real| {
         if alpha < best.0 {
@@ -129,49 +139,30 @@ pub(crate) fn rounded_segments(
     };
     let (g, p, q) = (a1.dot(&a2), d.dot(&a1), d.dot(&a2));
     if h1 > 0.0 && h2 > 0.0 {
-        two_segments(d2, (g, p, q), (h1, h2), rho, &mut consider);
+        let x = Cross::new(d, &a1, &a2);
+        two_segments(d2, (g, p, q), &x, (h1, h2), rho, &mut consider);
     } else {
-        // A sphere against a segment: every root (their square roots are independent: 80 ns
-        // against 92 for the edge-capsule form, whose vertex waits on its edge's root).
-        // Vertices c = s a₁ − t a₂ (one point when both lengths are zero, two for a segment):
-        // d·c = s p − t q, ‖c‖² = s² + t² − 2 s t g.
-        let s_ends: &[Real] = if h1 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
-        let t_ends: &[Real] = if h2 > 0.0 { &[1.0, -1.0] } else { &[0.0] };
-        for &si in s_ends {
-            for &ti in t_ends {
-                let (s, t) = (si * h1, ti * h2);
-                let c2 = s * s + t * t - 2.0 * s * t * g;
-                consider(vertex_root(d2, s * p - t * q, c2, rho), s, t);
-            }
+        // A sphere against a segment: P is the segment {τ a : |τ| ≤ h} (a = a₁, τ = s when
+        // shape 1 is the capsule; a = a₂, τ = −t when shape 2 is), through the origin. Every
+        // root (their square roots are independent: 80 ns against 92 for the edge-capsule
+        // form, whose vertex waits on its edge's root), with d·a and ‖d × a‖²:
+        // the ends c = ±h a have d·c = ±h d·a and ‖d × c‖² = h²‖d × a‖²; the side's root (the
+        // ball's exit with d projected off a, c⊥ = 0) is ‖d × a‖/ρ, valid when the closest
+        // point τ = d·a/α lies on the segment.
+        let (axis, h, da) = if h1 > 0.0 { (a1, h1, p) } else { (a2, h2, q) };
+        let n2 = d.cross(&axis).norm_squared();
+        let mut segment = |alpha: Real, tau: Real| {
+            let (s, t) = if h1 > 0.0 { (tau, 0.0) } else { (0.0, -tau) };
+            consider(alpha, s, t);
+        };
+        for tau in [h, -h] {
+            segment(vertex_root(d2, tau * da, tau * tau * n2, rho), tau);
         }
-        // Edges: the vertex root with d and c projected off the edge's direction e, valid when
-        // the closest point τ of the line α(c + τe) to d lies on the edge. With s fixed at an end
-        // (c = s a₁, e = −a₂): ‖d⊥‖² = d² − q², d⊥·c⊥ = s(p − g q), ‖c⊥‖² = s²(1 − g²),
-        // τ = t = −q/α + s g. With t fixed (c = −t a₂, e = a₁): ‖d⊥‖² = d² − p²,
-        // d⊥·c⊥ = t(g p − q), ‖c⊥‖² = t²(1 − g²), τ = s = p/α + t g.
-        let sin2 = 1.0 - g * g;
-        if h2 > 0.0 {
-            for &si in s_ends {
-                let s = si * h1;
-                let alpha = vertex_root(d2 - q * q, s * (p - g * q), s * s * sin2, rho);
-                if alpha.is_finite() {
-                    let t = -q / alpha + s * g;
-                    if t.abs() <= h2 {
-                        consider(alpha, s, t);
-                    }
-                }
-            }
-        }
-        if h1 > 0.0 {
-            for &ti in t_ends {
-                let t = ti * h2;
-                let alpha = vertex_root(d2 - p * p, t * (g * p - q), t * t * sin2, rho);
-                if alpha.is_finite() {
-                    let s = p / alpha + t * g;
-                    if s.abs() <= h1 {
-                        consider(alpha, s, t);
-                    }
-                }
+        let alpha = vertex_root(n2, 0.0, 0.0, rho);
+        if alpha.is_finite() {
+            let tau = da / alpha;
+            if tau.abs() <= h {
+                segment(alpha, tau);
             }
         }
     }
@@ -188,10 +179,10 @@ pub(crate) fn rounded_segments(
 /// edge's infinite cylinder, where its foot τ lies on the edge; else the ray enters the capsule
 /// through the end ball on τ's side or not at all (the balls lie in the cylinder), and where it
 /// never enters the cylinder from afar (it runs parallel to the edge) both end balls decide.
-/// With s fixed at an end (c = s a₁, e = −a₂): ‖d⊥‖² = d² − q², d⊥·c⊥ = s(p − g q),
-/// ‖c⊥‖² = s²(1 − g²), τ = t = −q/α + s g. With t fixed (c = −t a₂, e = a₁): ‖d⊥‖² = d² − p²,
-/// d⊥·c⊥ = t(g p − q), ‖c⊥‖² = t²(1 − g²), τ = s = p/α + t g. A vertex c = s a₁ − t a₂ has
-/// d·c = s p − t q, ‖c‖² = s² + t² − 2 s t g. Half the square roots of all eight features'
+/// With s fixed at an end (c = s a₁, e = −a₂): ‖d⊥‖² = ‖v‖², d⊥·c⊥ = s(p − g q),
+/// ‖d⊥ × c⊥‖² = s²w², τ = t = −q/α + s g. With t fixed (c = −t a₂, e = a₁): ‖d⊥‖² = ‖u‖²,
+/// d⊥·c⊥ = t(g p − q), ‖d⊥ × c⊥‖² = t²w², τ = s = p/α + t g. A vertex c = s a₁ − t a₂ has
+/// d·c = s p − t q, d × c = s u − t v (`Cross`). Half the square roots of all eight features'
 /// roots when the feet fall on the edges: capsule–capsule 106 → 96 ns.
 ///
 /// Only the edges facing `d` can hold the exit point's closest point y: an edge E with in-plane
@@ -204,13 +195,12 @@ pub(crate) fn rounded_segments(
 fn two_segments(
     d2: Real,
     (g, p, q): (Real, Real, Real),
+    x: &Cross,
     (h1, h2): (Real, Real),
     rho: Real,
     consider: &mut impl FnMut(Real, Real, Real),
 ) {
-    let vertex =
-        |s: Real, t: Real| vertex_root(d2, s * p - t * q, s * s + t * t - 2.0 * s * t * g, rho);
-    let sin2 = 1.0 - g * g;
+    let vertex = |s: Real, t: Real| vertex_root(d2, s * p - t * q, x.vertex(s, t), rho);
     let facing = |du: Real, h: Real| match du {
         du if du > 1e-12 => ([h, h], 1),
         du if du < -1e-12 => ([-h, -h], 1),
@@ -218,7 +208,7 @@ fn two_segments(
     };
     let (ends, n) = facing(p - g * q, h1);
     for &s in &ends[..n] {
-        let alpha = vertex_root(d2 - q * q, s * (p - g * q), s * s * sin2, rho);
+        let alpha = vertex_root(x.v2, s * (p - g * q), s * s * x.w2, rho);
         if alpha.is_finite() {
             let t = -q / alpha + s * g;
             if t.abs() <= h2 {
@@ -234,7 +224,7 @@ fn two_segments(
     }
     let (ends, n) = facing(g * p - q, h2);
     for &t in &ends[..n] {
-        let alpha = vertex_root(d2 - p * p, t * (g * p - q), t * t * sin2, rho);
+        let alpha = vertex_root(x.u2, t * (g * p - q), t * t * x.w2, rho);
         if alpha.is_finite() {
             let s = p / alpha + t * g;
             if s.abs() <= h1 {
@@ -247,6 +237,42 @@ fn two_segments(
             consider(vertex(h1, t), h1, t);
             consider(vertex(-h1, t), -h1, t);
         }
+    }
+}
+
+/// The cross products of the offset with the segments' axes, from which [`vertex_root`]'s
+/// cross terms are formed without cancellation: `u = d × a₁`, `v = d × a₂`, and
+/// `w² = det[d, a₁, a₂]²`. For an edge along `a₂` (unit) the parts of `d` and `c = s a₁`
+/// off it have `‖d⊥‖² = ‖d × a₂‖²` and `‖d⊥ × c⊥‖ = |s det[d, a₁, a₂]|` (both perpendicular to
+/// `a₂`), and likewise along `a₁`; a vertex `c = s a₁ − t a₂` has `d × c = s u − t v`.
+/// (Forming a vertex's cross product from `c` only when it is needed costs more: capsule–capsule
+/// +8 instructions a call.)
+struct Cross {
+    u: Vec3,
+    v: Vec3,
+    u2: Real,
+    v2: Real,
+    w2: Real,
+}
+
+impl Cross {
+    #[inline(always)]
+    fn new(d: &Vec3, a1: &Vec3, a2: &Vec3) -> Self {
+        let (u, v) = (d.cross(a1), d.cross(a2));
+        let w = u.dot(a2);
+        Cross {
+            u,
+            v,
+            u2: u.norm_squared(),
+            v2: v.norm_squared(),
+            w2: w * w,
+        }
+    }
+
+    /// `‖d × c‖²` for the vertex `c = s a₁ − t a₂`.
+    #[inline(always)]
+    fn vertex(&self, s: Real, t: Real) -> Real {
+        (self.u * s - self.v * t).norm_squared()
     }
 }
 
@@ -293,15 +319,22 @@ pub(crate) fn sphere_box(d: &Vec3, rot: &Mat3, half: &Vec3, rho: Real) -> Option
     for &hi in &bps {
         if hi > lo && phi(hi) <= 0.0 {
             // On (lo, hi) the axes with tᵢ ≥ hi are outside the scaled box: a quadratic.
-            let (mut hh, mut ah, mut aa) = (0.0, 0.0, 0.0);
+            // The cross term of a and h restricted to those axes J, by Lagrange's identity
+            // Σ_{i<j ∈ J} (aᵢhⱼ − aⱼhᵢ)² (see `vertex_root`: not Σa² Σh² − (Σah)²).
+            let (mut ah, mut aa, mut cross2) = (0.0, 0.0, 0.0);
             for j in 0..3 {
                 if t[j] >= hi {
-                    hh += half[j] * half[j];
                     ah += a[j] * half[j];
                     aa += a[j] * a[j];
+                    for i in 0..j {
+                        if t[i] >= hi {
+                            let m = a[i] * half[j] - a[j] * half[i];
+                            cross2 += m * m;
+                        }
+                    }
                 }
             }
-            alpha = vertex_root(aa, ah, hh, rho).clamp(lo, hi);
+            alpha = vertex_root(aa, ah, cross2, rho).clamp(lo, hi);
             break;
         }
         lo = lo.max(hi);
@@ -351,7 +384,8 @@ pub(crate) fn sphere_revolution(
     } else {
         for i in 0..m {
             let (ca, cr) = section[i];
-            let alpha = vertex_root(p2, pa * ca + pr * cr, ca * ca + cr * cr, rho);
+            let cross = pa * cr - pr * ca;
+            let alpha = vertex_root(p2, pa * ca + pr * cr, cross * cross, rho);
             if alpha < best.0 {
                 best = (alpha, (alpha * ca, alpha * cr));
             }
@@ -415,7 +449,8 @@ fn rectangle_root(pa: Real, pr: Real, h: Real, r: Real, rho: Real) -> (Real, (Re
     if qa > 0.0 && pr <= cap * r {
         return (cap, (sa * cap * h, pr));
     }
-    let corner = vertex_root(qa * qa + pr * pr, qa * h + pr * r, h * h + r * r, rho);
+    let cross = qa * r - pr * h;
+    let corner = vertex_root(qa * qa + pr * pr, qa * h + pr * r, cross * cross, rho);
     (corner, (sa * corner * h, corner * r))
 }
 

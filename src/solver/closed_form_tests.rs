@@ -146,3 +146,222 @@ fn spheres_and_a_capsule_side_and_end() {
     assert!((h.alpha - 2.0).abs() < 1e-15 && h.s.abs() < 1e-15 && h.t.abs() < 1e-15);
     assert!((h.normal - d).norm() < 1e-15);
 }
+
+/// A small xorshift stream in [0, 1) for the tests below.
+fn stream(seed: u64) -> impl FnMut() -> Real {
+    let mut x = seed;
+    move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as Real / (1u64 << 53) as Real
+    }
+}
+
+/// The least α with `dist(d, αS) ≤ αρ` by bisection on the decreasing `dist(d, αS) − αρ`,
+/// with the distance written out directly (it has no cancelling square), to the last bits.
+fn bisect(mut f: impl FnMut(Real) -> Real) -> Real {
+    let (mut lo, mut hi) = (0.0, 1e6);
+    for _ in 0..2000 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if f(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+/// A unit direction through a point `y` of a feature, moved off it by about `rho` at a random
+/// angle: the rays that leave K through the small ball about the feature.
+fn near(y: Vec3, rho: Real, unif: &mut impl FnMut() -> Real) -> Vec3 {
+    let w = Vec3::new(unif() - 0.5, unif() - 0.5, unif() - 0.5);
+    (y + w * (3.0 * rho)).normalize()
+}
+
+/// Radii far below the other shape's size (the closed forms' ball-exit root cancelled there
+/// when its discriminant was formed as `(d·c)² − (‖c‖² − ρ²)‖d‖²`: a sphere of radius 1e-8
+/// on a unit cube's face 1.2e-8 off): sphere–box over faces, edges and corners, against
+/// bisection, to 1e-13 relative, for ρ from 1e-3 to 1e-10.
+#[test]
+fn thin_radius_sphere_box_matches_bisection() {
+    let mut unif = stream(0x2545_F491_4F6C_DD1D);
+    let id = Mat3::identity();
+    for k in 0..6000 {
+        let rho = [1e-3, 1e-5, 1e-7, 1e-8, 1e-9, 1e-10][k % 6];
+        let h = Vec3::new(0.2 + unif(), 0.2 + unif(), 0.2 + unif());
+        // A point on a face (one coordinate at ±h), an edge (two) or a corner (three).
+        let mut y = Vec3::from_fn(|j, _| (2.0 * unif() - 1.0) * h[j]);
+        for j in 0..=(k / 6) % 3 {
+            let j = (j + k / 18) % 3;
+            y[j] = h[j].copysign(y[j]);
+        }
+        let d = near(y, rho, &mut unif);
+        let hit = sphere_box(&d, &id, &h, rho).unwrap();
+        let truth = bisect(|a| {
+            let e = Vec3::from_fn(|j, _| (d[j].abs() - a * h[j]).max(0.0));
+            e.norm() - a * rho
+        });
+        let err = (hit.alpha - truth).abs() / truth;
+        assert!(
+            err <= 1e-13,
+            "rho {rho}, h {h:?}, d {d:?}: {} vs {truth} ({err:e})",
+            hit.alpha
+        );
+    }
+}
+
+/// The same for a sphere against a solid of revolution: a cylinder's rim and a cone's apex and
+/// base rim, through `sphere_revolution`'s plane problem.
+#[test]
+fn thin_radius_sphere_revolution_matches_bisection() {
+    let mut unif = stream(0x9E37_79B9_7F4A_7C15 ^ 77);
+    let id = Mat3::identity();
+    for k in 0..6000 {
+        let rho = [1e-3, 1e-5, 1e-7, 1e-8, 1e-9, 1e-10][k % 6];
+        let (h, r) = (0.2 + unif(), 0.2 + unif());
+        let cone = k % 2 == 1;
+        let section: Vec<(Real, Real)> = if cone {
+            vec![(-0.75 * h, 0.0), (0.25 * h, -r), (0.25 * h, r)]
+        } else {
+            vec![(-h, -r), (h, -r), (h, r), (-h, r)]
+        };
+        // A vertex of the section, turned about the axis.
+        let (ya, yr) = section[(k / 2) % section.len()];
+        let phi = 6.283 * unif();
+        let y = Vec3::new(ya, yr * phi.cos(), yr * phi.sin());
+        let d = near(y, rho, &mut unif);
+        let hit = sphere_revolution(&d, &id, &section, rho).unwrap();
+        let (pa, pr) = (d.x, d.y.hypot(d.z));
+        let truth = bisect(|a| {
+            let dist = if cone {
+                // Distance to the scaled triangle: zero inside, else the nearest edge.
+                let v: Vec<(Real, Real)> = section.iter().map(|&(x, y)| (a * x, a * y)).collect();
+                let mut best = Real::INFINITY;
+                let mut inside = true;
+                for i in 0..3 {
+                    let (p0, p1) = (v[i], v[(i + 1) % 3]);
+                    let (ex, ey) = (p1.0 - p0.0, p1.1 - p0.1);
+                    let (wx, wy) = (pa - p0.0, pr - p0.1);
+                    if ex * wy - ey * wx < 0.0 {
+                        inside = false;
+                    }
+                    let s = ((ex * wx + ey * wy) / (ex * ex + ey * ey)).clamp(0.0, 1.0);
+                    best = best.min((wx - s * ex).hypot(wy - s * ey));
+                }
+                if inside {
+                    0.0
+                } else {
+                    best
+                }
+            } else {
+                (pa.abs() - a * h).max(0.0).hypot((pr - a * r).max(0.0))
+            };
+            dist - a * rho
+        });
+        let err = (hit.alpha - truth).abs() / truth;
+        assert!(
+            err <= 1e-13,
+            "rho {rho}, cone {cone}, d {d:?}: {} vs {truth} ({err:e})",
+            hit.alpha
+        );
+    }
+}
+
+/// The same for spheres and capsules: a sphere against a capsule's end, and two capsules at
+/// the parallelogram P's corners and edges. Only answers from a vertex or an edge of P are
+/// compared: the others are ill-conditioned in the offset itself (a ray near a point of P runs
+/// nearly in P's plane, or along a sphere's segment, and the face's `|d·m̂|/ρ` or the side's
+/// `‖d × a₂‖/ρ` divides a cross or dot product of nearly parallel or orthogonal vectors, its
+/// rounding included, by ρ), and a fixed share of the cases must be compared.
+#[test]
+fn thin_radius_rounded_segments_match_bisection() {
+    let mut unif = stream(0xD1B5_4A32_D192_ED03);
+    let dist_segment = |x: Vec3, p0: Vec3, p1: Vec3| {
+        let e = p1 - p0;
+        let n2 = e.norm_squared();
+        let s = if n2 > 0.0 {
+            ((x - p0).dot(&e) / n2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (x - p0 - e * s).norm()
+    };
+    let mut compared = [0usize; 2];
+    let mut worst: Real = 0.0;
+    for k in 0..6000 {
+        let rho = [1e-3, 1e-5, 1e-7, 1e-8, 1e-9, 1e-10][k % 6];
+        let unit =
+            |u: &mut dyn FnMut() -> Real| Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize();
+        let (a1, a2) = (unit(&mut unif), unit(&mut unif));
+        let h1 = if k % 2 == 0 { 0.0 } else { 0.2 + unif() };
+        let h2 = 0.2 + unif();
+        // P's corner s a₁ − t a₂ at (±h₁, ±h₂), or a point on one of its edges.
+        let (mut s, mut t) = (h1.copysign(unif() - 0.5), h2.copysign(unif() - 0.5));
+        if h1 > 0.0 && (k / 2) % 3 == 1 {
+            t *= 2.0 * unif() - 1.0;
+        } else if h1 > 0.0 && (k / 2) % 3 == 2 {
+            s *= 2.0 * unif() - 1.0;
+        }
+        let d = near(a1 * s - a2 * t, rho, &mut unif);
+        let one = RoundedSegment {
+            axis: a1,
+            half: h1,
+            radius: 0.5 * rho,
+        };
+        let two = RoundedSegment {
+            axis: a2,
+            half: h2,
+            radius: 0.5 * rho,
+        };
+        let Some(hit) = rounded_segments(&d, &one, &two) else {
+            panic!("no answer for rho {rho}, d {d:?}");
+        };
+        let conditioned = if h1 == 0.0 {
+            hit.t.abs() == h2
+        } else {
+            hit.s.abs() == h1 || hit.t.abs() == h2
+        };
+        if !conditioned {
+            continue;
+        }
+        compared[(h1 > 0.0) as usize] += 1;
+        let c = [(1.0, 1.0), (1.0, -1.0), (-1.0, -1.0), (-1.0, 1.0)]
+            .map(|(i, j)| a1 * (i * h1) - a2 * (j * h2));
+        let truth = bisect(|a| {
+            // The distance to αP: to its plane where the foot lies inside, else to its edges.
+            let m = a1.cross(&a2);
+            let (g, b1, b2) = (a1.dot(&a2), d.dot(&a1), d.dot(&a2));
+            let det = 1.0 - g * g;
+            let (fs, ft) = ((b1 - g * b2) / det, -(b2 - g * b1) / det);
+            let dist = if h1 > 0.0 && fs.abs() <= a * h1 && ft.abs() <= a * h2 {
+                d.dot(&m).abs() / m.norm()
+            } else {
+                (0..4)
+                    .map(|i| dist_segment(d, c[i] * a, c[(i + 1) % 4] * a))
+                    .fold(Real::INFINITY, Real::min)
+            };
+            dist - a * rho
+        });
+        // Both sides carry the axes' rounding amplified by 1/sin²θ (θ their angle) where the
+        // segments are nearly parallel.
+        let sin2 = a1.cross(&a2).norm_squared();
+        let err = (hit.alpha - truth).abs() / truth;
+        worst = worst.max(err * sin2);
+        assert!(
+            err * sin2 <= 1e-13,
+            "rho {rho}, h {h1} {h2}, d {d:?}, a1 {a1:?}, a2 {a2:?}, hit {hit:?}: {} vs {truth} \
+             ({err:e})",
+            hit.alpha
+        );
+    }
+    eprintln!("compared {compared:?}, worst error times sin²θ {worst:e}");
+    assert!(
+        compared[0] >= 1000 && compared[1] >= 1500,
+        "{compared:?} compared"
+    );
+}
