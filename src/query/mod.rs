@@ -51,8 +51,6 @@ mod sphere_jacobian;
 #[cfg(test)]
 mod sphere_jacobian_tests;
 #[cfg(test)]
-mod sphere_low_rank_tests;
-#[cfg(test)]
 mod structured_solve_tests;
 #[cfg(test)]
 mod test_support;

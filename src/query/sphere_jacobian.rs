@@ -50,41 +50,6 @@ fn yz_norm(v: &Vec3) -> Real {
     big * (y * y + z * z).sqrt()
 }
 
-/// `M` of [`projection_jacobian`] as a feature gives it: `βI + κ₁u₁u₁ᵀ + κ₂u₂u₂ᵀ` (a vertex,
-/// an edge, a face, a side, a rim, a cap), or a full matrix (an ellipsoid's).
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Projection {
-    /// `βI + κ₁u₁u₁ᵀ + κ₂u₂u₂ᵀ` (unused terms with `κ = 0`).
-    Low {
-        beta: Real,
-        u: [Vec3; 2],
-        kappa: [Real; 2],
-    },
-    /// A full matrix.
-    Dense(Mat3),
-}
-
-impl Projection {
-    /// A rank-one term `κuuᵀ` over `βI`.
-    fn one(beta: Real, u: Vec3, kappa: Real) -> Self {
-        Projection::Low {
-            beta,
-            u: [u, Vec3::zeros()],
-            kappa: [kappa, 0.0],
-        }
-    }
-
-    /// The matrix.
-    pub(super) fn matrix(&self) -> Mat3 {
-        match self {
-            Projection::Low { beta, u, kappa } => {
-                Mat3::identity() * *beta + outer(&u[0], kappa[0]) + outer(&u[1], kappa[1])
-            }
-            Projection::Dense(m) => *m,
-        }
-    }
-}
-
 /// `M` (world) for `B` touched by a sphere of radius `radius` at the unit normal `n` (outward
 /// from `B`) and the contact point `w` (world, relative to `B`'s origin), ties decided within
 /// `TIE·ℓ` (`ℓ` the pair's length scale, as the general solve); `None` for other shapes or
@@ -97,18 +62,6 @@ pub(super) fn projection_jacobian(
     radius: Real,
     ell: Real,
 ) -> Option<Mat3> {
-    projection(b, pose, n, w, radius, ell).map(|p| p.matrix())
-}
-
-/// [`projection_jacobian`] by feature ([`Projection`]).
-pub(super) fn projection(
-    b: &Shape,
-    pose: &Pose,
-    n: &Vec3,
-    w: &Vec3,
-    radius: Real,
-    ell: Real,
-) -> Option<Projection> {
     let rot = pose.rotation();
     let m = rot.tr_mul(n);
     let tau = TIE * ell;
@@ -116,11 +69,7 @@ pub(super) fn projection(
     // A line of direction `t` with radius of curvature `rho` across it (∞ along it).
     let side = |t: Vec3, rho: Real| {
         let c = t.cross(n).normalize();
-        Projection::Low {
-            beta: 0.0,
-            u: [t, c],
-            kappa: [1.0, rho / (radius + rho)],
-        }
+        outer(&t, 1.0) + outer(&c, rho / (radius + rho))
     };
     // A circle of radius `rho` about the axis, seen at the normal: radius of curvature
     // `rho/‖m_yz‖` along its tangent `c`, taken from the contact point's azimuth (the normal's
@@ -132,10 +81,9 @@ pub(super) fn projection(
         let s = (m.y * m.y + m.z * m.z).sqrt();
         let c = rot * (Vec3::new(0.0, -p.z, p.y) / yz_norm(&p));
         let h = rho / s;
-        Projection::one(0.0, c, h / (radius + h))
+        outer(&c, h / (radius + h))
     };
-    let face = |a: Vec3| Projection::one(1.0, a, -1.0);
-    let zero = Projection::one(0.0, Vec3::zeros(), 0.0);
+    let face = |a: Vec3| Mat3::identity() - outer(&a, 1.0);
     match b.solver_kind() {
         ShapeKind::Polytope if b.centred_box().is_none() => {
             flat_projection(b, rot, &m, n, radius, tau)
@@ -143,18 +91,18 @@ pub(super) fn projection(
         ShapeKind::Polygon | ShapeKind::ConvexHull => flat_projection(b, rot, &m, n, radius, tau),
         ShapeKind::Polytope => {
             let e = b.centred_box()?;
-            let mut zeros = [false; 3];
+            let mut zero = [false; 3];
             for i in 0..3 {
-                zeros[i] = decide(2.0 * e[i] * m[i].abs(), tau)?;
+                zero[i] = decide(2.0 * e[i] * m[i].abs(), tau)?;
             }
-            match zeros.iter().filter(|z| **z).count() {
-                0 => Some(zero),
+            match zero.iter().filter(|z| **z).count() {
+                0 => Some(Mat3::zeros()),
                 1 => {
-                    let i = zeros.iter().position(|z| *z)?;
-                    Some(Projection::one(0.0, rot.column(i).into_owned(), 1.0))
+                    let i = zero.iter().position(|z| *z)?;
+                    Some(outer(&rot.column(i).into_owned(), 1.0))
                 }
                 2 => {
-                    let k = zeros.iter().position(|z| !*z)?;
+                    let k = zero.iter().position(|z| !*z)?;
                     Some(face(rot.column(k).into_owned()))
                 }
                 _ => None,
@@ -166,7 +114,7 @@ pub(super) fn projection(
                 Some(side(axis, rho))
             } else {
                 let k = rho / (radius + rho);
-                Some(Projection::one(k, *n, -k))
+                Some((Mat3::identity() - outer(n, 1.0)) * k)
             }
         }
         ShapeKind::Cylinder => {
@@ -195,13 +143,9 @@ pub(super) fn projection(
                 let c = axis.cross(n) / s;
                 let g = c.cross(n);
                 let hc = yz_norm(&rot.tr_mul(w)) / s;
-                Some(Projection::Low {
-                    beta: 0.0,
-                    u: [g, c],
-                    kappa: [1.0, hc / (radius + hc)],
-                })
+                Some(outer(&g, 1.0) + outer(&c, hc / (radius + hc)))
             } else if gap < 0.0 {
-                Some(zero)
+                Some(Mat3::zeros())
             } else {
                 Some(rim(rho))
             }
@@ -215,15 +159,13 @@ pub(super) fn projection(
             let g = p_inv * m;
             let h = m.dot(&g).sqrt();
             let hess = rot * ((p_inv - g * g.transpose() / (h * h)) / h) * rot.transpose();
-            Some(Projection::Dense(
-                (Mat3::identity() * radius + hess).try_inverse()? * hess,
-            ))
+            Some((Mat3::identity() * radius + hess).try_inverse()? * hess)
         }
         _ => None,
     }
 }
 
-/// [`projection`] for a polytope other than a centred box, a convex hull or a padded
+/// [`projection_jacobian`] for a polytope other than a centred box, a convex hull or a padded
 /// polygon (`rot` its attitude, `m` the body normal): zero at a vertex (`k(I − n̂n̂ᵀ)` at a
 /// padded one, `k = ρ/(R + ρ)`), `ttᵀ + k ccᵀ` on an edge of direction `t`, `I − aaᵀ` on a
 /// face of normal `a`; `None` where the feature is undecided.
@@ -234,21 +176,17 @@ fn flat_projection(
     n: &Vec3,
     radius: Real,
     tau: Real,
-) -> Option<Projection> {
+) -> Option<Mat3> {
     let (flat, rho) = flat_feature(b, m, tau)?;
     let k = if rho > 0.0 { rho / (radius + rho) } else { 0.0 };
     Some(match flat {
-        Flat::Vertex(_) => Projection::one(k, *n, -k),
+        Flat::Vertex(_) => (Mat3::identity() - outer(n, 1.0)) * k,
         Flat::Edge(t) => {
             let t = rot * t;
             let c = t.cross(n).normalize();
-            Projection::Low {
-                beta: 0.0,
-                u: [t, c],
-                kappa: [1.0, k],
-            }
+            outer(&t, 1.0) + outer(&c, k)
         }
-        Flat::Face(a) => Projection::one(1.0, rot * a, -1.0),
+        Flat::Face(a) => Mat3::identity() - outer(&(rot * a), 1.0),
     })
 }
 
@@ -256,7 +194,8 @@ fn flat_projection(
 /// an ellipsoid, a polytope, an unpadded hull or a padded polygon (either order) into `j`
 /// (every entry written), from the geometric answer and its gradient `g` (the α row); `None`
 /// (with `j` holding garbage) for other pairs, undecided features or a non-finite answer.
-/// The other shape's rotation axes are formed here (the sphere's columns are zero).
+/// The other shape's rotation axes are formed here, only once its feature is decided (the
+/// sphere's columns are zero: it has none to form).
 pub(crate) fn sphere_jacobian(
     prox: &Proximity,
     g: &[Real; 14],
@@ -264,21 +203,6 @@ pub(crate) fn sphere_jacobian(
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
     j: &mut [[Real; 14]; 4],
-) -> Option<()> {
-    sphere_jacobian_as(prox, g, dalpha_dd, shapes, poses, j, false)
-}
-
-/// [`sphere_jacobian`] with every feature's `M` as a full matrix (`dense`): the form the
-/// features' low-rank columns replaced, kept for the ellipsoid and to test them against.
-#[inline(always)]
-pub(super) fn sphere_jacobian_as(
-    prox: &Proximity,
-    g: &[Real; 14],
-    dalpha_dd: &Vec3,
-    shapes: [&Shape; 2],
-    poses: [&Pose; 2],
-    j: &mut [[Real; 14]; 4],
-    dense: bool,
 ) -> Option<()> {
     let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
     let (s, b) = match round {
@@ -298,46 +222,23 @@ pub(super) fn sphere_jacobian_as(
     let sign = if s == 0 { -1.0 } else { 1.0 };
     let n = dalpha_dd * (sign / dalpha_dd.norm());
     let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
-    let proj = projection(shapes[b], poses[b], &n, &w, radius, ell)?;
+    let m = projection_jacobian(shapes[b], poses[b], &n, &w, radius, ell)?;
+    let v = w - m * y;
     let axes = rotation_axes(poses[b]);
-    match proj {
-        Projection::Low { beta, u, kappa } if !dense => {
-            let parts = LowParts {
-                beta,
-                u: &u,
-                kappa: &kappa,
-                w: &w,
-                y: &y,
-                alpha,
-                g,
-                axes: &axes,
-            };
-            // The columns at constant offsets (each order its own copy: no bounds checks,
-            // unrolled).
-            if s == 0 {
-                fill_low::<0, 7>(&parts, j);
-            } else {
-                fill_low::<7, 0>(&parts, j);
-            }
-        }
-        _ => {
-            let m = proj.matrix();
-            let v = w - m * y;
-            let parts = Parts {
-                m: &m,
-                v: &v,
-                w: &w,
-                y: &y,
-                alpha,
-                g,
-                axes: &axes,
-            };
-            if s == 0 {
-                fill::<0, 7>(&parts, j);
-            } else {
-                fill::<7, 0>(&parts, j);
-            }
-        }
+    let parts = Parts {
+        m: &m,
+        v: &v,
+        w: &w,
+        y: &y,
+        alpha,
+        g,
+        axes: &axes,
+    };
+    // The columns at constant offsets (each order its own copy: no bounds checks, unrolled).
+    if s == 0 {
+        fill::<0, 7>(&parts, j);
+    } else {
+        fill::<7, 0>(&parts, j);
     }
     block_finite(j).then_some(())
 }
@@ -372,51 +273,6 @@ fn fill<const CS: usize, const CB: usize>(p: &Parts<'_>, j: &mut [[Real; 14]; 4]
     }
     for (k, omega) in p.axes.iter().enumerate() {
         let dx = (omega.cross(p.w) - m * omega.cross(p.y)) * p.alpha + v * g[CB + 3 + k];
-        for i in 0..3 {
-            j[i][CB + 3 + k] = dx[i];
-        }
-    }
-    j[3] = *g;
-}
-
-/// What [`fill_low`] writes the Jacobian from: `M = βI + κ₁u₁u₁ᵀ + κ₂u₂u₂ᵀ`, `w`, `y`, α*,
-/// the gradient and `B`'s rotation axes.
-struct LowParts<'a> {
-    beta: Real,
-    u: &'a [Vec3; 2],
-    kappa: &'a [Real; 2],
-    w: &'a Vec3,
-    y: &'a Vec3,
-    alpha: Real,
-    g: &'a [Real; 14],
-    axes: &'a [Vec3; 4],
-}
-
-/// [`fill`]'s entries with `M = βI + κ₁u₁u₁ᵀ + κ₂u₂u₂ᵀ` applied by its terms instead of as a
-/// 3×3: `My = βy + Σκᵢuᵢ(uᵢ·y)`, and a rotation column
-/// `α*(ω × w − M(ω × y)) = ω × α*(w − βy) − Σ α*κᵢuᵢ (ω·(y × uᵢ))` (`uᵢ·(ω × y) = ω·(y × uᵢ)`).
-#[inline(always)]
-fn fill_low<const CS: usize, const CB: usize>(p: &LowParts<'_>, j: &mut [[Real; 14]; 4]) {
-    let (beta, [u0, u1], [k0, k1], g) = (p.beta, p.u, *p.kappa, p.g);
-    let (w, y, alpha) = (p.w, p.y, p.alpha);
-    let v = w - (y * beta + u0 * (k0 * u0.dot(y)) + u1 * (k1 * u1.dot(y)));
-    let (a0, a1) = (u0 * k0, u1 * k1);
-    for row in j.iter_mut().take(3) {
-        row[CS + 3..CS + 7].fill(0.0);
-    }
-    for c in 0..3 {
-        for i in 0..3 {
-            let (d, id) = if i == c { (beta, 1.0) } else { (0.0, 0.0) };
-            let m = d + a0[i] * u0[c] + a1[i] * u1[c];
-            j[i][CS + c] = m + v[i] * g[CS + c];
-            j[i][CB + c] = id - m + v[i] * g[CB + c];
-        }
-    }
-    let z = (w - y * beta) * alpha;
-    let (b0, b1) = (a0 * alpha, a1 * alpha);
-    let (p0, p1) = (y.cross(u0), y.cross(u1));
-    for (k, omega) in p.axes.iter().enumerate() {
-        let dx = omega.cross(&z) - b0 * omega.dot(&p0) - b1 * omega.dot(&p1) + v * g[CB + 3 + k];
         for i in 0..3 {
             j[i][CB + 3 + k] = dx[i];
         }

@@ -229,14 +229,14 @@ fn sphere_ellipsoid_closed_form_matches_the_feature_solve() {
     }
 }
 
-/// The closed form's entries from a full `M` written at constant column offsets (`fill`, one
-/// copy per order; the ellipsoid's, and every feature's with `dense`) are the loop over runtime
-/// offsets it replaced, bit for bit: the former loop, kept here, from the same `M`
-/// (`projection_jacobian`), on 2 000 poses per shape and order (a box, a capsule, a cylinder,
-/// a cone, an ellipsoid, a polytope and a padded polygon).
+/// The closed form's entries written at constant column offsets (`fill`, one copy per order)
+/// are the loop over runtime offsets it replaced, bit for bit: the former loop, kept here,
+/// from the same `M` (`projection_jacobian`) and the pair's axes as `geometric::pair_axes`
+/// forms them (the closed form forms the other shape's itself), on 2 000 poses per shape and
+/// order (a box, a capsule, a cylinder, a cone, an ellipsoid, a polytope and a padded polygon).
 #[test]
 fn constant_offsets_are_the_former_loop_bit_for_bit() {
-    use super::sphere_jacobian::{projection_jacobian, sphere_jacobian_as};
+    use super::sphere_jacobian::projection_jacobian;
     let others = [
         Shape::cuboid(0.5, 0.35, 0.25).unwrap(),
         Shape::capsule(0.25, 0.8).unwrap(),
@@ -268,7 +268,7 @@ fn constant_offsets_are_the_former_loop_bit_for_bit() {
                 };
                 let axes = pair_axes(s, p);
                 let mut j = [[0.0; 14]; 4];
-                if sphere_jacobian_as(&prox, &g, &dad, s, p, &mut j, true).is_none() {
+                if sphere_jacobian(&prox, &g, &dad, s, p, &mut j).is_none() {
                     continue;
                 }
                 // The former body, from the same inputs.
