@@ -4,7 +4,7 @@
 //! (`super::sphere_jacobian`), a vertex as a ball (`super::ball_jacobian`), an edge as a
 //! segment (`super::segment_jacobian`), a face against an ellipsoid (`super::face_jacobian`).
 
-use super::geometric::{jacobian_into, pair_axes, Formed};
+use super::geometric::{jacobian_into, Formed};
 use super::test_support::{
     central_jacobian, gap, general_beside, geometric_answer, hull_points, pentagon,
     random_polytope, Rng,
@@ -15,7 +15,7 @@ use crate::{Pose, Real, Shape};
 fn closed(s: [&Shape; 2], p: [&Pose; 2]) -> Option<[[Real; 14]; 4]> {
     let (prox, dad, g) = geometric_answer(s, p)?;
     let mut j = [[0.0; 14]; 4];
-    let formed = jacobian_into(&prox, &dad, &g, s, p, &pair_axes(s, p), &mut j)?;
+    let formed = jacobian_into(&prox, &dad, &g, s, p, &mut j)?;
     (formed == Formed::Closed).then_some(j)
 }
 

@@ -342,8 +342,7 @@ pub(crate) fn jacobian(
     poses: [&Pose; 2],
 ) -> Option<[[Real; 14]; 4]> {
     let mut j = [[0.0; 14]; 4];
-    let axes = pair_axes(shapes, poses);
-    jacobian_into(prox, dalpha_dd, g, shapes, poses, &axes, &mut j)?;
+    jacobian_into(prox, dalpha_dd, g, shapes, poses, &mut j)?;
     Some(j)
 }
 
@@ -357,9 +356,10 @@ pub(crate) enum Formed {
     Solved,
 }
 
-/// [`jacobian`] written into `j` (every entry; garbage when `None` is returned), with the
-/// pair's rotation axes given ([`pair_axes`]), saying how it was formed: the sphere and capsule closed forms write their columns in place, without
-/// the copies of the 4×14 result through `Option`s and returns.
+/// [`jacobian`] written into `j` (every entry; garbage when `None` is returned), saying how
+/// it was formed: the closed forms write their columns in place, without the copies of the
+/// 4×14 result through `Option`s and returns. The pair's rotation axes ([`pair_axes`]) are
+/// formed after the sphere closed forms, which take none (two spheres) or one shape's.
 #[inline]
 pub(crate) fn jacobian_into(
     prox: &Proximity,
@@ -367,23 +367,32 @@ pub(crate) fn jacobian_into(
     g: &[Real; 14],
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
-    axes: &[[Vec3; 4]; 2],
     out: &mut [[Real; 14]; 4],
 ) -> Option<Formed> {
+    let kinds = shapes.map(|s| s.solver_kind());
     if !general_only() {
-        let kinds = shapes.map(|s| s.solver_kind());
-        let closed = match kinds {
+        let sphere = match kinds {
             [ShapeKind::Sphere, ShapeKind::Sphere] => {
                 two_spheres_jacobian(prox, dalpha_dd, shapes, out)
             }
+            [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
+                sphere_jacobian(prox, g, dalpha_dd, shapes, poses, out)
+            }
+            _ => None,
+        };
+        if sphere.is_some() {
+            return Some(Formed::Closed);
+        }
+    }
+    let axes = &pair_axes(shapes, poses);
+    if !general_only() {
+        let closed = match kinds {
+            [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => None,
             [ShapeKind::Capsule, ShapeKind::Capsule] => {
                 capsule_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
             [ShapeKind::Ellipsoid, ShapeKind::Ellipsoid] => {
                 ellipsoid_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
-            }
-            [ShapeKind::Sphere, _] | [_, ShapeKind::Sphere] => {
-                sphere_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
             }
             _ => ball_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out)
                 .or_else(|| segment_jacobian(prox, g, dalpha_dd, shapes, poses, axes, out))

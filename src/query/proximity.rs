@@ -654,12 +654,9 @@ pub(crate) fn plain_derivatives(
     }
     let exact = match jacobian {
         Some(out) => {
-            // The rotation axes are formed for a Jacobian only (the gradient takes their dot
-            // products without forming them), here rather than kept in an `Option` beside it.
-            let axes = geometric::pair_axes(shapes, poses);
             let ell = shape1.bounding_radius().max(shape2.bounding_radius());
             // The closed forms hold the identities `consistent` checks by construction.
-            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, &axes, out) {
+            match geometric::jacobian_into(&prox, &dalpha_dd, g, shapes, poses, out) {
                 Some(geometric::Formed::Closed) => true,
                 Some(geometric::Formed::Solved) => derivatives::consistent(out, g, ell),
                 None => false,

@@ -27,6 +27,7 @@
 //! `None` and the general solve decides.
 
 use super::context::Proximity;
+use super::derivatives::rotation_axes;
 use super::vertex_feature::{block_finite, decide, flat_feature, Flat, DISC, TIE};
 use crate::math::{Mat3, Pose, Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
@@ -190,16 +191,17 @@ fn flat_projection(
 }
 
 /// `∂(x*, α*)/∂(r₁, q₁, r₂, q₂)` for a sphere against a box, a capsule, a cylinder, a cone,
-/// an ellipsoid, a polytope, an unpadded hull or a padded polygon (either order) into `j` (every entry written), from the geometric answer and
-/// its gradient `g` (the α row); `None` (with `j` holding garbage) for other pairs, undecided
-/// features or a non-finite answer.
+/// an ellipsoid, a polytope, an unpadded hull or a padded polygon (either order) into `j`
+/// (every entry written), from the geometric answer and its gradient `g` (the α row); `None`
+/// (with `j` holding garbage) for other pairs, undecided features or a non-finite answer.
+/// The other shape's rotation axes are formed here, only once its feature is decided (the
+/// sphere's columns are zero: it has none to form).
 pub(crate) fn sphere_jacobian(
     prox: &Proximity,
     g: &[Real; 14],
     dalpha_dd: &Vec3,
     shapes: [&Shape; 2],
     poses: [&Pose; 2],
-    axes: &[[Vec3; 4]; 2],
     j: &mut [[Real; 14]; 4],
 ) -> Option<()> {
     let round = shapes.map(|s| s.solver_kind() == ShapeKind::Sphere);
@@ -222,6 +224,7 @@ pub(crate) fn sphere_jacobian(
     let ell = shapes[0].bounding_radius().max(shapes[1].bounding_radius());
     let m = projection_jacobian(shapes[b], poses[b], &n, &w, radius, ell)?;
     let v = w - m * y;
+    let axes = rotation_axes(poses[b]);
     let parts = Parts {
         m: &m,
         v: &v,
@@ -229,7 +232,7 @@ pub(crate) fn sphere_jacobian(
         y: &y,
         alpha,
         g,
-        axes: &axes[b],
+        axes: &axes,
     };
     // The columns at constant offsets (each order its own copy: no bounds checks, unrolled).
     if s == 0 {
