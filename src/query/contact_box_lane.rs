@@ -16,8 +16,8 @@
 //! false) and, with a cache, its points and cache against `manifold_cached`'s, bit for bit.
 
 use super::contact::MAX_CONTACTS;
-use super::contact_boxes::{boxes, Boxes, End};
-use super::contact_reduce::reduce;
+use super::contact_boxes::{boxes, Boxes, End, MAX};
+use super::contact_reduce::reduce_in;
 use super::warm::Cache;
 use crate::math::{Pose, Real, Vec3};
 use crate::shapes::Shape;
@@ -60,7 +60,8 @@ pub(crate) fn box_contacts(
         }
         n
     } else {
-        reduce(&b.pos, &b.depth, cap, &mut chosen)
+        // At most `MAX` candidates: buffers of that size.
+        reduce_in::<MAX>(&b.pos, &b.depth, cap, &mut chosen)
     };
     let zero = |v: &Vec3| v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
     let mut sum = b.sd.distance * 0.0 + zero(&b.sd.normal);

@@ -25,7 +25,7 @@ use crate::solver::SolveStatus;
 use arrayvec::ArrayVec;
 
 /// Clipped points: an incident quadrilateral clipped by four edges has at most 8.
-const MAX: usize = 8;
+pub(crate) const MAX: usize = 8;
 /// The incident box's face is used when its normal is within about 72 degrees of the
 /// reference facet's (as the general path's `COS_FACET`).
 const COS_FACET: Real = 0.3;
@@ -109,20 +109,21 @@ pub(crate) fn boxes(
     } else {
         (h2, h1, pose2, c.transpose(), -c.tr_mul(&t))
     };
-    let (pts, plane) = clip_to_facet(href, hinc, &cinc, &tinc, k, s);
-    // Each candidate's depth below the facet; those at least `−margin` deep are kept (on the
-    // stack: `pts` holds at most MAX points).
-    let (mut inc, mut depths) = ([Vec3::zeros(); MAX], [0.0; MAX]);
+    let (mut pts, plane) = clip_to_facet(href, hinc, &cinc, &tinc, k, s);
+    // Each candidate's depth below the facet; those at least `−margin` deep are kept, in
+    // place (`pts` holds at most MAX points).
+    let mut depths = [0.0; MAX];
     let mut kept = 0;
-    for p in &pts {
+    for a in 0..pts.len.min(MAX) {
+        let p = pts.pts[a];
         let d = plane - s * p[k];
         if d >= -margin {
-            inc[kept] = *p;
+            pts.pts[kept] = p;
             depths[kept] = d;
             kept += 1;
         }
     }
-    let inc = &inc[..kept];
+    let inc = &pts.pts[..kept];
     let depths = &depths[..kept];
     // The deepest clipped point is the overlap's depth (the facet's axis won: the nearest
     // facet of the difference, whose nearest point lies on it). Apart by less than the margin
@@ -248,14 +249,14 @@ fn clip_to_facet(
     t: &Vec3,
     k: usize,
     s: Real,
-) -> (ArrayVec<Vec3, MAX>, Real) {
+) -> (Polygon, Real) {
     // The incident face: the axis j most aligned with the facet's normal, on the side facing it.
     let j = (0..3)
         .max_by(|&a, &b| c[(k, a)].abs().total_cmp(&c[(k, b)].abs()))
         .unwrap_or(0);
     let sign = if c[(k, j)] * s > 0.0 { -1.0 } else { 1.0 };
     let plane = href[k];
-    let mut poly: ArrayVec<Vec3, MAX> = ArrayVec::new();
+    let mut poly = Polygon::new();
     if c[(k, j)].abs() < COS_FACET {
         // No face of the incident box within about 72 degrees of the normal: its corner (the
         // general path's feature too).
@@ -263,71 +264,104 @@ fn clip_to_facet(
             let side = if c[(k, a)] * s > 0.0 { -1.0 } else { 1.0 };
             p + c.column(a) * (side * hinc[a])
         });
-        poly.push(corner);
+        poly.pts[0] = corner;
+        poly.len = 1;
         return (poly, plane);
     }
     let centre = t + c.column(j) * (sign * hinc[j]);
     let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
     let (u, v) = (c.column(j1) * hinc[j1], c.column(j2) * hinc[j2]);
-    for p in [
+    poly.quad([
         centre + u + v,
         centre - u + v,
         centre - u - v,
         centre + u - v,
-    ] {
-        poly.push(p);
-    }
-    if !clip_rect(&mut poly, href, k) {
-        poly.clear();
-    }
+    ]);
+    clip_rect(&mut poly, href, k);
     (poly, plane)
 }
 
+/// A polygon of at most [`MAX`] points in fixed storage (the clipping's buffers: no capacity
+/// test per point as an `ArrayVec`'s push, no copy between buffers at the end).
+#[derive(Clone, Copy)]
+struct Polygon {
+    pts: [Vec3; MAX],
+    len: usize,
+}
+
+impl Polygon {
+    fn new() -> Polygon {
+        Polygon {
+            pts: [Vec3::zeros(); MAX],
+            len: 0,
+        }
+    }
+
+    /// The quadrilateral `q` (in order).
+    #[inline(always)]
+    fn quad(&mut self, q: [Vec3; 4]) {
+        self.pts[..4].copy_from_slice(&q);
+        self.len = 4;
+    }
+
+    fn points(&self) -> &[Vec3] {
+        &self.pts[..self.len.min(MAX)]
+    }
+}
+
 /// Clips the polygon `poly` (in a box's frame), in place, to `|p_i| ≤ href_i` for the two axes
-/// `i ≠ k` (two buffers taking turns); false when nothing is left. Each edge `(p, q)` in order,
-/// `p`'s value carried over from the edge before (no indexing, one evaluation per point). A side
-/// with every point within it (a pass that would copy them in order) is skipped.
+/// `i ≠ k` (two buffers taking turns), emptied when nothing is left. Each edge `(p, q)` in
+/// order, `p`'s value carried over from the edge before (no indexing, one evaluation per point).
+/// A side with every point within it (a pass that would copy them in order) is skipped.
 #[inline(always)]
-fn clip_rect(poly: &mut ArrayVec<Vec3, MAX>, href: &Vec3, k: usize) -> bool {
-    let mut tmp: ArrayVec<Vec3, MAX> = ArrayVec::new();
+fn clip_rect(poly: &mut Polygon, href: &Vec3, k: usize) {
+    let mut tmp = Polygon::new();
     let (mut cur, mut next) = (poly, &mut tmp);
     let mut turns = 0;
     for i in [(k + 1) % 3, (k + 2) % 3] {
         let h = href[i];
         for side in [1.0, -1.0] {
             let f = |p: &Vec3| side * p[i] - h;
-            let Some(&first) = cur.first() else {
-                return false;
-            };
-            if cur.iter().all(|p| f(p) <= 0.0) {
+            let n = cur.len.min(MAX);
+            if n == 0 {
+                return;
+            }
+            let first = cur.pts[0];
+            if cur.pts[..n].iter().all(|p| f(p) <= 0.0) {
                 continue;
             }
-            next.clear();
-            let n = cur.len();
+            let mut m = 0;
             let (mut p, mut fp) = (first, f(&first));
             for a in 1..=n {
-                let q = if a < n { cur[a] } else { first };
+                let q = if a < n { cur.pts[a] } else { first };
                 let fq = f(&q);
-                if fp <= 0.0 {
-                    let _ = next.try_push(p);
+                if fp <= 0.0 && m < MAX {
+                    next.pts[m] = p;
+                    m += 1;
                 }
-                if (fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0) {
-                    let _ = next.try_push(p + (q - p) * (fp / (fp - fq)));
+                if ((fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0)) && m < MAX {
+                    next.pts[m] = p + (q - p) * (fp / (fp - fq));
+                    m += 1;
                 }
                 (p, fp) = (q, fq);
             }
+            if m == 0 {
+                // Nothing left (in `poly` either way).
+                cur.len = 0;
+                next.len = 0;
+                return;
+            }
+            next.len = m;
             std::mem::swap(&mut cur, &mut next);
             turns += 1;
-            if cur.is_empty() {
-                return false;
-            }
         }
     }
     if turns % 2 == 1 {
         // The result is in `tmp`: back to `poly`.
-        next.clone_from(cur);
+        let n = cur.len.min(MAX);
+        next.pts[..n].copy_from_slice(&cur.pts[..n]);
+        next.len = n;
     }
-    true
 }
 
 /// Two boxes' half extents and poses, and shape 2's attitude and centre in shape 1's frame.
@@ -399,16 +433,18 @@ fn edge_points(
     let (u, v) = (cinc.column(j1) * hinc[j1], cinc.column(j2) * hinc[j2]);
     // Its corners moved along d onto the reference facet's plane x_k = s·href_k.
     let plane = s * href[k];
-    let mut poly: ArrayVec<Vec3, MAX> = ArrayVec::new();
-    for p in [
-        centre + u + v,
-        centre - u + v,
-        centre - u - v,
-        centre + u - v,
-    ] {
-        poly.push(p + d * ((plane - p[k]) / d[k]));
-    }
-    if !clip_rect(&mut poly, href, k) {
+    let mut poly = Polygon::new();
+    poly.quad(
+        [
+            centre + u + v,
+            centre - u + v,
+            centre - u - v,
+            centre + u - v,
+        ]
+        .map(|p| p + d * ((plane - p[k]) / d[k])),
+    );
+    clip_rect(&mut poly, href, k);
+    if poly.len == 0 {
         return None;
     }
     let df = d.dot(&face);
@@ -417,7 +453,7 @@ fn edge_points(
     let keep = margin + SEP_TOL * scale;
     let (pos, depth) = (&mut out.pos, &mut out.depth);
     let mut deepest = Real::NEG_INFINITY;
-    for q in &poly {
+    for q in poly.points() {
         // `q` on the reference face, `b` on the incident face's plane along d.
         let b = q + d * ((centre - q).dot(&face) / df);
         let e = (q - b).dot(&d);
@@ -494,19 +530,21 @@ mod tests {
                 poly[0][i] = href[i];
             }
             let mut reference = poly.clone();
-            let a = clip_rect(&mut poly, &href, k);
+            let mut fixed = Polygon::new();
+            fixed.quad([poly[0], poly[1], poly[2], poly[3]]);
+            clip_rect(&mut fixed, &href, k);
             let b = clip_rect_indexed(&mut reference, &href, k);
-            assert_eq!(a, b, "case {case}");
-            if !a {
+            assert_eq!(fixed.len > 0, b, "case {case}");
+            if !b {
                 empty += 1;
                 continue;
             }
-            assert_eq!(poly.len(), reference.len(), "case {case}");
-            for (p, q) in poly.iter().zip(&reference) {
+            assert_eq!(fixed.len, reference.len(), "case {case}");
+            for (p, q) in fixed.points().iter().zip(&reference) {
                 assert_eq!(p.map(Real::to_bits), q.map(Real::to_bits), "case {case}");
             }
-            cut += usize::from(poly.len() != 4);
-            sizes[poly.len()] += 1;
+            cut += usize::from(fixed.len != 4);
+            sizes[fixed.len] += 1;
         }
         assert!(cut > 5_000 && empty > 500, "{cut} {empty} {sizes:?}");
         assert!(sizes[3] > 0 && sizes[5] > 0 && sizes[8] > 0, "{sizes:?}");

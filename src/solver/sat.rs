@@ -226,9 +226,9 @@ pub(crate) fn two_boxes(
 ) -> Result<(Real, Vec3, Axis), Real> {
     let abs = c.abs();
     let mut best = (Real::INFINITY, Vec3::zeros(), Axis::Face1(0));
-    let mut keep = |v: Real, n: Vec3, axis: Axis| {
+    let mut keep = |v: Real, n: (Vec3, Axis)| {
         if v < best.0 {
-            best = (v, n, axis);
+            best = (v, n.0, n.1);
         }
         v < -beyond
     };
@@ -238,8 +238,10 @@ pub(crate) fn two_boxes(
         let v = ea[k] + rb - t[k].abs();
         if keep(
             v,
-            Vec3::ith(k, s),
-            Axis::Face1(k + if s < 0.0 { 3 } else { 0 }),
+            (
+                Vec3::ith(k, s),
+                Axis::Face1(k + if s < 0.0 { 3 } else { 0 }),
+            ),
         ) {
             return Err(-v);
         }
@@ -251,37 +253,49 @@ pub(crate) fn two_boxes(
         let s = if tj < 0.0 { -1.0 } else { 1.0 };
         // Shape 2's facet facing shape 1 has the body normal −s·e_j.
         let v = ra + eb[j] - tj.abs();
-        if keep(v, col * s, Axis::Face2(j + if s > 0.0 { 3 } else { 0 })) {
+        if keep(v, (col * s, Axis::Face2(j + if s > 0.0 { 3 } else { 0 }))) {
             return Err(-v);
         }
     }
     // The nine edge axes l = e_i × c_j, written out: l_i = 0, l_{i+1} = −c_{i+2,j},
     // l_{i+2} = c_{i+1,j}. The terms of l_i are exact zeros (every number here is finite but
     // `t`), so |l|, Cᵀl, the radii and l·t are the full products' to the last bit (a zero's sign
-    // aside); `0·t_i` is still added to l·t, so a non-finite `t` gives what it gave.
-    for i in 0..3 {
-        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-        for j in 0..3 {
-            let (a, b) = (-c[(i2, j)], c[(i1, j)]);
+    // aside); `0·t_i` is still added to l·t, so a non-finite `t` gives what it gave. The
+    // component j of m = Cᵀl is `c_{i+1,j}·(−c_{i+2,j}) + c_{i+2,j}·c_{i+1,j}`, an exact zero
+    // (the two products are the same number), so its term of the radius is left out: adding
+    // `+0` to a non-negative sum leaves it as it is.
+    // Written out nine times (indices known at compile time: no index arithmetic or checks).
+    macro_rules! edge {
+        ($i:literal, $i1:literal, $i2:literal; $j:literal, $lo:literal, $hi:literal) => {
+            let (a, b) = (-c[($i2, $j)], c[($i1, $j)]);
             let len = (a * a + b * b).sqrt();
-            if !(len > PARALLEL) {
-                continue;
+            if len > PARALLEL {
+                let m_lo = c[($i1, $lo)] * a + c[($i2, $lo)] * b;
+                let m_hi = c[($i1, $hi)] * a + c[($i2, $hi)] * b;
+                let ra = ea[$i1] * a.abs() + ea[$i2] * b.abs();
+                let rb = eb[$lo] * m_lo.abs() + eb[$hi] * m_hi.abs();
+                let lt = (a * t[$i1] + b * t[$i2]) + 0.0 * t[$i];
+                let s = if lt < 0.0 { -1.0 } else { 1.0 };
+                let v = (ra + rb - lt.abs()) / len;
+                if v < best.0 {
+                    // Formed only for a new best.
+                    best = (v, edge_axis($i, a, b) * (s / len), Axis::Edges(len));
+                }
+                if v < -beyond {
+                    return Err(-v);
+                }
             }
-            let m = Vec3::new(
-                c[(i1, 0)] * a + c[(i2, 0)] * b,
-                c[(i1, 1)] * a + c[(i2, 1)] * b,
-                c[(i1, 2)] * a + c[(i2, 2)] * b,
-            );
-            let ra = ea[i1] * a.abs() + ea[i2] * b.abs();
-            let rb = eb.x * m.x.abs() + eb.y * m.y.abs() + eb.z * m.z.abs();
-            let lt = (a * t[i1] + b * t[i2]) + 0.0 * t[i];
-            let s = if lt < 0.0 { -1.0 } else { 1.0 };
-            let v = (ra + rb - lt.abs()) / len;
-            if keep(v, edge_axis(i, a, b) * (s / len), Axis::Edges(len)) {
-                return Err(-v);
-            }
-        }
+        };
     }
+    edge!(0, 1, 2; 0, 1, 2);
+    edge!(0, 1, 2; 1, 0, 2);
+    edge!(0, 1, 2; 2, 0, 1);
+    edge!(1, 2, 0; 0, 1, 2);
+    edge!(1, 2, 0; 1, 0, 2);
+    edge!(1, 2, 0; 2, 0, 1);
+    edge!(2, 0, 1; 0, 1, 2);
+    edge!(2, 0, 1; 1, 0, 2);
+    edge!(2, 0, 1; 2, 0, 1);
     Ok(best)
 }
 
