@@ -421,3 +421,96 @@ fn caps_as_the_contact_face_in_closed_form() {
         }
     }
 }
+
+/// An ellipsoid and a capsule (`solver::ellipsoid_capsule`): semi-axes 0.05–5 (aspect up to
+/// 100), capsules from stubby to needles, random attitudes, a fifth of the offsets along the
+/// capsule's axis, α* from 0.1 to 10, both orders. Every answer is the new stage's
+/// (`Solver::ClosedForm`), within 1e-9 of the interior-point solver's α*, with the ellipsoid's
+/// contact point on its boundary and the capsule's at its radius from the segment; more than a
+/// tenth of them on the capsule's side and a tenth on an end.
+#[test]
+fn ellipsoid_and_capsule_by_newton_on_the_side_or_an_end() {
+    use common::random::Rng;
+    use dcol::{Pose, Shape};
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..Options::default()
+    };
+    let mut rng = Rng::new(0xE11C_A95E);
+    let (mut sides, mut ends) = (0, 0);
+    for i in 0..2_000 {
+        let semi = [0; 3].map(|_| 10f64.powf(rng.range(-1.3, 0.7)));
+        let p = [
+            [1.0 / (semi[0] * semi[0]), 0.0, 0.0],
+            [0.0, 1.0 / (semi[1] * semi[1]), 0.0],
+            [0.0, 0.0, 1.0 / (semi[2] * semi[2])],
+        ];
+        let ell = Shape::ellipsoid(p).unwrap();
+        let (radius, length) = (
+            10f64.powf(rng.range(-2.0, 0.0)),
+            10f64.powf(rng.range(-2.0, 1.0)),
+        );
+        let cap = Shape::capsule(radius, length).unwrap();
+        let (qe, qc) = (rng.quat(), rng.quat());
+        let pe = Pose::new([0.0; 3], qe).unwrap();
+        let mut dir = rng.unit::<3>();
+        if i % 5 == 0 {
+            // Along the capsule's axis (body x), either way.
+            let axis = Pose::new([0.0; 3], qc)
+                .unwrap()
+                .rotation()
+                .column(0)
+                .into_owned();
+            let s = if i % 10 == 0 { 1.0 } else { -1.0 };
+            dir = [axis.x * s, axis.y * s, axis.z * s];
+        }
+        // α* is homogeneous in the offset: place it at a target drawn log-uniform in [0.1, 10].
+        let unit = Pose::new(dir, qc).unwrap();
+        let first = proximity(&ell, &pe, &cap, &unit, &ipm).unwrap();
+        let k = 10f64.powf(rng.range(-1.0, 1.0)) / first.alpha;
+        let pc = Pose::new(dir.map(|c| c * k), qc).unwrap();
+        let (a, b) = if i % 2 == 0 {
+            ((&ell, &pe), (&cap, &pc))
+        } else {
+            ((&cap, &pc), (&ell, &pe))
+        };
+        let g = proximity(a.0, a.1, b.0, b.1, &Options::default()).unwrap();
+        let q = proximity(a.0, a.1, b.0, b.1, &ipm).unwrap();
+        assert_eq!(g.solver, Solver::ClosedForm, "#{i}: {g:?}");
+        assert!(
+            (g.alpha - q.alpha).abs() <= 1e-9 * q.alpha,
+            "#{i}: {} vs {}",
+            g.alpha,
+            q.alpha
+        );
+        // The touching points, in each body frame, scaled back by α*.
+        let (on_ell, on_cap) = if i % 2 == 0 {
+            (g.contact1, g.contact2)
+        } else {
+            (g.contact2, g.contact1)
+        };
+        let body = |pose: &Pose, x: [f64; 3]| {
+            let d = dcol::Vec3::from(x) - pose.position();
+            pose.rotation().transpose() * d
+        };
+        let e = body(&pe, on_ell);
+        let ge = (0..3).map(|j| (e[j] / semi[j]).powi(2)).sum::<f64>().sqrt();
+        assert!((ge - 1.0).abs() <= 1e-9, "#{i}: ellipsoid gauge {ge}");
+        let c = body(&pc, on_cap);
+        let along = c.x.clamp(-0.5 * length, 0.5 * length);
+        let off = (c - dcol::Vec3::new(along, 0.0, 0.0)).norm();
+        assert!(
+            (off - radius).abs() <= 1e-9 * (radius + length),
+            "#{i}: {off} vs {radius}"
+        );
+        if c.x.abs() < 0.5 * length * (1.0 - 1e-9) {
+            sides += 1;
+        } else {
+            ends += 1;
+        }
+    }
+    assert!(
+        sides > 200 && ends > 200,
+        "{sides} side contacts, {ends} at an end"
+    );
+}

@@ -9,6 +9,7 @@
 use super::cores::Core;
 use crate::math::{Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
+use crate::solver::ellipsoid_capsule::touch;
 use crate::solver::ellipsoid_pair::contact;
 use crate::solver::ellipsoid_point::sphere_alpha;
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
@@ -148,6 +149,43 @@ pub(super) fn two_ellipsoids(
     let (s1, s2) = (sigma(&pair.one)?, sigma(&pair.two)?);
     let c = contact(&s1, &s2, ray)?;
     certified(pair, ray, iota, tol, &c.normal, c.a, c.b)
+}
+
+/// An ellipsoid and a capsule, either order: Newton's method on the support function along
+/// the capsule's side, else on the end ball the side's weight points to
+/// (`crate::solver::ellipsoid_capsule::touch`), certified as a polish answer is.
+pub(super) fn ellipsoid_and_capsule(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+) -> Option<Answer> {
+    let capsule = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+        Some((half, radius)) if half > 0.0 => Some((half, radius)),
+        _ => None,
+    };
+    // The ellipsoid, the capsule, its half-length and radius, the ray from the ellipsoid to
+    // the capsule, and whether the ellipsoid is shape 1.
+    let (ell, cap, (half, radius), dir, first) = match (capsule(&pair.one), capsule(&pair.two)) {
+        (None, Some(c)) => (&pair.one, &pair.two, c, *ray, true),
+        (Some(c), None) => (&pair.two, &pair.one, c, -ray, false),
+        _ => return None,
+    };
+    // Σ = R P⁻¹ Rᵀ in the normalised lengths (a length scaled by s scales Σ by s²).
+    let inv = ell.shape.ellipsoid_inverse()?;
+    let s = ell.inv_scale;
+    let sigma = ell.rot * inv * ell.rot.transpose() * (s * s);
+    let axis = cap.rot.column(0).into_owned();
+    let c = cap.inv_scale;
+    // A step of √tol/10 leaves the iterate within about its square.
+    let converged = (0.1 * tol.sqrt()).clamp(1e-8, 1e-3);
+    let t = touch(&sigma, &axis, half * c, radius * c, &dir, converged)?;
+    let (n, a, b) = if first {
+        (t.normal, t.on_ellipsoid, t.on_capsule)
+    } else {
+        (-t.normal, t.on_capsule, t.on_ellipsoid)
+    };
+    certified(pair, ray, iota, tol, &n, a, b)
 }
 
 /// An ellipsoid and a polytope (a box among them), either order, as a sphere and a polytope:
