@@ -4,7 +4,7 @@
 //! the Minkowski difference), `polish` (Newton on the contact features the cast identified,
 //! certified again), `closed_form` (sphere and capsule pairs), `segment_solid` (a capsule
 //! against a box, cylinder or cone), `ellipsoid_point` (a sphere and an ellipsoid),
-//! `ellipsoid_pair` (two ellipsoids), `ellipsoid_capsule` (an ellipsoid and a capsule) and
+//! `ellipsoid_pair` (two ellipsoids), `ellipsoid_rod` (an ellipsoid and a capsule or cylinder) and
 //! `gjk` (the exact distance of separated shapes, certified, with its own Newton polish). The
 //! interior-point method (`ipm/`, below) knows shapes only through the rows of a cone program.
 //! None of them knows queries or the C ABI.
@@ -20,9 +20,9 @@ pub(crate) mod closed_form;
 pub(crate) mod decision;
 pub(crate) mod dense;
 pub(crate) mod direct;
-pub(crate) mod ellipsoid_capsule;
 pub(crate) mod ellipsoid_pair;
 pub(crate) mod ellipsoid_point;
+pub(crate) mod ellipsoid_rod;
 pub(crate) mod features;
 pub(crate) mod gjk;
 mod ipm;
