@@ -421,3 +421,108 @@ fn caps_as_the_contact_face_in_closed_form() {
         }
     }
 }
+
+/// An ellipsoid and a capsule or cylinder (`solver::ellipsoid_rod`): semi-axes 0.05–5 (aspect
+/// up to 100), rods from stubby to needles, random attitudes, a fifth of the offsets along the
+/// rod's axis, α* from 0.1 to 10, both orders. α* within 1e-9 of the interior-point solver's
+/// on every pair; where the new stage answered (`Solver::ClosedForm`; the flat faces answer
+/// cap contacts as closed forms too), the ellipsoid's contact point on its boundary and the
+/// rod's on its own. Measured: 1 988 of 2 000 capsules and 1 645 of 2 000 cylinders answered so
+/// (the others, on these extreme shapes and axial rays, by Newton or the cast, as before), more
+/// than a tenth of each kind on the side and a tenth at an end.
+#[test]
+fn ellipsoid_and_rod_by_newton_on_the_side_or_an_end() {
+    use common::random::Rng;
+    use dcol::{Pose, Shape, Vec3};
+    let ipm = Options {
+        method: Method::InteriorPoint,
+        ..Options::default()
+    };
+    let mut rng = Rng::new(0xE11C_A95E);
+    let mut count = [[0usize; 3]; 2];
+    for i in 0..4_000 {
+        let disc = i % 4 >= 2;
+        let semi = [0; 3].map(|_| 10f64.powf(rng.range(-1.3, 0.7)));
+        let p = [
+            [1.0 / (semi[0] * semi[0]), 0.0, 0.0],
+            [0.0, 1.0 / (semi[1] * semi[1]), 0.0],
+            [0.0, 0.0, 1.0 / (semi[2] * semi[2])],
+        ];
+        let ell = Shape::ellipsoid(p).unwrap();
+        let radius = 10f64.powf(rng.range(-2.0, 0.0));
+        let length = 10f64.powf(rng.range(-2.0, 1.0));
+        let rod = if disc {
+            Shape::cylinder(radius, length).unwrap()
+        } else {
+            Shape::capsule(radius, length).unwrap()
+        };
+        let (qe, qc) = (rng.quat(), rng.quat());
+        let pe = Pose::new([0.0; 3], qe).unwrap();
+        let mut dir = rng.unit::<3>();
+        if i % 5 == 0 {
+            // Along the rod's axis (body x), either way.
+            let axis = Pose::new([0.0; 3], qc)
+                .unwrap()
+                .rotation()
+                .column(0)
+                .into_owned();
+            let s = if i % 10 == 0 { 1.0 } else { -1.0 };
+            dir = [axis.x * s, axis.y * s, axis.z * s];
+        }
+        // α* is homogeneous in the offset: place it at a target drawn log-uniform in [0.1, 10].
+        let unit = Pose::new(dir, qc).unwrap();
+        let first = proximity(&ell, &pe, &rod, &unit, &ipm).unwrap();
+        let k = 10f64.powf(rng.range(-1.0, 1.0)) / first.alpha;
+        let pc = Pose::new(dir.map(|c| c * k), qc).unwrap();
+        let swap = i % 2 == 1;
+        let (a, b) = if swap {
+            ((&rod, &pc), (&ell, &pe))
+        } else {
+            ((&ell, &pe), (&rod, &pc))
+        };
+        let g = proximity(a.0, a.1, b.0, b.1, &Options::default()).unwrap();
+        let q = proximity(a.0, a.1, b.0, b.1, &ipm).unwrap();
+        let e = (g.alpha - q.alpha).abs() / q.alpha;
+        assert!(e <= 1e-9, "#{i}: {} vs {}", g.alpha, q.alpha);
+        let kind = usize::from(disc);
+        if g.solver != Solver::ClosedForm {
+            count[kind][2] += 1;
+            continue;
+        }
+        // The contact points in each body frame (on the unscaled shapes).
+        let (on_ell, on_rod) = if swap {
+            (g.contact2, g.contact1)
+        } else {
+            (g.contact1, g.contact2)
+        };
+        let body = |pose: &Pose, x: Vec3| pose.rotation().transpose() * (x - pose.position());
+        let x = body(&pe, on_ell);
+        let ge = (0..3).map(|j| (x[j] / semi[j]).powi(2)).sum::<f64>().sqrt();
+        assert!((ge - 1.0).abs() <= 1e-9, "#{i}: ellipsoid gauge {ge}");
+        let c = body(&pc, on_rod);
+        let half = 0.5 * length;
+        let radial = c.y.hypot(c.z);
+        let gauge = if disc {
+            (c.x.abs() / half).max(radial / radius)
+        } else {
+            (c.x.abs() - half).max(0.0).hypot(radial)
+        };
+        let want = if disc { 1.0 } else { radius };
+        assert!(
+            (gauge - want).abs() <= 1e-9 * (1.0 + want + half),
+            "#{i}: {gauge} vs {want}"
+        );
+        let side = if disc {
+            c.x.abs() < half * (1.0 - 1e-9)
+        } else {
+            c.x.abs() < half * (1.0 - 1e-9) && (radial - radius).abs() <= 1e-9
+        };
+        count[kind][usize::from(!side)] += 1;
+    }
+    println!(
+        "[side, end, other solver]: capsules {:?}, cylinders {:?}",
+        count[0], count[1]
+    );
+    assert!(count[0][2] <= 20 && count[1][2] <= 400, "{count:?}");
+    assert!(count.iter().all(|c| c[0] > 200 && c[1] > 200), "{count:?}");
+}

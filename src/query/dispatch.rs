@@ -40,6 +40,9 @@ pub(crate) enum Stage {
     SphereEllipsoid,
     /// Two ellipsoids: the Perram–Wertheim contact function.
     TwoEllipsoids,
+    /// An ellipsoid and a capsule or cylinder (a segment padded by a ball or a disc): Newton's
+    /// method along its side, else on the end (ball or rim) the side's weight points to.
+    EllipsoidRod,
     /// An ellipsoid and a polytope, seen through the map that makes the ellipsoid a ball.
     EllipsoidPolytope,
     /// The padded cast (MPR) on the cores: spheres, capsules, padded polygons and hulls against
@@ -104,13 +107,14 @@ pub(crate) enum Stage {
 use Stage::*;
 
 /// The order proximity tries its stages in (`super::geometric::solve`).
-const PROXIMITY_ORDER: [Stage; 13] = [
+const PROXIMITY_ORDER: [Stage; 14] = [
     Halfspace,
     ClosedForm,
     Warm,
     SegmentSolid,
     SphereEllipsoid,
     TwoEllipsoids,
+    EllipsoidRod,
     EllipsoidPolytope,
     PaddedCast,
     FlatFaces,
@@ -158,6 +162,7 @@ impl Stage {
             SegmentSolid => "solver/segment_solid.rs",
             SphereEllipsoid => "solver/ellipsoid_point.rs",
             TwoEllipsoids => "solver/ellipsoid_pair.rs",
+            EllipsoidRod => "solver/ellipsoid_rod.rs",
             EllipsoidPolytope => "query/shortcuts.rs",
             PaddedCast => "solver/gjk/padded.rs",
             FlatFaces => "query/shortcuts.rs",
@@ -182,10 +187,9 @@ impl Stage {
             CoredGjk => "query/cores.rs, solver/gjk/",
             Gjk | ExactGjk => "solver/gjk/",
             InteriorPoint => "query/distance.rs, solver/ipm/",
-            SegmentSolid | SphereEllipsoid | TwoEllipsoids | EllipsoidPolytope | PaddedCast
-            | Cast | ExactCast | SeparatingAxes | Probe | Distance | CoredEpa | Epa | ExactEpa => {
-                return None
-            }
+            SegmentSolid | SphereEllipsoid | TwoEllipsoids | EllipsoidRod | EllipsoidPolytope
+            | PaddedCast | Cast | ExactCast | SeparatingAxes | Probe | Distance | CoredEpa
+            | Epa | ExactEpa => return None,
         })
     }
 
@@ -214,6 +218,7 @@ impl Stage {
             SegmentSolid => "segment–solid",
             SphereEllipsoid => "sphere–ellipsoid",
             TwoEllipsoids => "two ellipsoids",
+            EllipsoidRod => "ellipsoid–rod",
             EllipsoidPolytope => "ellipsoid–polytope",
             PaddedCast => "padded cast",
             FlatFaces => "flat faces",
@@ -357,12 +362,12 @@ pub(crate) const fn pair_route(a: ShapeKind, b: ShapeKind) -> Route {
             &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Capsule) => row(
-            &[Newton, Cast, InteriorPoint],
+            &[EllipsoidRod, Newton, Cast, InteriorPoint],
             &[Newton, CoredGjk, Gjk, InteriorPoint],
             &[Probe, Distance, CoredEpa, Epa],
         ),
         (Ellipsoid, Cylinder) => row(
-            &[FlatFaces, Newton, Cast, InteriorPoint],
+            &[EllipsoidRod, FlatFaces, Newton, Cast, InteriorPoint],
             &[FlatFaces, Newton, Gjk, InteriorPoint],
             &[Probe, Distance, CoredEpa, Epa],
         ),

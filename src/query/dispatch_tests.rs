@@ -46,6 +46,9 @@ fn former(a: ShapeKind, b: ShapeKind) -> [Vec<Stage>; 3] {
     if all(&|x| x == Ellipsoid) {
         p.push(TwoEllipsoids);
     }
+    if one(Ellipsoid, &[Capsule, Cylinder]) {
+        p.push(EllipsoidRod);
+    }
     if one(Ellipsoid, &[Polytope]) {
         p.push(EllipsoidPolytope);
     }

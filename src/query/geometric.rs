@@ -21,8 +21,8 @@ use super::face_jacobian::face_jacobian;
 use super::polytope_jacobian::polytope_jacobian;
 use super::segment_jacobian::segment_jacobian;
 use super::shortcuts::{
-    capsule_and_solid, ellipsoid_and_polytope, flat_first, sphere_and_ellipsoid, two_ellipsoids,
-    Answer, Solved,
+    capsule_and_solid, ellipsoid_and_polytope, ellipsoid_and_rod, flat_first, sphere_and_ellipsoid,
+    two_ellipsoids, Answer, Solved,
 };
 use super::sphere_jacobian::sphere_jacobian;
 use super::warm::{Cache, Kind};
@@ -655,6 +655,11 @@ fn solve_cold(
     }
     if stages.has(Stage::TwoEllipsoids) {
         if let Some(ans) = two_ellipsoids(pair, ray, iota, tol) {
+            return Ok(Some(ans));
+        }
+    }
+    if stages.has(Stage::EllipsoidRod) {
+        if let Some(ans) = ellipsoid_and_rod(pair, ray, iota, tol) {
             return Ok(Some(ans));
         }
     }

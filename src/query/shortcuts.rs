@@ -1,7 +1,8 @@
 //! Pair-specific answers the geometric path tries before its general solvers (Newton on the
 //! support function, the ray cast and its polish): a capsule against a box, cylinder or cone
 //! (`crate::solver::segment_solid`), a sphere and an ellipsoid (`crate::solver::ellipsoid_point`),
-//! two ellipsoids (`crate::solver::ellipsoid_pair`), an ellipsoid against a polytope (seen
+//! two ellipsoids (`crate::solver::ellipsoid_pair`), an ellipsoid against a capsule or cylinder
+//! (`crate::solver::ellipsoid_rod`), an ellipsoid against a polytope (seen
 //! through the map that makes the ellipsoid a ball), and a polytope's facet or a cylinder's or
 //! cone's cap as the contact face. Each candidate is certified on the shapes themselves, as a
 //! polish answer is: the support functions at its normal below, its touching points above.
@@ -11,6 +12,7 @@ use crate::math::{Real, Vec3};
 use crate::shapes::{Shape, ShapeKind};
 use crate::solver::ellipsoid_pair::contact;
 use crate::solver::ellipsoid_point::sphere_alpha;
+use crate::solver::ellipsoid_rod::touch;
 use crate::solver::gjk::padded::{padded_cast, PaddedEnd};
 use crate::solver::polish::Polished;
 use crate::solver::raycast::{upper_from_point, Pair, Posed, Stop};
@@ -148,6 +150,47 @@ pub(super) fn two_ellipsoids(
     let (s1, s2) = (sigma(&pair.one)?, sigma(&pair.two)?);
     let c = contact(&s1, &s2, ray)?;
     certified(pair, ray, iota, tol, &c.normal, c.a, c.b)
+}
+
+/// An ellipsoid and a capsule or cylinder, either order: Newton's method on the support
+/// function along the side, else on the end (ball or rim) the side's weight points to
+/// (`crate::solver::ellipsoid_rod::touch`), certified as a polish answer is.
+pub(super) fn ellipsoid_and_rod(
+    pair: &Pair<'_, Shape>,
+    ray: &Vec3,
+    iota: Real,
+    tol: Real,
+) -> Option<Answer> {
+    // A capsule's (half-length, radius, false) or a cylinder's (.., true).
+    let rod = |posed: &Posed<'_, Shape>| match posed.shape.rounded_segment() {
+        Some((half, radius)) if half > 0.0 => Some((half, radius, false)),
+        _ => posed
+            .shape
+            .cylinder_dims()
+            .map(|(radius, half)| (half, radius, true)),
+    };
+    // The ellipsoid, the rod, its dimensions, the ray from the ellipsoid to the rod, and
+    // whether the ellipsoid is shape 1.
+    let (ell, cap, (half, radius, disc), dir, first) = match (rod(&pair.one), rod(&pair.two)) {
+        (None, Some(c)) => (&pair.one, &pair.two, c, *ray, true),
+        (Some(c), None) => (&pair.two, &pair.one, c, -ray, false),
+        _ => return None,
+    };
+    // Σ = R P⁻¹ Rᵀ in the normalised lengths (a length scaled by s scales Σ by s²).
+    let inv = ell.shape.ellipsoid_inverse()?;
+    let s = ell.inv_scale;
+    let sigma = ell.rot * inv * ell.rot.transpose() * (s * s);
+    let axis = cap.rot.column(0).into_owned();
+    let c = cap.inv_scale;
+    // A step of √tol/10 leaves the iterate within about its square.
+    let converged = (0.1 * tol.sqrt()).clamp(1e-8, 1e-3);
+    let t = touch(&sigma, &axis, half * c, radius * c, &dir, converged, disc)?;
+    let (n, a, b) = if first {
+        (t.normal, t.on_ellipsoid, t.on_capsule)
+    } else {
+        (-t.normal, t.on_capsule, t.on_ellipsoid)
+    };
+    certified(pair, ray, iota, tol, &n, a, b)
 }
 
 /// An ellipsoid and a polytope (a box among them), either order, as a sphere and a polytope:

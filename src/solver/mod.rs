@@ -4,9 +4,10 @@
 //! the Minkowski difference), `polish` (Newton on the contact features the cast identified,
 //! certified again), `closed_form` (sphere and capsule pairs), `segment_solid` (a capsule
 //! against a box, cylinder or cone), `ellipsoid_point` (a sphere and an ellipsoid),
-//! `ellipsoid_pair` (two ellipsoids) and `gjk` (the exact distance of separated shapes,
-//! certified, with its own Newton polish). The interior-point method (`ipm/`, below) knows
-//! shapes only through the rows of a cone program. None of them knows queries or the C ABI.
+//! `ellipsoid_pair` (two ellipsoids), `ellipsoid_rod` (an ellipsoid and a capsule or cylinder) and
+//! `gjk` (the exact distance of separated shapes, certified, with its own Newton polish). The
+//! interior-point method (`ipm/`, below) knows shapes only through the rows of a cone program.
+//! None of them knows queries or the C ABI.
 //!
 //! # The interior-point method
 //!
@@ -21,6 +22,7 @@ pub(crate) mod dense;
 pub(crate) mod direct;
 pub(crate) mod ellipsoid_pair;
 pub(crate) mod ellipsoid_point;
+pub(crate) mod ellipsoid_rod;
 pub(crate) mod features;
 pub(crate) mod gjk;
 mod ipm;
