@@ -232,7 +232,7 @@ fn thin_radius_sphere_revolution_matches_bisection() {
         };
         // A vertex of the section, turned about the axis.
         let (ya, yr) = section[(k / 2) % section.len()];
-        let phi = 6.283 * unif();
+        let phi = std::f64::consts::TAU * unif();
         let y = Vec3::new(ya, yr * phi.cos(), yr * phi.sin());
         let d = near(y, rho, &mut unif);
         let hit = sphere_revolution(&d, &id, &section, rho).unwrap();
