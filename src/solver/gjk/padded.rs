@@ -375,8 +375,8 @@ fn certify<S: SupportMap>(
 
 /// The least α with `‖d − αc‖ = αρ` (the ray `d`'s exit from the ball of radius ρ about `c`,
 /// scaled), or ∞: `1/α = (d·c + √(ρ²‖d‖² − ‖d × c‖²))/‖d‖²`. The discriminant is formed from
-/// the cross product; written as `(d·c)² − (‖c‖² − ρ²)‖d‖²` (as `closed_form::vertex_root`
-/// has it) its first two terms cancel down to `‖d × c‖² ≤ ρ²‖d‖²` and leave an absolute error
+/// the cross product (as `closed_form::vertex_root`'s callers form it); written as
+/// `(d·c)² − (‖c‖² − ρ²)‖d‖²` its first two terms cancel down to `‖d × c‖² ≤ ρ²‖d‖²` and leave an absolute error
 /// of about ε‖c‖²‖d‖²: with a padding of 1e-4 about a core of size 3, α about 1e-11 too low
 /// (8e-12 measured, below the exact α at a requested tolerance of 1e-12).
 fn ball_exit(d: &Vec3, c: &Vec3, rho: Real) -> Real {
