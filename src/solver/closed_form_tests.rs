@@ -15,13 +15,7 @@ fn seg(axis: [Real; 3], half: Real, radius: Real) -> RoundedSegment {
 /// αS to 1e-9, on points facing the side, the cap and the corner.
 #[test]
 fn rectangle_root_matches_bisection() {
-    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut unif = || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        (x >> 11) as Real / (1u64 << 53) as Real
-    };
+    let mut unif = stream(0x9E37_79B9_7F4A_7C15);
     for _ in 0..20_000 {
         let (h, r, rho) = (0.05 + unif(), 0.05 + unif(), 0.01 + unif());
         let (pa, pr) = (6.0 * unif() - 3.0, 3.0 * unif());

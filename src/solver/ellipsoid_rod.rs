@@ -282,21 +282,52 @@ mod tests {
         n.dot(&(sigma * n)).sqrt() + radius * pn.norm() + half * axis.dot(n).abs()
     }
 
+    /// The ellipsoid of these tests (Σ = L Lᵀ, not axis-aligned).
+    fn test_sigma() -> Mat3 {
+        let l = Mat3::new(1.0, 0.0, 0.0, 0.3, 0.8, 0.0, -0.2, 0.4, 0.5);
+        l * l.transpose()
+    }
+
+    /// A xorshift stream in [−1/2, 1/2).
+    fn centred(seed: u64) -> impl FnMut() -> Real {
+        let mut state = seed;
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / 9_007_199_254_740_992.0 - 0.5
+        }
+    }
+
+    /// The least F on a 41 × 41 grid of spacing 1e-3 about `n` in the plane `m·r = n·r`.
+    fn grid_minimum(
+        sigma: &Mat3,
+        axis: &Vec3,
+        half: Real,
+        radius: Real,
+        n: &Vec3,
+        r: &Vec3,
+        disc: bool,
+    ) -> Real {
+        let (t1, t2) = plane_basis(r);
+        let mut best = Real::INFINITY;
+        for i in -20..=20 {
+            for j in -20..=20 {
+                let m = n + t1 * (i as Real * 1e-3) + t2 * (j as Real * 1e-3);
+                best = best.min(value(sigma, axis, half, radius, &m, disc));
+            }
+        }
+        best
+    }
+
     /// The touch against a brute-force minimum of F over the plane (a grid around its
     /// normal): F at the touch's normal is the least, and the touching points lie on the ray at
     /// `1/F` apart, the rod's point on its boundary. Capsules answer every case; cylinders all
     /// but those whose contact is near a cap face (which the flat-face stage answers).
     #[test]
     fn side_and_end_contacts_minimise_the_support_function() {
-        let l = Mat3::new(1.0, 0.0, 0.0, 0.3, 0.8, 0.0, -0.2, 0.4, 0.5);
-        let sigma = l * l.transpose();
-        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as Real / 9_007_199_254_740_992.0 - 0.5
-        };
+        let sigma = test_sigma();
+        let mut next = centred(0x2545_F491_4F6C_DD1D);
         for disc in [false, true] {
             let (mut sides, mut ends, mut none) = (0, 0, 0);
             for _ in 0..200 {
@@ -335,14 +366,7 @@ mod tests {
                     ends += 1;
                 }
                 // Brute force over the plane around n.
-                let (t1, t2) = plane_basis(&r);
-                let mut best = Real::INFINITY;
-                for i in -20..=20 {
-                    for j in -20..=20 {
-                        let m = n + t1 * (i as Real * 1e-3) + t2 * (j as Real * 1e-3);
-                        best = best.min(value(&sigma, &axis, half, radius, &m, disc));
-                    }
-                }
+                let best = grid_minimum(&sigma, &axis, half, radius, &n, &r, disc);
                 assert!(f <= best * (1.0 + 1e-14), "{f} > {best}");
             }
             assert!(sides > 20 && ends > 20, "{sides} sides, {ends} ends");
@@ -358,15 +382,8 @@ mod tests {
     /// says not, some grid point does (the minimiser is off the axis); both cases occur.
     #[test]
     fn cap_test_matches_brute_force() {
-        let l = Mat3::new(1.0, 0.0, 0.0, 0.3, 0.8, 0.0, -0.2, 0.4, 0.5);
-        let sigma = l * l.transpose();
-        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as Real / 9_007_199_254_740_992.0 - 0.5
-        };
+        let sigma = test_sigma();
+        let mut next = centred(0x9E37_79B9_7F4A_7C15);
         let (mut caps, mut rims) = (0, 0);
         for _ in 0..400 {
             let axis = Vec3::new(next(), next(), next()).normalize();
@@ -378,14 +395,7 @@ mod tests {
             let end = half * ra.signum();
             let n = axis / ra;
             let f = value(&sigma, &axis, half, radius, &n, true);
-            let (t1, t2) = plane_basis(&r);
-            let mut best = Real::INFINITY;
-            for i in -20..=20 {
-                for j in -20..=20 {
-                    let m = n + t1 * (i as Real * 1e-3) + t2 * (j as Real * 1e-3);
-                    best = best.min(value(&sigma, &axis, half, radius, &m, true));
-                }
-            }
+            let best = grid_minimum(&sigma, &axis, half, radius, &n, &r, true);
             if cap_is_optimal(&sigma, &axis, end, radius, &r) {
                 caps += 1;
                 assert!(f <= best * (1.0 + 1e-14), "cap: {f} > {best}");
